@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# One entry point for a fresh Debian 12 machine:
+#   bash cmake/run.sh demo   -- install what is missing, build, run the demo (window or PNG files)
+#   bash cmake/run.sh test   -- install what is missing, build, run all tests (plain + ASan/UBSan)
+#   bash cmake/run.sh bench  -- build and run the benchmarks
+set -euo pipefail
+cd "$(dirname "$0")/.."
+ROOT=$(pwd)
+JOBS=${JOBS:-$(nproc)}
+
+PACKAGES=(cmake g++ pkg-config
+  libsdl2-dev libsdl2-image-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
+  libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
+  libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
+  libevdev-dev liblo-dev librtmidi-dev libasound2-dev xvfb xauth)
+
+install_deps() {
+  local missing=()
+  for p in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+  done
+  [ ${#missing[@]} -eq 0 ] && return 0
+  if [ "$(id -u)" -ne 0 ]; then
+    echo "missing Debian packages: ${missing[*]}" >&2
+    echo "run as root, or: sudo apt-get install -y ${missing[*]}" >&2
+    exit 1
+  fi
+  echo "installing: ${missing[*]}"
+  apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+}
+
+build() { # dir, extra cmake args...
+  local dir=$1; shift
+  cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
+  cmake --build "$dir" -j "$JOBS"
+}
+
+cmd=${1:-}
+case "$cmd" in
+  demo)
+    install_deps
+    build "$ROOT/build" -DMARIONETTE_BUILD_TESTS=OFF -DMARIONETTE_BUILD_BENCH=OFF
+    exec "$ROOT/build/marionette" view "$ROOT"/config/characters/*.svg --out-dir "$ROOT/build/demo"
+    ;;
+  test)
+    install_deps
+    build "$ROOT/build"
+    (cd "$ROOT/build" && ctest --output-on-failure -j "$JOBS")
+    build "$ROOT/build-asan" -DMARIONETTE_SANITIZE=ON -DMARIONETTE_BUILD_BENCH=OFF
+    (cd "$ROOT/build-asan" && ctest --output-on-failure -j "$JOBS" -LE measure)
+    ;;
+  bench)
+    install_deps
+    build "$ROOT/build"
+    for b in "$ROOT"/build/tests/bench/bench_*; do "$b"; done
+    ;;
+  *)
+    echo "usage: bash cmake/run.sh demo|test|bench" >&2
+    exit 2
+    ;;
+esac

@@ -1,0 +1,261 @@
+#include "app/commands.h"
+
+#include "character/color.h"
+#include "character/load.h"
+#include "render/canvas.h"
+
+#include <SDL2/SDL.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+
+namespace mar {
+
+std::optional<std::pair<int, int>> parse_size(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  if (std::sscanf(s.c_str(), "%d%c%d%c", &w, &x, &h, &extra) != 3 || (x != 'x' && x != 'X')) {
+    return std::nullopt;
+  }
+  if (w < 1 || h < 1 || w > 8192 || h > 8192) return std::nullopt;
+  return std::make_pair(w, h);
+}
+
+std::optional<Rgba> parse_background(const std::string& s) {
+  if (s == "transparent" || s == "none") return Rgba{0, 0, 0, 0};
+  const std::string hex = (!s.empty() && s[0] == '#') ? s : "#" + s;
+  if (hex.size() != 7) return std::nullopt;
+  return parse_color(hex);
+}
+
+namespace {
+
+void print_warnings(const Character& ch) {
+  for (const std::string& w : ch.warnings) std::cerr << "warning: " << w << "\n";
+}
+
+}  // namespace
+
+int cmd_render(const RenderArgs& a) {
+  RenderOptions ro;
+  if (!a.size.empty()) {
+    auto sz = parse_size(a.size);
+    if (!sz) {
+      std::cerr << "error: --size must be WxH with 1..8192 pixels each, got '" << a.size << "'\n";
+      return kExitBadInput;
+    }
+    ro.width = sz->first;
+    ro.height = sz->second;
+  }
+  if (!a.background.empty()) {
+    auto bg = parse_background(a.background);
+    if (!bg) {
+      std::cerr << "error: --background must be RRGGBB or transparent, got '" << a.background << "'\n";
+      return kExitBadInput;
+    }
+    ro.background = *bg;
+  }
+  if (a.supersample != 1 && a.supersample != 2 && a.supersample != 4) {
+    std::cerr << "error: --supersample must be 1, 2 or 4\n";
+    return kExitBadInput;
+  }
+  ro.supersample = a.supersample;
+  LoadOptions lo;
+  lo.mask_path = a.mask;
+  Result<Character> ch = load_character(a.input, lo);
+  if (!ch.ok()) {
+    std::cerr << "error: " << ch.error << "\n";
+    return kExitBadInput;
+  }
+  print_warnings(*ch.value);
+  const CharacterMesh mesh = prepare_mesh(*ch.value);
+  Result<Image> img = render_character(*ch.value, mesh, ro);
+  if (!img.ok()) {
+    std::cerr << "error: " << img.error << "\n";
+    return kExitRuntime;
+  }
+  if (std::string err = write_png(a.output, *img.value); !err.empty()) {
+    std::cerr << "error: " << err << "\n";
+    return kExitRuntime;
+  }
+  std::cout << a.output << "\n";
+  return kExitOk;
+}
+
+int cmd_inspect(const InspectArgs& a) {
+  LoadOptions lo;
+  lo.mask_path = a.mask;
+  Result<Character> r = load_character(a.input, lo);
+  if (!r.ok()) {
+    std::cerr << "error: " << r.error << "\n";
+    return kExitBadInput;
+  }
+  const Character& ch = *r.value;
+  size_t closed = 0;
+  for (const SubShape& s : ch.shapes) closed += s.closed() ? 1 : 0;
+  if (a.json) {
+    nlohmann::ordered_json j;
+    j["source"] = ch.source;
+    j["width"] = ch.width;
+    j["height"] = ch.height;
+    j["layers"] = ch.layers;
+    nlohmann::ordered_json shapes = nlohmann::ordered_json::array();
+    for (const SubShape& s : ch.shapes) {
+      const Bounds b = s.bounds();
+      nlohmann::ordered_json o;
+      o["id"] = s.id;
+      o["element"] = s.element;
+      o["closed"] = s.closed();
+      o["contours"] = s.contours.size();
+      o["vertices"] = s.points.size();
+      o["layer"] = s.layer;
+      o["layer_name"] = ch.layers[static_cast<size_t>(s.layer)];
+      o["bounds"] = {b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()};
+      o["fill"] = s.fill.enabled ? (s.fill.texture ? "texture" : color_hex(s.fill.color)) : "none";
+      o["stroke"] = s.stroke.enabled ? color_hex(s.stroke.color) : "none";
+      shapes.push_back(o);
+    }
+    j["subshapes"] = shapes;
+    const Bounds b = ch.bounds();
+    j["totals"] = {{"subshapes", ch.shapes.size()},
+                   {"closed", closed},
+                   {"open", ch.shapes.size() - closed},
+                   {"vertices", ch.vertex_count()},
+                   {"layers", ch.layers.size()},
+                   {"bounds", b.empty() ? nlohmann::ordered_json::array()
+                                        : nlohmann::ordered_json{b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()}}};
+    j["warnings"] = ch.warnings;
+    std::cout << j.dump(2) << "\n";
+    return kExitOk;
+  }
+  std::printf("%s  (%g x %g, %zu layers)\n", ch.source.c_str(), ch.width, ch.height, ch.layers.size());
+  std::printf("%-28s %-8s %-6s %8s %5s  %s\n", "id", "element", "kind", "vertices", "layer", "bounds");
+  for (const SubShape& s : ch.shapes) {
+    const Bounds b = s.bounds();
+    std::printf("%-28s %-8s %-6s %8zu %5d  [%.1f, %.1f] - [%.1f, %.1f]\n", s.id.c_str(), s.element.c_str(),
+                s.closed() ? "closed" : "open", s.points.size(), s.layer, b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y());
+  }
+  std::printf("totals: %zu sub-shapes (%zu closed, %zu open), %zu vertices, %zu layers\n", ch.shapes.size(),
+              closed, ch.shapes.size() - closed, ch.vertex_count(), ch.layers.size());
+  if (!ch.warnings.empty()) {
+    std::printf("warnings (%zu):\n", ch.warnings.size());
+    for (const std::string& w : ch.warnings) std::printf("  %s\n", w.c_str());
+  }
+  return kExitOk;
+}
+
+namespace {
+
+bool display_available() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wl = std::getenv("WAYLAND_DISPLAY");
+  return (x && *x) || (wl && *wl);
+}
+
+}  // namespace
+
+int cmd_view(const ViewArgs& a) {
+  int tile_w = 384, tile_h = 384;
+  if (!a.size.empty()) {
+    auto sz = parse_size(a.size);
+    if (!sz) {
+      std::cerr << "error: --size must be WxH\n";
+      return kExitBadInput;
+    }
+    tile_w = sz->first;
+    tile_h = sz->second;
+  }
+  std::vector<Character> chars;
+  std::vector<CharacterMesh> meshes;
+  for (const std::string& in : a.inputs) {
+    Result<Character> r = load_character(in);
+    if (!r.ok()) {
+      std::cerr << "error: " << r.error << "\n";
+      return kExitBadInput;
+    }
+    print_warnings(*r.value);
+    meshes.push_back(prepare_mesh(*r.value));
+    chars.push_back(std::move(*r.value));
+  }
+  if (chars.empty()) {
+    std::cerr << "error: no characters given\n";
+    return kExitBadInput;
+  }
+
+  if (!a.headless && display_available()) {
+    const int n = static_cast<int>(chars.size());
+    auto win = Canvas::window("marionette — characters", tile_w * n, tile_h, false, a.software);
+    if (win.ok()) {
+      Canvas& c = **win.value;
+      std::cout << "showing " << n << " characters in a window; press Esc or close it to quit\n";
+      DrawList list;
+      const auto start = std::chrono::steady_clock::now();
+      bool running = true;
+      while (running) {
+        SDL_Event ev;
+        while (SDL_PollEvent(&ev)) {
+          if (ev.type == SDL_QUIT) running = false;
+          if (ev.type == SDL_KEYDOWN && (ev.key.keysym.sym == SDLK_ESCAPE || ev.key.keysym.sym == SDLK_q)) {
+            running = false;
+          }
+        }
+        c.refresh_size();
+        c.clear(Rgba{1, 1, 1, 1});
+        list.clear();
+        const int tw = c.width() / n;
+        for (int i = 0; i < n; ++i) {
+          const Affine2 view = Affine2::translate(i * tw, 0) *
+                               fit_view(chars[static_cast<size_t>(i)].width, chars[static_cast<size_t>(i)].height,
+                                        tw, c.height(), 8);
+          build_draw_list(chars[static_cast<size_t>(i)], meshes[static_cast<size_t>(i)], {}, view, 0.25, list);
+        }
+        if (std::string err = c.draw(list); !err.empty()) {
+          std::cerr << "error: " << err << "\n";
+          return kExitRuntime;
+        }
+        c.present();
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (a.seconds > 0 && elapsed >= a.seconds) running = false;
+        SDL_Delay(16);
+      }
+      return kExitOk;
+    }
+    std::cerr << "note: " << win.error << "; writing PNG files instead\n";
+  } else if (!a.headless) {
+    std::cout << "no display found (DISPLAY/WAYLAND_DISPLAY unset); writing PNG files\n";
+  }
+
+  std::error_code ec;
+  std::filesystem::create_directories(a.out_dir, ec);
+  if (ec) {
+    std::cerr << "error: cannot create " << a.out_dir << ": " << ec.message() << "\n";
+    return kExitRuntime;
+  }
+  for (size_t i = 0; i < chars.size(); ++i) {
+    RenderOptions ro;
+    ro.width = tile_w;
+    ro.height = tile_h;
+    ro.background = Rgba{1, 1, 1, 1};
+    ro.supersample = 2;
+    Result<Image> img = render_character(chars[i], meshes[i], ro);
+    if (!img.ok()) {
+      std::cerr << "error: " << img.error << "\n";
+      return kExitRuntime;
+    }
+    const std::string stem = std::filesystem::path(a.inputs[i]).stem().string();
+    const std::string out = (std::filesystem::path(a.out_dir) / (stem + ".png")).string();
+    if (std::string err = write_png(out, *img.value); !err.empty()) {
+      std::cerr << "error: " << err << "\n";
+      return kExitRuntime;
+    }
+    std::cout << std::filesystem::absolute(out).string() << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace mar

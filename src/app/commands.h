@@ -1,0 +1,47 @@
+// Command implementations behind the CLI (main.cpp holds only argument parsing).
+// Exit codes: 0 success, 1 runtime failure, 2 bad input or usage.
+#pragma once
+
+#include "character/character.h"
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mar {
+
+enum ExitCode { kExitOk = 0, kExitRuntime = 1, kExitBadInput = 2 };
+
+struct RenderArgs {
+  std::string input;
+  std::string output;
+  std::string size;        ///< "WxH" or empty
+  std::string background;  ///< "RRGGBB", "transparent" or empty
+  std::string mask;
+  int supersample = 1;
+};
+int cmd_render(const RenderArgs& a);
+
+struct InspectArgs {
+  std::string input;
+  std::string mask;
+  bool json = false;
+};
+int cmd_inspect(const InspectArgs& a);
+
+struct ViewArgs {
+  std::vector<std::string> inputs;
+  std::string out_dir = "marionette-out";
+  std::string size;  ///< per-character tile size, "WxH"
+  double seconds = 0;  ///< window mode: close after this long (0 = until closed)
+  bool headless = false;
+  bool software = false;
+};
+int cmd_view(const ViewArgs& a);
+
+/// Parses "WxH" (both 1..8192).
+std::optional<std::pair<int, int>> parse_size(const std::string& s);
+/// Parses "RRGGBB", "#RRGGBB" or "transparent".
+std::optional<Rgba> parse_background(const std::string& s);
+
+}  // namespace mar

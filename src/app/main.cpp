@@ -1,0 +1,50 @@
+// marionette — live 2D puppeteering controller. Command-line entry point.
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <iostream>
+
+int main(int argc, char** argv) {
+  CLI::App app{"marionette — live 2D puppeteering controller"};
+  app.require_subcommand(1);
+
+  mar::RenderArgs render;
+  CLI::App* r = app.add_subcommand("render", "Render a character to a PNG file");
+  r->add_option("character", render.input, "Character file (.svg or .png)")->required();
+  r->add_option("-o,--output", render.output, "Output PNG")->required();
+  r->add_option("--size", render.size, "Output size WxH (default: document size)");
+  r->add_option("--background", render.background, "RRGGBB or transparent (default)");
+  r->add_option("--mask", render.mask, "Mask PNG for a PNG character (non-black = figure)");
+  r->add_option("--supersample", render.supersample, "1, 2 or 4 samples per axis (smooth edges)");
+
+  mar::InspectArgs inspect;
+  CLI::App* i = app.add_subcommand("inspect", "List a character's sub-shapes, layers and warnings");
+  i->add_option("character", inspect.input, "Character file (.svg or .png)")->required();
+  i->add_option("--mask", inspect.mask, "Mask PNG for a PNG character");
+  i->add_flag("--json", inspect.json, "Machine-readable output");
+
+  mar::ViewArgs view;
+  CLI::App* v = app.add_subcommand("view", "Show characters in a window, or write PNGs when there is no display");
+  v->add_option("characters", view.inputs, "Character files")->required();
+  v->add_option("--out-dir", view.out_dir, "Where PNGs go without a display");
+  v->add_option("--size", view.size, "Tile size per character WxH (default 384x384)");
+  v->add_option("--seconds", view.seconds, "Close the window after this many seconds");
+  v->add_flag("--headless", view.headless, "Never open a window");
+  v->add_flag("--software", view.software, "Use SDL's software renderer in the window");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return mar::kExitBadInput;
+  }
+  if (r->parsed()) return mar::cmd_render(render);
+  if (i->parsed()) return mar::cmd_inspect(inspect);
+  if (v->parsed()) return mar::cmd_view(view);
+  return mar::kExitBadInput;
+}

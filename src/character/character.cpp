@@ -1,0 +1,38 @@
+#include "character/character.h"
+
+namespace mar {
+
+bool SubShape::closed() const {
+  if (contours.empty()) return false;
+  for (const Contour& c : contours) {
+    if (!c.closed) return false;
+  }
+  return true;
+}
+
+Bounds SubShape::bounds() const {
+  Bounds b;
+  for (const Vec2& p : points) b.add(p);
+  return b;
+}
+
+std::vector<Ring> SubShape::rings() const {
+  std::vector<Ring> r;
+  r.reserve(contours.size());
+  for (const Contour& c : contours) r.push_back({c.begin, c.count});
+  return r;
+}
+
+Bounds Character::bounds() const {
+  Bounds b;
+  for (const SubShape& s : shapes) b.add(s.bounds());
+  return b;
+}
+
+size_t Character::vertex_count() const {
+  size_t n = 0;
+  for (const SubShape& s : shapes) n += s.points.size();
+  return n;
+}
+
+}  // namespace mar

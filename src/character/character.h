@@ -1,0 +1,97 @@
+// Multi-element 2D character: ordered sub-shapes, never merged into one outline.
+#pragma once
+
+#include "geom/triangulate.h"
+#include "geom/types.h"
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mar {
+
+/// Straight (non-premultiplied) colour, components in [0, 1].
+struct Rgba {
+  float r = 0, g = 0, b = 0, a = 1;
+  bool operator==(const Rgba&) const = default;
+};
+
+enum class LineJoin { Miter, Round, Bevel };
+enum class LineCap { Butt, Round, Square };
+
+/// RGBA8 image (straight alpha), row-major.
+struct Texture {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgba;  ///< 4 * width * height
+};
+
+struct Fill {
+  bool enabled = false;
+  Rgba color;            ///< colour (its alpha comes from the colour value itself)
+  float opacity = 1.0f;  ///< fill-opacity times inherited group/element opacity
+  FillRule rule = FillRule::NonZero;
+  std::shared_ptr<const Texture> texture;  ///< when set, the fill samples this image
+  Affine2 uv_from_point;                   ///< rest point -> texture coordinates in [0, 1]
+};
+
+struct Stroke {
+  bool enabled = false;
+  Rgba color;
+  float opacity = 1.0f;  ///< stroke-opacity times inherited opacity
+  double width = 1.0;    ///< in character units
+  LineJoin join = LineJoin::Miter;
+  LineCap cap = LineCap::Butt;
+  double miter_limit = 4.0;
+};
+
+/// A polyline inside SubShape::points: points[begin .. begin+count).
+struct Contour {
+  int begin = 0;
+  int count = 0;
+  bool closed = false;
+};
+
+/// One element of the character: one or more contours (sub-paths, or outline + holes)
+/// sharing one style. Points are in character units (document px after viewBox).
+struct SubShape {
+  std::string id;       ///< id from the file (made unique), or "<tag>-L<line>"
+  std::string element;  ///< source element name (path, rect, ..., or "region")
+  int line = 0;         ///< source line, 0 if not from a text file
+  int layer = 0;        ///< index into Character::layers
+  Points points;
+  std::vector<Contour> contours;
+  Fill fill;
+  Stroke stroke;
+
+  /// True when every contour is closed.
+  bool closed() const;
+  Bounds bounds() const;
+  std::vector<Ring> rings() const;
+};
+
+struct Character {
+  std::string source;                 ///< file it came from
+  double width = 0, height = 0;       ///< document size in character units
+  std::vector<std::string> layers;    ///< layer names, in paint order
+  std::vector<SubShape> shapes;       ///< in paint order (document order)
+  std::vector<std::string> warnings;  ///< what was approximated or skipped
+
+  Bounds bounds() const;
+  size_t vertex_count() const;
+};
+
+/// Value-or-error for load-time operations (never used inside the frame loop).
+template <class T>
+struct Result {
+  std::optional<T> value;
+  std::string error;
+  bool ok() const { return value.has_value(); }
+  static Result success(T v) { return Result{std::move(v), {}}; }
+  static Result failure(std::string e) { return Result{std::nullopt, std::move(e)}; }
+};
+
+}  // namespace mar

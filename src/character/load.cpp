@@ -1,0 +1,36 @@
+#include "character/load.h"
+
+#include "character/raster_loader.h"
+#include "character/svg_loader.h"
+
+#include <fstream>
+
+namespace mar {
+
+Result<Character> load_character(const std::string& path, const LoadOptions& options) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Result<Character>::failure(path + ": cannot open file");
+  char sig[8] = {};
+  in.read(sig, sizeof sig);
+  const bool png = in.gcount() == 8 && std::string_view(sig, 8) == "\x89PNG\r\n\x1a\n";
+  const bool gzip = in.gcount() >= 2 && static_cast<unsigned char>(sig[0]) == 0x1f &&
+                    static_cast<unsigned char>(sig[1]) == 0x8b;
+  if (png) {
+    RasterOptions ro;
+    ro.mask_path = options.mask_path;
+    ro.tolerance = options.raster_tolerance;
+    return load_raster(path, ro);
+  }
+  if (gzip) {
+    return Result<Character>::failure(path + ": compressed SVG (.svgz) is not supported; "
+                                             "unpack it with gunzip first");
+  }
+  if (!options.mask_path.empty()) {
+    return Result<Character>::failure(path + ": --mask applies to PNG characters only");
+  }
+  SvgOptions so;
+  so.tolerance = options.svg_tolerance;
+  return load_svg_file(path, so);
+}
+
+}  // namespace mar

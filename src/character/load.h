@@ -1,0 +1,20 @@
+// Loads a character from any supported file: SVG, or PNG (+ optional mask).
+#pragma once
+
+#include "character/character.h"
+
+#include <string>
+
+namespace mar {
+
+struct LoadOptions {
+  double svg_tolerance = 0.1;    ///< curve flattening tolerance, output units
+  std::string mask_path;         ///< PNG characters: mask image (non-black = figure)
+  double raster_tolerance = 0.75;
+};
+
+/// Chooses the loader by content (PNG signature, else SVG/XML). Every failure is
+/// bad input: a message naming the file and, where known, the line.
+Result<Character> load_character(const std::string& path, const LoadOptions& options = {});
+
+}  // namespace mar

@@ -1,0 +1,27 @@
+// SVG loader for drawings made in Inkscape or Illustrator. XML through pugixml.
+#pragma once
+
+#include "character/character.h"
+
+#include <string>
+#include <string_view>
+
+namespace mar {
+
+struct SvgOptions {
+  /// Curves are flattened so no point is farther than this from the true curve,
+  /// in output units (document px after the root viewBox).
+  double tolerance = 0.1;
+  /// Upper bound on the total number of points; a larger file is rejected as bad input.
+  size_t max_points = 4'000'000;
+};
+
+/// Loads an SVG file. Errors (unreadable file, malformed XML, root not <svg>, too
+/// complex) name the file and the line. Unsupported features become warnings.
+Result<Character> load_svg_file(const std::string& path, const SvgOptions& options = {});
+
+/// Same, from text in memory; `name` is used in messages.
+Result<Character> load_svg_string(std::string_view text, const std::string& name,
+                                  const SvgOptions& options = {});
+
+}  // namespace mar

@@ -1,0 +1,331 @@
+#include "character/svg_parse.h"
+
+#include <cctype>
+#include <charconv>
+
+namespace mar::svg {
+namespace {
+
+bool is_ws(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\f'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+void skip_ws(std::string_view s, size_t& pos) {
+  while (pos < s.size() && is_ws(s[pos])) ++pos;
+}
+
+}  // namespace
+
+void skip_separators(std::string_view s, size_t& pos) {
+  skip_ws(s, pos);
+  if (pos < s.size() && s[pos] == ',') {
+    ++pos;
+    skip_ws(s, pos);
+  }
+}
+
+std::optional<double> read_number(std::string_view s, size_t& pos) {
+  size_t i = pos;
+  if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
+  const size_t int_start = i;
+  while (i < s.size() && is_digit(s[i])) ++i;
+  bool digits = i > int_start;
+  if (i < s.size() && s[i] == '.') {
+    ++i;
+    const size_t frac_start = i;
+    while (i < s.size() && is_digit(s[i])) ++i;
+    digits = digits || i > frac_start;
+  }
+  if (!digits) return std::nullopt;
+  if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
+    size_t j = i + 1;
+    if (j < s.size() && (s[j] == '+' || s[j] == '-')) ++j;
+    const size_t exp_start = j;
+    while (j < s.size() && is_digit(s[j])) ++j;
+    if (j > exp_start) i = j;  // otherwise 'e' belongs to what follows (e.g. "em")
+  }
+  size_t begin = pos;
+  if (s[begin] == '+') ++begin;  // from_chars rejects a leading '+'
+  double v = 0;
+  auto [ptr, ec] = std::from_chars(s.data() + begin, s.data() + i, v);
+  if (ec == std::errc::result_out_of_range) {
+    v = (s[pos] == '-') ? -std::numeric_limits<double>::max() : std::numeric_limits<double>::max();
+  } else if (ec != std::errc() || ptr != s.data() + i) {
+    return std::nullopt;
+  }
+  pos = i;
+  return v;
+}
+
+PathData parse_path(std::string_view d) {
+  PathData out;
+  Vec2 cur = Vec2::Zero(), start = Vec2::Zero();
+  Vec2 last_c2 = Vec2::Zero();  // for S/s reflection
+  Vec2 last_q = Vec2::Zero();   // for T/t reflection
+  char prev_cmd = 0;
+  bool have_current = false;
+  size_t pos = 0;
+  char cmd = 0;
+  std::vector<CubicSeg> arc;
+
+  auto fail = [&](size_t at, std::string msg) {
+    out.error = std::move(msg);
+    out.error_pos = at;
+    return out;
+  };
+  auto cubic = [&](const Vec2& c1, const Vec2& c2, const Vec2& p) {
+    out.cmds.push_back({PathCmd::Cubic, c1, c2, p});
+  };
+
+  skip_ws(d, pos);
+  while (true) {
+    skip_ws(d, pos);
+    if (pos >= d.size()) break;
+    const char c = d[pos];
+    const size_t cmd_pos = pos;
+    if (std::isalpha(static_cast<unsigned char>(c))) {
+      if (std::string_view("MmLlHhVvCcSsQqTtAaZz").find(c) == std::string_view::npos) {
+        return fail(pos, std::string("unknown path command '") + c + "'");
+      }
+      cmd = c;
+      ++pos;
+    } else if (cmd == 0) {
+      return fail(pos, "path data must start with a moveto");
+    } else if (cmd == 'Z' || cmd == 'z') {
+      return fail(pos, "number after closepath");
+    }
+    // implicit repeat: the same command (moveto repeats as lineto) with new numbers
+    if (!have_current && cmd != 'M' && cmd != 'm') {
+      return fail(cmd_pos, "path data must start with a moveto");
+    }
+    const bool rel = std::islower(static_cast<unsigned char>(cmd)) != 0;
+    const Vec2 base = rel ? cur : Vec2::Zero();
+    auto num = [&](double& v) {
+      skip_ws(d, pos);
+      auto r = read_number(d, pos);
+      if (!r) return false;
+      v = *r;
+      skip_separators(d, pos);
+      return true;
+    };
+    auto flag = [&](bool& f) {
+      skip_ws(d, pos);
+      if (pos < d.size() && (d[pos] == '0' || d[pos] == '1')) {
+        f = d[pos] == '1';
+        ++pos;
+        skip_separators(d, pos);
+        return true;
+      }
+      return false;
+    };
+    auto bad_args = [&]() {
+      return fail(cmd_pos, std::string("bad or missing arguments for '") + cmd + "'");
+    };
+    const char up = static_cast<char>(std::toupper(static_cast<unsigned char>(cmd)));
+    switch (up) {
+      case 'M': {
+        double x, y;
+        if (!num(x) || !num(y)) return bad_args();
+        cur = base + Vec2(x, y);
+        start = cur;
+        out.cmds.push_back({PathCmd::Move, Vec2::Zero(), Vec2::Zero(), cur});
+        have_current = true;
+        cmd = rel ? 'l' : 'L';  // subsequent pairs are implicit linetos
+        prev_cmd = 'M';
+        continue;
+      }
+      case 'L': {
+        double x, y;
+        if (!num(x) || !num(y)) return bad_args();
+        cur = base + Vec2(x, y);
+        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        break;
+      }
+      case 'H': {
+        double x;
+        if (!num(x)) return bad_args();
+        cur = Vec2(rel ? cur.x() + x : x, cur.y());
+        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        break;
+      }
+      case 'V': {
+        double y;
+        if (!num(y)) return bad_args();
+        cur = Vec2(cur.x(), rel ? cur.y() + y : y);
+        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        break;
+      }
+      case 'C': {
+        double x1, y1, x2, y2, x, y;
+        if (!num(x1) || !num(y1) || !num(x2) || !num(y2) || !num(x) || !num(y)) return bad_args();
+        const Vec2 c1 = base + Vec2(x1, y1), c2 = base + Vec2(x2, y2);
+        cur = base + Vec2(x, y);
+        cubic(c1, c2, cur);
+        last_c2 = c2;
+        break;
+      }
+      case 'S': {
+        double x2, y2, x, y;
+        if (!num(x2) || !num(y2) || !num(x) || !num(y)) return bad_args();
+        const Vec2 c1 = (prev_cmd == 'C' || prev_cmd == 'S') ? Vec2(2 * cur - last_c2) : cur;
+        const Vec2 c2 = base + Vec2(x2, y2);
+        cur = base + Vec2(x, y);
+        cubic(c1, c2, cur);
+        last_c2 = c2;
+        break;
+      }
+      case 'Q': {
+        double x1, y1, x, y;
+        if (!num(x1) || !num(y1) || !num(x) || !num(y)) return bad_args();
+        const Vec2 q = base + Vec2(x1, y1), p0 = cur;
+        cur = base + Vec2(x, y);
+        cubic(p0 + (2.0 / 3.0) * (q - p0), cur + (2.0 / 3.0) * (q - cur), cur);
+        last_q = q;
+        break;
+      }
+      case 'T': {
+        double x, y;
+        if (!num(x) || !num(y)) return bad_args();
+        const Vec2 p0 = cur;
+        const Vec2 q = (prev_cmd == 'Q' || prev_cmd == 'T') ? Vec2(2 * cur - last_q) : cur;
+        cur = base + Vec2(x, y);
+        cubic(p0 + (2.0 / 3.0) * (q - p0), cur + (2.0 / 3.0) * (q - cur), cur);
+        last_q = q;
+        break;
+      }
+      case 'A': {
+        double rx, ry, rot, x, y;
+        bool large = false, sweep = false;
+        if (!num(rx) || !num(ry) || !num(rot) || !flag(large) || !flag(sweep) || !num(x) ||
+            !num(y)) {
+          return bad_args();
+        }
+        const Vec2 p0 = cur;
+        cur = base + Vec2(x, y);
+        arc.clear();
+        arc_to_cubics(p0, rx, ry, rot, large, sweep, cur, arc);
+        for (const CubicSeg& s : arc) cubic(s.c1, s.c2, s.p);
+        break;
+      }
+      case 'Z': {
+        out.cmds.push_back({PathCmd::Close, Vec2::Zero(), Vec2::Zero(), start});
+        cur = start;
+        skip_separators(d, pos);
+        break;
+      }
+      default:
+        return fail(cmd_pos, "unexpected character");
+    }
+    prev_cmd = up;
+  }
+  return out;
+}
+
+std::optional<Affine2> parse_transform(std::string_view s) {
+  Affine2 m;
+  size_t pos = 0;
+  skip_ws(s, pos);
+  while (pos < s.size()) {
+    size_t name_end = pos;
+    while (name_end < s.size() && std::isalpha(static_cast<unsigned char>(s[name_end]))) ++name_end;
+    const std::string_view name = s.substr(pos, name_end - pos);
+    pos = name_end;
+    skip_ws(s, pos);
+    if (pos >= s.size() || s[pos] != '(') return std::nullopt;
+    ++pos;
+    double a[6];
+    int n = 0;
+    skip_ws(s, pos);
+    while (pos < s.size() && s[pos] != ')') {
+      if (n == 6) return std::nullopt;
+      auto v = read_number(s, pos);
+      if (!v) return std::nullopt;
+      a[n++] = *v;
+      skip_separators(s, pos);
+    }
+    if (pos >= s.size()) return std::nullopt;
+    ++pos;  // ')'
+    Affine2 t;
+    if (name == "matrix" && n == 6) {
+      t = {a[0], a[1], a[2], a[3], a[4], a[5]};
+    } else if (name == "translate" && (n == 1 || n == 2)) {
+      t = Affine2::translate(a[0], n == 2 ? a[1] : 0.0);
+    } else if (name == "scale" && (n == 1 || n == 2)) {
+      t = Affine2::scale(a[0], n == 2 ? a[1] : a[0]);
+    } else if (name == "rotate" && n == 1) {
+      t = Affine2::rotate(a[0]);
+    } else if (name == "rotate" && n == 3) {
+      t = Affine2::translate(a[1], a[2]) * Affine2::rotate(a[0]) * Affine2::translate(-a[1], -a[2]);
+    } else if (name == "skewX" && n == 1) {
+      t = Affine2::skew_x(a[0]);
+    } else if (name == "skewY" && n == 1) {
+      t = Affine2::skew_y(a[0]);
+    } else {
+      return std::nullopt;
+    }
+    m = m * t;
+    skip_separators(s, pos);
+  }
+  return m;
+}
+
+std::vector<Vec2> parse_points(std::string_view s, bool* odd) {
+  std::vector<double> nums;
+  size_t pos = 0;
+  skip_ws(s, pos);
+  while (pos < s.size()) {
+    auto v = read_number(s, pos);
+    if (!v) break;
+    nums.push_back(*v);
+    skip_separators(s, pos);
+  }
+  if (odd) *odd = nums.size() % 2 != 0;
+  std::vector<Vec2> pts;
+  for (size_t i = 0; i + 1 < nums.size(); i += 2) pts.emplace_back(nums[i], nums[i + 1]);
+  return pts;
+}
+
+std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m,
+                                      double tolerance) {
+  std::vector<FlatContour> out;
+  FlatContour cur;
+  Vec2 pen = Vec2::Zero();
+  auto finish = [&]() {
+    if (!cur.points.empty()) out.push_back(std::move(cur));
+    cur = FlatContour{};
+  };
+  for (const PathCmd& c : cmds) {
+    switch (c.kind) {
+      case PathCmd::Move:
+        finish();
+        pen = m.apply(c.p);
+        cur.points.push_back(pen);
+        break;
+      case PathCmd::Line:
+        if (cur.points.empty()) cur.points.push_back(pen);
+        pen = m.apply(c.p);
+        cur.points.push_back(pen);
+        break;
+      case PathCmd::Cubic: {
+        if (cur.points.empty()) cur.points.push_back(pen);
+        const Vec2 p0 = pen;
+        pen = m.apply(c.p);
+        flatten_cubic(p0, m.apply(c.c1), m.apply(c.c2), pen, tolerance, cur.points);
+        break;
+      }
+      case PathCmd::Close:
+        if (!cur.points.empty()) {
+          cur.closed = true;
+          finish();
+        }
+        // A drawing command after Z starts a new sub-path at the same start point.
+        pen = m.apply(c.p);
+        break;
+    }
+  }
+  finish();
+  // A lone moveto draws nothing.
+  std::erase_if(out, [](const FlatContour& f) { return f.points.size() < 2; });
+  return out;
+}
+
+}  // namespace mar::svg

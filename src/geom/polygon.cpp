@@ -1,0 +1,113 @@
+#include "geom/polygon.h"
+
+namespace mar {
+
+double signed_area(std::span<const Vec2> ring) {
+  const size_t n = ring.size();
+  if (n < 3) return 0.0;
+  double s = 0;
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    s += ring[j].x() * ring[i].y() - ring[i].x() * ring[j].y();
+  }
+  return 0.5 * s;
+}
+
+int winding_number(std::span<const Vec2> ring, const Vec2& p) {
+  int w = 0;
+  const size_t n = ring.size();
+  for (size_t i = 0, j = n - 1; i < n; j = i++) {
+    const Vec2& a = ring[j];
+    const Vec2& b = ring[i];
+    const double cross = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
+    if (a.y() <= p.y()) {
+      if (b.y() > p.y() && cross > 0) ++w;
+    } else if (b.y() <= p.y() && cross < 0) {
+      --w;
+    }
+  }
+  return w;
+}
+
+double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 <= 0) return (p - a).norm();
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+namespace {
+void dp(std::span<const Vec2> pts, size_t i0, size_t i1, double tol, std::vector<char>& keep) {
+  // Iterative to bound stack depth on long outlines.
+  std::vector<std::pair<size_t, size_t>> stack{{i0, i1}};
+  while (!stack.empty()) {
+    auto [a, b] = stack.back();
+    stack.pop_back();
+    double best = -1;
+    size_t idx = a;
+    for (size_t k = a + 1; k < b; ++k) {
+      const double d = point_segment_distance(pts[k], pts[a], pts[b]);
+      if (d > best) {
+        best = d;
+        idx = k;
+      }
+    }
+    if (best > tol) {
+      keep[idx] = 1;
+      stack.push_back({a, idx});
+      stack.push_back({idx, b});
+    }
+  }
+}
+}  // namespace
+
+Points simplify_polyline(std::span<const Vec2> pts, double tolerance, bool closed) {
+  const size_t n = pts.size();
+  if (n < 3) return Points(pts.begin(), pts.end());
+  std::vector<char> keep(n, 0);
+  if (!closed) {
+    keep[0] = keep[n - 1] = 1;
+    dp(pts, 0, n - 1, tolerance, keep);
+  } else {
+    // Anchor at point 0 and the point farthest from it; simplify both halves, and the
+    // wrap-around half through a rotated copy.
+    size_t far = 0;
+    double best = -1;
+    for (size_t k = 1; k < n; ++k) {
+      const double d = (pts[k] - pts[0]).squaredNorm();
+      if (d > best) {
+        best = d;
+        far = k;
+      }
+    }
+    keep[0] = keep[far] = 1;
+    dp(pts, 0, far, tolerance, keep);
+    Points tail(pts.begin() + static_cast<long>(far), pts.end());
+    tail.push_back(pts[0]);
+    std::vector<char> keep_tail(tail.size(), 0);
+    dp(tail, 0, tail.size() - 1, tolerance, keep_tail);
+    for (size_t k = 1; k + 1 < tail.size(); ++k) {
+      if (keep_tail[k]) keep[far + k] = 1;
+    }
+  }
+  Points out;
+  for (size_t k = 0; k < n; ++k) {
+    if (keep[k]) out.push_back(pts[k]);
+  }
+  return out;
+}
+
+void remove_duplicate_points(Points& pts, bool closed, double eps) {
+  if (pts.empty()) return;
+  const double eps2 = eps * eps;
+  size_t w = 1;
+  for (size_t i = 1; i < pts.size(); ++i) {
+    if ((pts[i] - pts[w - 1]).squaredNorm() > eps2) pts[w++] = pts[i];
+  }
+  pts.resize(w);
+  if (closed) {
+    while (pts.size() > 1 && (pts.back() - pts.front()).squaredNorm() <= eps2) pts.pop_back();
+  }
+}
+
+}  // namespace mar

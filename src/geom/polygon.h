@@ -1,0 +1,28 @@
+// Small polygon utilities: area, winding, containment, simplification.
+#pragma once
+
+#include "geom/types.h"
+
+#include <span>
+
+namespace mar {
+
+/// Signed area of a closed polygon (positive = counter-clockwise in a y-up frame,
+/// which is clockwise on a y-down screen).
+double signed_area(std::span<const Vec2> ring);
+
+/// Winding number of `p` with respect to the closed ring.
+int winding_number(std::span<const Vec2> ring, const Vec2& p);
+
+/// Distance from p to segment ab.
+double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b);
+
+/// Douglas–Peucker. Keeps the first and last point of an open polyline; for a closed
+/// ring (last point not repeated) keeps two far-apart anchors. Result deviates from
+/// the input by at most `tolerance`.
+Points simplify_polyline(std::span<const Vec2> pts, double tolerance, bool closed);
+
+/// Removes consecutive duplicates (and, when closed, a last point equal to the first).
+void remove_duplicate_points(Points& pts, bool closed, double eps = 0.0);
+
+}  // namespace mar

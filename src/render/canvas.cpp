@@ -1,0 +1,141 @@
+#include "render/canvas.h"
+
+#include <SDL2/SDL.h>
+
+#include <algorithm>
+
+namespace mar {
+
+Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
+  using R = Result<std::unique_ptr<Canvas>>;
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
+    return R::failure("canvas size " + std::to_string(width) + "x" + std::to_string(height) +
+                      " out of range (1..16384)");
+  }
+  std::unique_ptr<Canvas> c(new Canvas());
+  c->width_ = width;
+  c->height_ = height;
+  c->surface_ = SDL_CreateRGBSurfaceWithFormat(0, width, height, 32, SDL_PIXELFORMAT_ABGR8888);
+  if (!c->surface_) return R::failure(std::string("cannot create surface: ") + SDL_GetError());
+  c->renderer_ = SDL_CreateSoftwareRenderer(c->surface_);
+  if (!c->renderer_) return R::failure(std::string("cannot create software renderer: ") + SDL_GetError());
+  SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
+  return R::success(std::move(c));
+}
+
+Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int width, int height,
+                                               bool fullscreen, bool software) {
+  using R = Result<std::unique_ptr<Canvas>>;
+  if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
+    return R::failure(std::string("no display: ") + SDL_GetError());
+  }
+  std::unique_ptr<Canvas> c(new Canvas());
+  Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
+  if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+  c->window_ = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
+                                width, height, flags);
+  if (!c->window_) return R::failure(std::string("cannot open window: ") + SDL_GetError());
+  c->renderer_ = SDL_CreateRenderer(c->window_, -1,
+                                    software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
+  if (!c->renderer_ && !software) c->renderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
+  if (!c->renderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
+  SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
+  c->refresh_size();
+  return R::success(std::move(c));
+}
+
+Canvas::~Canvas() {
+  for (auto& [k, t] : textures_) SDL_DestroyTexture(t);
+  if (renderer_) SDL_DestroyRenderer(renderer_);
+  if (surface_) SDL_FreeSurface(surface_);
+  if (window_) {
+    SDL_DestroyWindow(window_);
+    SDL_QuitSubSystem(SDL_INIT_VIDEO);
+  }
+}
+
+void Canvas::refresh_size() {
+  if (renderer_ && window_) SDL_GetRendererOutputSize(renderer_, &width_, &height_);
+}
+
+void Canvas::clear(const Rgba& bg) {
+  auto byte = [](float v) { return static_cast<Uint8>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+  // Stored premultiplied, which is what blending onto it then keeps.
+  SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_NONE);
+  SDL_SetRenderDrawColor(renderer_, byte(bg.r * bg.a), byte(bg.g * bg.a), byte(bg.b * bg.a), byte(bg.a));
+  SDL_RenderClear(renderer_);
+  SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_BLEND);
+}
+
+SDL_Texture* Canvas::texture_for(const Texture* t) {
+  auto it = textures_.find(t);
+  if (it != textures_.end()) return it->second;
+  SDL_Texture* tex = SDL_CreateTexture(renderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC,
+                                       t->width, t->height);
+  if (tex) {
+    SDL_UpdateTexture(tex, nullptr, t->rgba.data(), t->width * 4);
+    SDL_SetTextureBlendMode(tex, SDL_BLENDMODE_BLEND);
+    SDL_SetTextureScaleMode(tex, SDL_ScaleModeLinear);
+  }
+  textures_.emplace(t, tex);
+  return tex;
+}
+
+std::string Canvas::draw(const DrawList& list) {
+  for (const DrawList::Batch& b : list.batches) {
+    if (b.index_count <= 0) continue;
+    SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
+    if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
+    if (SDL_RenderGeometry(renderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
+                           list.indices.data() + b.first_index, b.index_count) != 0) {
+      return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
+    }
+  }
+  return {};
+}
+
+std::vector<std::uint8_t> Canvas::read_premultiplied() {
+  std::vector<std::uint8_t> px(static_cast<size_t>(width_) * height_ * 4);
+  SDL_RenderFlush(renderer_);
+  if (surface_) {
+    for (int y = 0; y < height_; ++y) {
+      const auto* row = static_cast<const std::uint8_t*>(surface_->pixels) + static_cast<size_t>(y) * surface_->pitch;
+      std::copy(row, row + static_cast<size_t>(width_) * 4, px.begin() + static_cast<long>(y) * width_ * 4);
+    }
+  } else {
+    SDL_RenderReadPixels(renderer_, nullptr, SDL_PIXELFORMAT_ABGR8888, px.data(), width_ * 4);
+  }
+  return px;
+}
+
+void Canvas::present() {
+  if (window_) SDL_RenderPresent(renderer_);
+}
+
+Affine2 fit_view(double w, double h, int tw, int th, double margin_px) {
+  if (!(w > 0) || !(h > 0)) return Affine2::identity();
+  const double aw = std::max(1.0, tw - 2 * margin_px), ah = std::max(1.0, th - 2 * margin_px);
+  const double s = std::min(aw / w, ah / h);
+  return Affine2::translate((tw - w * s) / 2, (th - h * s) / 2) * Affine2::scale(s, s);
+}
+
+Result<Image> render_character(const Character& ch, const CharacterMesh& mesh,
+                               const RenderOptions& o, std::span<const Points> positions) {
+  int w = o.width > 0 ? o.width : static_cast<int>(std::ceil(ch.width));
+  int h = o.height > 0 ? o.height : static_cast<int>(std::ceil(ch.height));
+  w = std::clamp(w, 1, 8192);
+  h = std::clamp(h, 1, 8192);
+  const int ss = std::clamp(o.supersample, 1, 4);
+  auto canvas = Canvas::offscreen(w * ss, h * ss);
+  if (!canvas.ok()) return Result<Image>::failure(canvas.error);
+  Canvas& c = **canvas.value;
+  c.clear(o.background);
+  DrawList list;
+  build_draw_list(ch, mesh, positions, fit_view(ch.width, ch.height, w * ss, h * ss),
+                  o.tolerance_px * ss, list);
+  if (std::string err = c.draw(list); !err.empty()) return Result<Image>::failure(err);
+  const std::vector<std::uint8_t> px = c.read_premultiplied();
+  return Result<Image>::success(downsample_premultiplied(px.data(), w, h, ss));
+}
+
+}  // namespace mar
