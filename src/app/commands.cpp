@@ -156,6 +156,21 @@ bool display_available() {
   return (x && *x) || (wl && *wl);
 }
 
+// Both targets draw through this: characters side by side on white, 8 px margins
+// (scaled by `k` when supersampling offscreen).
+void draw_tiles(Canvas& c, const std::vector<Character>& chars, const std::vector<CharacterMesh>& meshes,
+                double k, DrawList& list) {
+  c.clear(Rgba{1, 1, 1, 1});
+  list.clear();
+  const int n = static_cast<int>(chars.size());
+  const int tw = c.width() / n;
+  for (int i = 0; i < n; ++i) {
+    const auto u = static_cast<size_t>(i);
+    const Affine2 view = Affine2::translate(i * tw, 0) * fit_view(chars[u].width, chars[u].height, tw, c.height(), 8 * k);
+    build_draw_list(chars[u], meshes[u], {}, view, 0.25 * k, list);
+  }
+}
+
 }  // namespace
 
 int cmd_view(const ViewArgs& a) {
@@ -168,6 +183,10 @@ int cmd_view(const ViewArgs& a) {
     }
     tile_w = sz->first;
     tile_h = sz->second;
+  }
+  if (a.supersample != 1 && a.supersample != 2 && a.supersample != 4) {
+    std::cerr << "error: --supersample must be 1, 2 or 4\n";
+    return kExitBadInput;
   }
   std::vector<Character> chars;
   std::vector<CharacterMesh> meshes;
@@ -185,16 +204,16 @@ int cmd_view(const ViewArgs& a) {
     std::cerr << "error: no characters given\n";
     return kExitBadInput;
   }
+  DrawList list;
 
   if (!a.headless && display_available()) {
     const int n = static_cast<int>(chars.size());
-    auto win = Canvas::window("marionette — characters", tile_w * n, tile_h, false, a.software);
+    auto win = Canvas::window("marionette - characters", tile_w * n, tile_h, false, a.software);
     if (win.ok()) {
       Canvas& c = **win.value;
-      std::cout << "showing " << n << " characters in a window; press Esc or close it to quit\n";
-      DrawList list;
+      std::cout << "showing " << n << " characters in a window; press Esc or close it to quit" << std::endl;
       const auto start = std::chrono::steady_clock::now();
-      bool running = true;
+      bool running = true, first = true;
       while (running) {
         SDL_Event ev;
         while (SDL_PollEvent(&ev)) {
@@ -204,22 +223,22 @@ int cmd_view(const ViewArgs& a) {
           }
         }
         c.refresh_size();
-        c.clear(Rgba{1, 1, 1, 1});
-        list.clear();
-        const int tw = c.width() / n;
-        for (int i = 0; i < n; ++i) {
-          const Affine2 view = Affine2::translate(i * tw, 0) *
-                               fit_view(chars[static_cast<size_t>(i)].width, chars[static_cast<size_t>(i)].height,
-                                        tw, c.height(), 8);
-          build_draw_list(chars[static_cast<size_t>(i)], meshes[static_cast<size_t>(i)], {}, view, 0.25, list);
-        }
+        draw_tiles(c, chars, meshes, 1.0, list);
         if (std::string err = c.draw(list); !err.empty()) {
           std::cerr << "error: " << err << "\n";
           return kExitRuntime;
         }
+        if (first && !a.screenshot.empty()) {
+          const std::vector<std::uint8_t> px = c.read_premultiplied();
+          if (std::string err = write_png(a.screenshot, downsample_premultiplied(px.data(), c.width(), c.height(), 1));
+              !err.empty()) {
+            std::cerr << "error: " << err << "\n";
+            return kExitRuntime;
+          }
+        }
+        first = false;
         c.present();
-        const double elapsed =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         if (a.seconds > 0 && elapsed >= a.seconds) running = false;
         SDL_Delay(16);
       }
@@ -236,20 +255,22 @@ int cmd_view(const ViewArgs& a) {
     std::cerr << "error: cannot create " << a.out_dir << ": " << ec.message() << "\n";
     return kExitRuntime;
   }
+  const int k = a.supersample;
   for (size_t i = 0; i < chars.size(); ++i) {
-    RenderOptions ro;
-    ro.width = tile_w;
-    ro.height = tile_h;
-    ro.background = Rgba{1, 1, 1, 1};
-    ro.supersample = 2;
-    Result<Image> img = render_character(chars[i], meshes[i], ro);
-    if (!img.ok()) {
-      std::cerr << "error: " << img.error << "\n";
+    auto canvas = Canvas::offscreen(tile_w * k, tile_h * k);
+    if (!canvas.ok()) {
+      std::cerr << "error: " << canvas.error << "\n";
       return kExitRuntime;
     }
+    draw_tiles(**canvas.value, {chars[i]}, {meshes[i]}, k, list);
+    if (std::string err = (*canvas.value)->draw(list); !err.empty()) {
+      std::cerr << "error: " << err << "\n";
+      return kExitRuntime;
+    }
+    const std::vector<std::uint8_t> px = (*canvas.value)->read_premultiplied();
     const std::string stem = std::filesystem::path(a.inputs[i]).stem().string();
     const std::string out = (std::filesystem::path(a.out_dir) / (stem + ".png")).string();
-    if (std::string err = write_png(out, *img.value); !err.empty()) {
+    if (std::string err = write_png(out, downsample_premultiplied(px.data(), tile_w, tile_h, k)); !err.empty()) {
       std::cerr << "error: " << err << "\n";
       return kExitRuntime;
     }

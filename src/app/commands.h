@@ -36,6 +36,8 @@ struct ViewArgs {
   double seconds = 0;  ///< window mode: close after this long (0 = until closed)
   bool headless = false;
   bool software = false;
+  int supersample = 2;     ///< headless PNGs only
+  std::string screenshot;  ///< window mode: save the first frame's pixels here
 };
 int cmd_view(const ViewArgs& a);
 

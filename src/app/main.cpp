@@ -32,6 +32,8 @@ int main(int argc, char** argv) {
   v->add_option("--seconds", view.seconds, "Close the window after this many seconds");
   v->add_flag("--headless", view.headless, "Never open a window");
   v->add_flag("--software", view.software, "Use SDL's software renderer in the window");
+  v->add_option("--supersample", view.supersample, "Headless PNGs: 1, 2 or 4 samples per axis");
+  v->add_option("--screenshot", view.screenshot, "Window mode: save the first frame as PNG");
 
   try {
     app.parse(argc, argv);

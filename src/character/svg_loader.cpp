@@ -115,7 +115,7 @@ class SvgLoader {
   // ---- bookkeeping -------------------------------------------------------------------
   int line_of(size_t offset) const {
     auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), offset);
-    return static_cast<int>(it - line_starts_.begin()) + 1;
+    return static_cast<int>(it - line_starts_.begin());  // starts <= offset = 1-based line
   }
   int line_of(const pugi::xml_node& n) const {
     const ptrdiff_t off = n.offset_debug();

@@ -13,10 +13,11 @@ double dist_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
 
 void cubic_rec(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3, double tol,
                int depth, Points& out) {
-  // The curve lies in the convex hull of its control points, so if both inner control
-  // points are within tol of the chord the chord is within tol of the curve.
+  // B(t) - chord(t) = 3t(1-t)^2 (p1 - c1) + 3t^2(1-t) (p2 - c2) with c on the chord, and
+  // the two weights sum to 3t(1-t) <= 3/4: the curve is within 3/4 of the larger inner
+  // control point distance from the chord.
   const double d = std::max(dist_to_segment(p1, p0, p3), dist_to_segment(p2, p0, p3));
-  if (d <= tol || depth >= 18) {
+  if (0.75 * d <= tol || depth >= 18) {
     out.push_back(p3);
     return;
   }

@@ -17,7 +17,12 @@ namespace mar {
 namespace {
 
 using K = CGAL::Exact_predicates_inexact_constructions_kernel;
-using Vb = CGAL::Triangulation_vertex_base_with_info_2<int, K>;
+// 1-based index of the input point; 0 marks an intersection (Steiner) vertex. A struct
+// with an initialiser, because CGAL leaves a plain int info uninitialised.
+struct VertexInfo {
+  int index = 0;
+};
+using Vb = CGAL::Triangulation_vertex_base_with_info_2<VertexInfo, K>;
 struct FaceInfo {
   int winding = 0;
   bool seen = false;
@@ -63,7 +68,7 @@ FillMesh triangulate_fill(std::span<const Vec2> points, std::span<const Ring> ri
       const Vec2& p = points[static_cast<size_t>(r.begin + k)];
       if (!p.allFinite()) continue;
       VH vh = cdt.insert(K::Point_2(p.x(), p.y()));
-      vh->info() = r.begin + k + 1;  // 1-based; 0 = Steiner (intersection) vertex
+      vh->info().index = r.begin + k + 1;  // 1-based; 0 = Steiner (intersection) vertex
       if (handles.empty() || handles.back() != vh) handles.push_back(vh);
     }
     while (handles.size() > 1 && handles.back() == handles.front()) handles.pop_back();
@@ -115,9 +120,9 @@ FillMesh triangulate_fill(std::span<const Vec2> points, std::span<const Ring> ri
     if (!fresh) return it->second;
     const Vec2 p(vh->point().x(), vh->point().y());
     mesh.vertices.push_back(p);
-    if (vh->info() > 0) {
-      mesh.src_a.push_back(vh->info() - 1);
-      mesh.src_b.push_back(vh->info() - 1);
+    if (vh->info().index > 0) {
+      mesh.src_a.push_back(vh->info().index - 1);
+      mesh.src_b.push_back(vh->info().index - 1);
       mesh.src_t.push_back(0.0);
     } else {
       // Intersection point: express it on the nearest input segment.

@@ -20,6 +20,7 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
   c->renderer_ = SDL_CreateSoftwareRenderer(c->surface_);
   if (!c->renderer_) return R::failure(std::string("cannot create software renderer: ") + SDL_GetError());
   SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
+  c->software_ = true;
   return R::success(std::move(c));
 }
 
@@ -40,6 +41,8 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int wid
   if (!c->renderer_ && !software) c->renderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
   if (!c->renderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
   SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
+  SDL_RendererInfo info;
+  c->software_ = SDL_GetRendererInfo(c->renderer_, &info) == 0 && (info.flags & SDL_RENDERER_SOFTWARE);
   c->refresh_size();
   return R::success(std::move(c));
 }
@@ -75,6 +78,9 @@ SDL_Texture* Canvas::texture_for(const Texture* t) {
   if (tex) {
     SDL_UpdateTexture(tex, nullptr, t->rgba.data(), t->width * 4);
     SDL_SetTextureBlendMode(tex, SDL_BLENDMODE_BLEND);
+    // Linear filtering where the renderer has it (OpenGL). SDL 2.26's software renderer
+    // samples nearest and stretches texture coordinates by up to one texel; at the size
+    // of character textures that is not visible.
     SDL_SetTextureScaleMode(tex, SDL_ScaleModeLinear);
   }
   textures_.emplace(t, tex);
@@ -86,8 +92,24 @@ std::string Canvas::draw(const DrawList& list) {
     if (b.index_count <= 0) continue;
     SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
     if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    if (SDL_RenderGeometry(renderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
-                           list.indices.data() + b.first_index, b.index_count) != 0) {
+    const SDL_Vertex* verts = list.vertices.data();
+    int nverts = static_cast<int>(list.vertices.size());
+    const int* idx = list.indices.data() + b.first_index;
+    if (software_) {
+      // SDL 2.26's software path redraws two consecutive triangles that share two vertex
+      // indices as an axis-aligned rectangle when its (loose) corner test passes, which
+      // it also does for sheared quads. Distinct indices for every triangle avoid that.
+      sw_vertices_.clear();
+      sw_indices_.clear();
+      for (int k = 0; k < b.index_count; ++k) {
+        sw_vertices_.push_back(list.vertices[static_cast<size_t>(idx[k])]);
+        sw_indices_.push_back(k);
+      }
+      verts = sw_vertices_.data();
+      nverts = static_cast<int>(sw_vertices_.size());
+      idx = sw_indices_.data();
+    }
+    if (SDL_RenderGeometry(renderer_, tex, verts, nverts, idx, b.index_count) != 0) {
       return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
     }
   }

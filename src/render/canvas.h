@@ -50,6 +50,11 @@ class Canvas {
   SDL_Texture* texture_for(const Texture* t);
 
   int width_ = 0, height_ = 0;
+  bool software_ = false;
+  // Software renderers get every triangle with its own vertices (see draw()); these
+  // keep their capacity, so drawing allocates nothing once warmed up.
+  std::vector<SDL_Vertex> sw_vertices_;
+  std::vector<int> sw_indices_;
   SDL_Window* window_ = nullptr;
   SDL_Surface* surface_ = nullptr;
   SDL_Renderer* renderer_ = nullptr;

@@ -1,0 +1,141 @@
+// The command-line contract: outputs, JSON shape, and exit codes (0 ok, 1 runtime, 2 bad input).
+#include "render/image.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace mar {
+namespace {
+
+std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+TEST(cli_render, WritesPngOfRequestedSize) {
+  const auto out = test::temp_dir("cli") / "butterfly.png";
+  auto r = test::run_cli("render " + q(test::characters_dir() / "butterfly.svg") + " -o " + q(out) +
+                         " --size 120x80 --background ffffff --supersample 2");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto img = read_png_image(out.string());
+  ASSERT_TRUE(img.ok());
+  EXPECT_EQ(img.value->width, 120);
+  EXPECT_EQ(img.value->height, 80);
+  EXPECT_EQ(img.value->rgba[3], 255);  // opaque background
+}
+
+TEST(cli_render, DefaultSizeIsTheDocumentSize) {
+  const auto out = test::temp_dir("cli") / "koi.png";
+  auto r = test::run_cli("render " + q(test::characters_dir() / "koi.svg") + " -o " + q(out));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto img = read_png_image(out.string());
+  EXPECT_EQ(img.value->width, 480);
+  EXPECT_EQ(img.value->height, 300);
+}
+
+TEST(cli_render, BadInputExitsTwoWithAMessage) {
+  const auto out = (test::temp_dir("cli") / "x.png").string();
+  const std::string broken = test::write_temp("broken.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\">\n<g>\n</svg>");
+  auto r = test::run_cli("render " + q(broken) + " -o " + q(out));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("broken.svg:3"), std::string::npos) << r.err;
+  EXPECT_EQ(test::run_cli("render /nonexistent.svg -o " + q(out)).exit_code, 2);
+  EXPECT_EQ(test::run_cli("render " + q(test::characters_dir() / "koi.svg") + " -o " + q(out) + " --size 0x5").exit_code, 2);
+  EXPECT_EQ(test::run_cli("render " + q(test::characters_dir() / "koi.svg") + " -o " + q(out) + " --background pink").exit_code, 2);
+  EXPECT_EQ(test::run_cli("render " + q(test::characters_dir() / "koi.svg") + " -o " + q(out) + " --supersample 3").exit_code, 2);
+  EXPECT_EQ(test::run_cli("render " + q(test::characters_dir() / "koi.svg")).exit_code, 2);  // no -o
+  EXPECT_EQ(test::run_cli("frobnicate").exit_code, 2);
+  EXPECT_EQ(test::run_cli("").exit_code, 2);
+}
+
+TEST(cli_render, UnwritableOutputIsARuntimeFailure) {
+  auto r = test::run_cli("render " + q(test::characters_dir() / "koi.svg") + " -o /nonexistent-dir/x.png");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("cannot write"), std::string::npos);
+}
+
+TEST(cli_inspect, JsonListsEverySubShape) {
+  auto r = test::run_cli("inspect " + q(test::characters_dir() / "figure.svg") + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  ASSERT_TRUE(j["subshapes"].is_array());
+  size_t vertices = 0, open = 0;
+  for (const auto& s : j["subshapes"]) {
+    EXPECT_TRUE(s.contains("id"));
+    EXPECT_TRUE(s.contains("closed"));
+    EXPECT_TRUE(s.contains("layer"));
+    EXPECT_EQ(s["bounds"].size(), 4u);
+    vertices += s["vertices"].get<size_t>();
+    open += s["closed"].get<bool>() ? 0 : 1;
+  }
+  EXPECT_EQ(j["totals"]["vertices"].get<size_t>(), vertices);
+  EXPECT_EQ(j["totals"]["open"].get<size_t>(), open);
+  EXPECT_EQ(j["totals"]["subshapes"].get<size_t>(), j["subshapes"].size());
+  EXPECT_EQ(j["layers"][0], "back");
+  EXPECT_TRUE(j["warnings"].empty());
+}
+
+TEST(cli_inspect, TextTableAndWarnings) {
+  const std::string svg = test::write_temp("warn.svg",
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\">\n"
+      "<rect id=\"box\" width=\"5\" height=\"5\"/>\n<text>hello</text>\n</svg>\n");
+  auto r = test::run_cli("inspect " + q(svg));
+  ASSERT_EQ(r.exit_code, 0);
+  EXPECT_NE(r.out.find("box"), std::string::npos);
+  EXPECT_NE(r.out.find("totals: 1 sub-shapes"), std::string::npos);
+  EXPECT_NE(r.out.find("warn.svg:3: <text>: text is not supported"), std::string::npos) << r.out;
+}
+
+TEST(cli_inspect, MaskOnlyForPng) {
+  auto r = test::run_cli("inspect " + q(test::characters_dir() / "koi.svg") + " --mask " +
+                         q(test::characters_dir() / "koi.svg"));
+  EXPECT_EQ(r.exit_code, 2);
+}
+
+TEST(cli_view, HeadlessWritesOnePngPerCharacter) {
+  const auto dir = test::temp_dir("view");
+  auto r = test::run_cli("view " + q(test::characters_dir() / "koi.svg") + " " +
+                         q(test::characters_dir() / "figure.svg") + " --headless --size 64x64 --out-dir " + q(dir));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::filesystem::exists(dir / "koi.png"));
+  EXPECT_TRUE(std::filesystem::exists(dir / "figure.png"));
+  EXPECT_NE(r.out.find((dir / "koi.png").string()), std::string::npos);
+}
+
+TEST(cli_view, WithoutDisplaySaysSoAndWritesFiles) {
+  const auto dir = test::temp_dir("view-nodisplay");
+  auto r = test::run_cli("view " + q(test::characters_dir() / "koi.svg") + " --size 32x32 --out-dir " + q(dir) +
+                         " </dev/null");
+  // run under `env -u DISPLAY` semantics: the test environment has no display in CI
+  if (std::getenv("DISPLAY")) GTEST_SKIP() << "a display is present";
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("no display"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(dir / "koi.png"));
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// Window and offscreen targets share one code path: under Xvfb the window's pixels, read
+// back from the renderer, equal the headless PNG of the same tile.
+TEST(cli_view, WindowPixelsEqualOffscreenPixels) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const auto dir = test::temp_dir("window");
+  const std::string ch = q(test::characters_dir() / "butterfly.svg");
+  auto h = test::run_cli("view " + ch + " --headless --size 160x120 --supersample 1 --out-dir " + q(dir));
+  ASSERT_EQ(h.exit_code, 0) << h.err;
+  const std::string cmd = "xvfb-run -a -s '-screen 0 640x480x24' '" + std::string(MARIONETTE_BINARY) + "' view " +
+                          ch + " --size 160x120 --software --seconds 0.3 --screenshot " + q(dir / "window.png") +
+                          " >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  auto a = read_png_image((dir / "butterfly.png").string());
+  auto b = read_png_image((dir / "window.png").string());
+  ASSERT_TRUE(a.ok() && b.ok());
+  const ImageDiff d = compare_images(*a.value, *b.value, 0);
+  ASSERT_TRUE(d.same_size) << b.value->width << "x" << b.value->height;
+  EXPECT_EQ(d.differing, 0u) << "max diff " << d.max_channel_diff;
+}
+
+}  // namespace
+}  // namespace mar

@@ -1,0 +1,326 @@
+#include "character/color.h"
+#include "character/svg_loader.h"
+#include "geom/polygon.h"
+
+#include <gtest/gtest.h>
+
+namespace mar {
+namespace {
+
+Character load(const std::string& body, const std::string& root_attrs = R"svg(width="100" height="100")svg",
+               double tol = 0.1) {
+  const std::string text = "<svg xmlns=\"http://www.w3.org/2000/svg\" "
+                           "xmlns:xlink=\"http://www.w3.org/1999/xlink\" "
+                           "xmlns:inkscape=\"http://www.inkscape.org/namespaces/inkscape\" " +
+                           root_attrs + ">\n" + body + "\n</svg>\n";
+  SvgOptions o;
+  o.tolerance = tol;
+  auto r = load_svg_string(text, "test.svg", o);
+  EXPECT_TRUE(r.ok()) << r.error;
+  return r.ok() ? *r.value : Character{};
+}
+
+const SubShape* find(const Character& ch, const std::string& id) {
+  for (const SubShape& s : ch.shapes)
+    if (s.id == id) return &s;
+  return nullptr;
+}
+
+bool has_warning(const Character& ch, const std::string& needle) {
+  for (const auto& w : ch.warnings)
+    if (w.find(needle) != std::string::npos) return true;
+  return false;
+}
+
+void expect_bounds(const SubShape& s, double x0, double y0, double x1, double y1, double eps = 1e-9) {
+  const Bounds b = s.bounds();
+  EXPECT_NEAR(b.lo.x(), x0, eps);
+  EXPECT_NEAR(b.lo.y(), y0, eps);
+  EXPECT_NEAR(b.hi.x(), x1, eps);
+  EXPECT_NEAR(b.hi.y(), y1, eps);
+}
+
+TEST(load_svg, RectPlainAndRounded) {
+  auto ch = load(R"svg(<rect id="a" x="10" y="20" width="30" height="40"/>
+                    <rect id="b" x="10" y="20" width="30" height="40" rx="5"/>
+                    <rect id="c" x="0" y="0" width="30" height="40" ry="100"/>
+                    <rect id="zero" width="0" height="10"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 3u);
+  EXPECT_EQ(find(ch, "a")->points.size(), 4u);
+  EXPECT_TRUE(find(ch, "a")->closed());
+  expect_bounds(*find(ch, "a"), 10, 20, 40, 60);
+  EXPECT_GT(find(ch, "b")->points.size(), 8u);
+  expect_bounds(*find(ch, "b"), 10, 20, 40, 60, 1e-6);
+  // ry alone sets rx too; both clamp to half the size -> a capsule as wide as the rect.
+  const SubShape& c = *find(ch, "c");
+  expect_bounds(c, 0, 0, 30, 40, 1e-6);
+  // Area of the capsule; the inscribed flattening loses at most tolerance x curved length.
+  const double exact = 30 * 40 - (4 - M_PI) * 15 * 20;
+  EXPECT_LE(std::abs(signed_area(c.points)), exact + 1e-9);
+  EXPECT_GE(std::abs(signed_area(c.points)), exact - 0.1 * 2 * M_PI * 17.7);
+}
+
+TEST(load_svg, CircleEllipseFlattenedToTolerance) {
+  for (double tol : {1.0, 0.1, 0.01}) {
+    auto ch = load(R"svg(<circle id="c" cx="50" cy="50" r="40"/>)svg", R"svg(width="100" height="100")svg", tol);
+    const SubShape& c = ch.shapes.at(0);
+    const size_t n = c.points.size();
+    for (size_t i = 0; i < n; ++i) {
+      const Vec2 mid = 0.5 * (c.points[i] + c.points[(i + 1) % n]);
+      EXPECT_NEAR((c.points[i] - Vec2(50, 50)).norm(), 40, 1e-3);
+      EXPECT_LE(40 - (mid - Vec2(50, 50)).norm(), tol * 1.01);
+    }
+  }
+  auto e = load(R"svg(<ellipse id="e" cx="50" cy="50" rx="40" ry="20"/>)svg");
+  expect_bounds(e.shapes.at(0), 10, 30, 90, 70, 1e-9);
+}
+
+TEST(load_svg, ToleranceIsInOutputUnits) {
+  // The same circle drawn through a 10x scale must get proportionally more points.
+  auto small = load(R"svg(<circle cx="5" cy="5" r="4"/>)svg", R"svg(width="100" height="100" viewBox="0 0 100 100")svg");
+  auto big = load(R"svg(<circle cx="5" cy="5" r="4"/>)svg", R"svg(width="1000" height="1000" viewBox="0 0 100 100")svg");
+  EXPECT_GT(big.shapes.at(0).points.size(), 2 * small.shapes.at(0).points.size());
+}
+
+TEST(load_svg, LinePolylinePolygon) {
+  auto ch = load(R"svg(<line id="l" x1="0" y1="0" x2="10" y2="10" stroke="black"/>
+                    <polyline id="pl" points="0,0 10,0 10,10" fill="none" stroke="red"/>
+                    <polygon id="pg" points="0,0 10,0 10,10"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 3u);
+  EXPECT_FALSE(find(ch, "l")->closed());
+  EXPECT_FALSE(find(ch, "l")->fill.enabled);  // lines never fill
+  EXPECT_TRUE(find(ch, "l")->stroke.enabled);
+  EXPECT_FALSE(find(ch, "pl")->closed());
+  EXPECT_TRUE(find(ch, "pg")->closed());
+  EXPECT_EQ(find(ch, "pg")->points.size(), 3u);
+}
+
+TEST(load_svg, LineWithoutStrokeDrawsNothing) {
+  auto ch = load(R"svg(<line x1="0" y1="0" x2="10" y2="10"/>)svg");
+  EXPECT_TRUE(ch.shapes.empty());
+}
+
+TEST(load_svg, PathWithSeveralSubpathsIsOneShape) {
+  auto ch = load(R"svg(<path id="p" fill-rule="evenodd" d="M0 0 H50 V50 H0 Z M10 10 H40 V40 H10 Z"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_EQ(ch.shapes[0].contours.size(), 2u);
+  EXPECT_EQ(ch.shapes[0].fill.rule, FillRule::EvenOdd);
+}
+
+TEST(load_svg, BadPathDataDrawsUpToTheErrorAndWarns) {
+  auto ch = load(R"svg(<path id="p" d="M0 0 L10 0 L10 10 L5"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_EQ(ch.shapes[0].points.size(), 3u);
+  EXPECT_TRUE(has_warning(ch, "path data error"));
+  EXPECT_TRUE(has_warning(ch, "test.svg:2"));
+}
+
+TEST(load_svg, TransformsNest) {
+  auto ch = load(R"svg(<g transform="translate(10 20)"><g transform="scale(2)">
+                    <rect id="r" x="1" y="1" width="2" height="2" transform="rotate(90 2 2)"/></g></g>)svg");
+  expect_bounds(ch.shapes.at(0), 12, 22, 16, 26, 1e-9);
+}
+
+TEST(load_svg, UseOfDefsWithOffsetAndBothHrefForms) {
+  auto ch = load(R"svg(<defs><rect id="src" width="10" height="10"/></defs>
+                    <use id="u1" href="#src" x="20" y="5"/>
+                    <use id="u2" xlink:href="#src" transform="translate(50 0)"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 2u);  // defs themselves are not drawn
+  expect_bounds(*find(ch, "u1:src"), 20, 5, 30, 15);
+  expect_bounds(*find(ch, "u2:src"), 50, 0, 60, 10);
+}
+
+TEST(load_svg, UseInheritsStyleFromUse) {
+  auto ch = load(R"svg(<defs><rect id="src" width="10" height="10"/></defs>
+                    <use href="#src" fill="#00ff00"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_EQ(color_hex(ch.shapes[0].fill.color), "#00ff00");
+}
+
+TEST(load_svg, UseOfSymbolWithViewBox) {
+  auto ch = load(R"svg(<symbol id="sym" viewBox="0 0 10 10"><rect width="10" height="10"/></symbol>
+                    <use href="#sym" x="5" y="5" width="40" height="40"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  expect_bounds(ch.shapes[0], 5, 5, 45, 45, 1e-9);
+}
+
+TEST(load_svg, RecursiveUseIsCutWithAWarning) {
+  auto ch = load(R"svg(<g id="a"><rect width="5" height="5"/><use href="#a" x="10"/></g>
+                    <use id="b" href="#c"/><use id="c" href="#b"/>)svg");
+  EXPECT_EQ(ch.shapes.size(), 1u);
+  EXPECT_TRUE(has_warning(ch, "use"));
+}
+
+TEST(load_svg, ViewBoxAndPreserveAspectRatio) {
+  auto meet = load(R"svg(<rect width="100" height="100"/>)svg",
+                   R"svg(width="200" height="100" viewBox="0 0 100 100")svg");  // xMidYMid meet
+  expect_bounds(meet.shapes.at(0), 50, 0, 150, 100);
+  auto none = load(R"svg(<rect width="100" height="100"/>)svg",
+                   R"svg(width="200" height="100" viewBox="0 0 100 100" preserveAspectRatio="none")svg");
+  expect_bounds(none.shapes.at(0), 0, 0, 200, 100);
+  auto min = load(R"svg(<rect width="100" height="100"/>)svg",
+                  R"svg(width="200" height="100" viewBox="0 0 100 100" preserveAspectRatio="xMinYMin")svg");
+  expect_bounds(min.shapes.at(0), 0, 0, 100, 100);
+  auto slice = load(R"svg(<rect width="100" height="100"/>)svg",
+                    R"svg(width="200" height="100" viewBox="0 0 100 100" preserveAspectRatio="xMidYMax slice")svg");
+  expect_bounds(slice.shapes.at(0), 0, -100, 200, 100);
+  auto offset = load(R"svg(<rect x="10" y="10" width="10" height="10"/>)svg",
+                     R"svg(width="100" height="100" viewBox="10 10 10 10")svg");
+  expect_bounds(offset.shapes.at(0), 0, 0, 100, 100);
+  EXPECT_EQ(meet.width, 200);
+  EXPECT_EQ(meet.height, 100);
+}
+
+TEST(load_svg, SizeFromViewBoxAndUnits) {
+  auto vb = load(R"svg(<rect width="1" height="1"/>)svg", R"svg(viewBox="0 0 300 150")svg");
+  EXPECT_EQ(vb.width, 300);
+  EXPECT_EQ(vb.height, 150);
+  auto mm = load(R"svg(<rect width="1in" height="2.54cm"/>)svg", R"svg(width="1in" height="25.4mm")svg");
+  EXPECT_NEAR(mm.width, 96, 1e-9);
+  EXPECT_NEAR(mm.height, 96, 1e-9);
+  expect_bounds(mm.shapes.at(0), 0, 0, 96, 96, 1e-9);
+  auto pct = load(R"svg(<rect width="50%" height="25%"/>)svg", R"svg(width="200" height="100")svg");
+  expect_bounds(pct.shapes.at(0), 0, 0, 100, 25, 1e-9);
+}
+
+TEST(load_svg, StyleAttributeBeatsPresentationAttribute) {
+  auto ch = load(R"svg(<rect width="1" height="1" fill="red" style="fill: blue ; stroke:#0f0;stroke-width:3"/>)svg");
+  const SubShape& s = ch.shapes.at(0);
+  EXPECT_EQ(color_hex(s.fill.color), "#0000ff");
+  EXPECT_TRUE(s.stroke.enabled);
+  EXPECT_EQ(color_hex(s.stroke.color), "#00ff00");
+  EXPECT_DOUBLE_EQ(s.stroke.width, 3);
+}
+
+TEST(load_svg, InheritanceAndOpacity) {
+  auto ch = load(R"svg(<g fill="green" stroke="black" stroke-linejoin="round" opacity="0.5">
+                      <rect id="a" width="1" height="1" fill-opacity="0.5"/>
+                      <rect id="b" width="1" height="1" fill="inherit" stroke="none" style="opacity:.5"/>
+                    </g>)svg");
+  const SubShape& a = *find(ch, "a");
+  EXPECT_EQ(color_hex(a.fill.color), "#008000");
+  EXPECT_NEAR(a.fill.opacity, 0.25, 1e-6);
+  EXPECT_NEAR(a.stroke.opacity, 0.5, 1e-6);
+  EXPECT_EQ(a.stroke.join, LineJoin::Round);
+  const SubShape& b = *find(ch, "b");
+  EXPECT_FALSE(b.stroke.enabled);
+  EXPECT_NEAR(b.fill.opacity, 0.25, 1e-6);
+}
+
+TEST(load_svg, CurrentColor) {
+  auto ch = load(R"svg(<g color="#123456"><rect width="1" height="1" fill="currentColor"/></g>)svg");
+  EXPECT_EQ(color_hex(ch.shapes.at(0).fill.color), "#123456");
+}
+
+TEST(load_svg, DisplayAndVisibility) {
+  auto ch = load(R"svg(<g style="display:none"><rect id="gone" width="1" height="1"/></g>
+                    <g visibility="hidden"><rect id="hidden" width="1" height="1"/>
+                      <rect id="shown" width="1" height="1" visibility="visible"/></g>
+                    <rect id="none" display="none" width="1" height="1"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_EQ(ch.shapes[0].id, "shown");
+}
+
+TEST(load_svg, StrokeWidthFollowsTransformScale) {
+  auto ch = load(R"svg(<g transform="scale(2)"><path d="M0 0 L10 0" stroke="black" stroke-width="3"/></g>)svg");
+  EXPECT_DOUBLE_EQ(ch.shapes.at(0).stroke.width, 6);
+}
+
+TEST(load_svg, GradientsPatternsTextFiltersWarn) {
+  auto ch = load(R"svg(<defs><linearGradient id="g"><stop offset="0" stop-color="#ff0000"/>
+                      <stop offset="1" stop-color="#0000ff"/></linearGradient>
+                      <linearGradient id="g2" xlink:href="#g"/>
+                      <pattern id="pat"><rect width="2" height="2" fill="#00ff00"/></pattern></defs>
+                    <rect id="a" width="1" height="1" fill="url(#g)"/>
+                    <rect id="b" width="1" height="1" fill="url(#g2)"/>
+                    <rect id="c" width="1" height="1" fill="url(#pat)"/>
+                    <rect id="d" width="1" height="1" fill="url(#missing) #00ffff"/>
+                    <text x="0" y="0">hi</text>
+                    <rect id="e" width="1" height="1" filter="url(#f)"/>)svg");
+  EXPECT_EQ(color_hex(find(ch, "a")->fill.color), "#800080");  // mean of red and blue
+  EXPECT_EQ(color_hex(find(ch, "b")->fill.color), "#800080");  // stops through href
+  EXPECT_EQ(color_hex(find(ch, "c")->fill.color), "#00ff00");
+  EXPECT_EQ(color_hex(find(ch, "d")->fill.color), "#00ffff");  // fallback colour
+  EXPECT_TRUE(find(ch, "e"));
+  EXPECT_TRUE(has_warning(ch, "linearGradient 'g' drawn as its mean colour"));
+  EXPECT_TRUE(has_warning(ch, "pattern 'pat'"));
+  EXPECT_TRUE(has_warning(ch, "text is not supported"));
+  EXPECT_TRUE(has_warning(ch, "filter ignored"));
+}
+
+TEST(load_svg, InkscapeLayersInDocumentOrder) {
+  auto ch = load(R"svg(<rect id="loose" width="1" height="1"/>
+                    <g inkscape:groupmode="layer" inkscape:label="Back"><rect id="a" width="1" height="1"/>
+                      <g inkscape:groupmode="layer" inkscape:label="Sub"><rect id="b" width="1" height="1"/></g>
+                    </g>
+                    <g id="front"><g><rect id="c" width="1" height="1"/></g></g>)svg");
+  ASSERT_EQ(ch.layers.size(), 4u);
+  EXPECT_EQ(ch.layers[0], "(root)");
+  EXPECT_EQ(ch.layers[1], "Back");
+  EXPECT_EQ(ch.layers[2], "Sub");
+  EXPECT_EQ(ch.layers[3], "front");
+  EXPECT_EQ(find(ch, "b")->layer, 2);
+  EXPECT_EQ(find(ch, "c")->layer, 3);
+  EXPECT_EQ(ch.shapes.back().id, "c");  // paint order = document order
+}
+
+TEST(load_svg, IdsAreKeptAndMadeUnique) {
+  auto ch = load(R"svg(<rect id="x" width="1" height="1"/><rect id="x" width="1" height="1"/>
+<rect width="1" height="1"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 3u);
+  EXPECT_EQ(ch.shapes[0].id, "x");
+  EXPECT_EQ(ch.shapes[1].id, "x.2");
+  EXPECT_EQ(ch.shapes[2].id, "rect-L3");
+}
+
+TEST(load_svg, SwitchPicksFirstMatchingChild) {
+  auto ch = load(R"svg(<switch><rect id="fr" systemLanguage="fr" width="1" height="1"/>
+                    <rect id="en" systemLanguage="de, en-GB" width="1" height="1"/>
+                    <rect id="other" width="1" height="1"/></switch>)svg");
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_EQ(ch.shapes[0].id, "en");
+}
+
+TEST(load_svg, NestedSvgViewport) {
+  auto ch = load(R"svg(<svg x="10" y="10" width="20" height="20" viewBox="0 0 2 2"><rect width="1" height="1"/></svg>)svg");
+  expect_bounds(ch.shapes.at(0), 10, 10, 20, 20, 1e-9);
+}
+
+TEST(load_svg, MalformedXmlNamesFileAndLine) {
+  auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\">\n<g>\n<rect/>\n</svg>\n", "broken.svg");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("broken.svg:4"), std::string::npos) << r.error;
+  auto not_svg = load_svg_string("<html/>", "page.svg");
+  ASSERT_FALSE(not_svg.ok());
+  EXPECT_NE(not_svg.error.find("not <svg>"), std::string::npos);
+  auto missing = load_svg_file("/nonexistent/file.svg");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error.find("cannot open"), std::string::npos);
+}
+
+TEST(load_svg, TooComplexFileIsRejected) {
+  std::string body;
+  for (int i = 0; i < 50; ++i) body += "<circle cx=\"50\" cy=\"50\" r=\"40\"/>";
+  SvgOptions o;
+  o.max_points = 500;
+  auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\">" + body + "</svg>", "big.svg", o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("too complex"), std::string::npos);
+}
+
+TEST(load_svg, ExampleCharactersHaveOverlappingPartsAndOpenStrokes) {
+  for (const char* name : {"butterfly", "figure", "koi"}) {
+    auto r = load_svg_file(std::string(MARIONETTE_SOURCE_DIR) + "/config/characters/" + name + ".svg");
+    ASSERT_TRUE(r.ok()) << r.error;
+    const Character& ch = *r.value;
+    EXPECT_TRUE(ch.warnings.empty()) << name << ": " << ch.warnings.front();
+    size_t open = 0;
+    for (const SubShape& s : ch.shapes) open += s.closed() ? 0 : 1;
+    EXPECT_GE(ch.shapes.size(), 5u) << name;
+    EXPECT_GE(open, 2u) << name;
+    EXPECT_GE(ch.layers.size(), 3u) << name;
+  }
+}
+
+}  // namespace
+}  // namespace mar

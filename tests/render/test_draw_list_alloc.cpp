@@ -1,0 +1,53 @@
+// Rebuilding the draw list of a character every frame allocates nothing after warm-up.
+#include "character/load.h"
+#include "render/tessellate.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> g_allocs{0};
+}
+
+void* operator new(std::size_t n) {
+  g_allocs.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mar {
+namespace {
+
+TEST(build_draw_list, NoHeapAllocationAfterWarmUp) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  const CharacterMesh mesh = prepare_mesh(*ch.value);
+  std::vector<Points> pos;
+  for (const SubShape& s : ch.value->shapes) pos.push_back(s.points);
+  DrawList list;
+  auto frame = [&](int f) {
+    for (size_t i = 0; i < pos.size(); ++i) {
+      for (size_t k = 0; k < pos[i].size(); ++k) {
+        pos[i][k] = ch.value->shapes[i].points[k] + Vec2(std::sin(f * 0.1 + k) * 3, std::cos(f * 0.07 + i) * 3);
+      }
+    }
+    list.clear();
+    build_draw_list(*ch.value, mesh, pos, Affine2::scale(1.5, 1.5), 0.25, list);
+  };
+  // The animation cycles every 100 frames; the first cycle is the warm-up in which the
+  // buffers reach their working size, the next two must not allocate.
+  for (int f = 0; f < 100; ++f) frame(f);
+  const long before = g_allocs.load();
+  for (int f = 100; f < 300; ++f) frame(f % 100);
+  EXPECT_EQ(g_allocs.load() - before, 0);
+  EXPECT_GT(list.indices.size(), 100u);
+}
+
+}  // namespace
+}  // namespace mar

@@ -1,0 +1,58 @@
+// Helpers shared by the tests: locations, running the CLI, corpus access.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace mar::test {
+
+inline std::filesystem::path source_dir() { return MARIONETTE_SOURCE_DIR; }
+inline std::filesystem::path corpus_dir() { return MARIONETTE_CORPUS_DIR; }
+inline bool have_corpus() { return std::filesystem::is_directory(corpus_dir() / "svg"); }
+inline std::filesystem::path characters_dir() { return source_dir() / "config" / "characters"; }
+
+inline std::filesystem::path temp_dir(const std::string& name) {
+  auto p = std::filesystem::temp_directory_path() / ("marionette-test-" + std::to_string(::getpid())) / name;
+  std::filesystem::create_directories(p);
+  return p;
+}
+
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  const auto p = temp_dir("files") / name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p.string();
+}
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+/// Runs the marionette binary with `args` (a shell-quoted string).
+inline RunResult run_cli(const std::string& args) {
+  const auto dir = temp_dir("run");
+  const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string cmd = std::string("'") + MARIONETTE_BINARY + "' " + args + " >'" + out.string() +
+                          "' 2>'" + err.string() + "'";
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  auto slurp = [](const std::filesystem::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  };
+  r.out = slurp(out);
+  r.err = slurp(err);
+  return r;
+}
+
+}  // namespace mar::test
