@@ -1,12 +1,15 @@
 #include "character/svg_loader.h"
 
 #include "character/color.h"
+#include "character/css.h"
 #include "character/svg_parse.h"
 #include "geom/polygon.h"
 
 #include <pugixml.hpp>
+#include <stb/stb_image.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -87,6 +90,7 @@ class SvgLoader {
                                         ">, not <svg>");
     }
     index_ids(root);
+    collect_style_sheets(root);
     ch_.source = name_;
 
     Ctx ctx;
@@ -180,7 +184,9 @@ class SvgLoader {
   // ---- properties ------------------------------------------------------------------
   using Decls = std::vector<std::pair<std::string, std::string>>;
 
-  static Decls declarations(const pugi::xml_node& n) {
+  // Cascade: presentation attributes < CSS rules (by specificity, then order) < the style
+  // attribute < CSS !important. The last declaration of a property wins in prop().
+  Decls declarations(const pugi::xml_node& n) const {
     Decls d;
     static const char* kPresentation[] = {
         "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity",
@@ -190,23 +196,44 @@ class SvgLoader {
     for (const char* p : kPresentation) {
       if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
     }
-    std::string_view style = n.attribute("style").value();
-    while (!style.empty()) {
-      const size_t semi = style.find(';');
-      std::string_view decl = style.substr(0, semi);
-      style = semi == std::string_view::npos ? std::string_view{} : style.substr(semi + 1);
-      const size_t colon = decl.find(':');
-      if (colon == std::string_view::npos) continue;
-      std::string key(trim(decl.substr(0, colon)));
-      std::string_view val = trim(decl.substr(colon + 1));
-      if (const size_t imp = val.find("!important"); imp != std::string_view::npos) {
-        val = trim(val.substr(0, imp));
+    std::vector<const css::Rule*> matched;
+    if (!sheet_.rules.empty()) {
+      const std::string_view tag = local_name(n), id = n.attribute("id").value(),
+                             cls = n.attribute("class").value();
+      for (const css::Rule& r : sheet_.rules) {
+        if (css::matches(r.selector, tag, id, cls)) matched.push_back(&r);
       }
-      std::transform(key.begin(), key.end(), key.begin(),
-                     [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-      d.emplace_back(std::move(key), std::string(val));  // later (style) wins
+      std::stable_sort(matched.begin(), matched.end(), [](const css::Rule* a, const css::Rule* b) {
+        return a->selector.specificity != b->selector.specificity
+                   ? a->selector.specificity < b->selector.specificity
+                   : a->order < b->order;
+      });
+      for (const css::Rule* r : matched) d.insert(d.end(), r->declarations.begin(), r->declarations.end());
     }
+    Decls important;
+    const Decls inline_decls = css::parse_declarations(n.attribute("style").value(), &important);
+    d.insert(d.end(), inline_decls.begin(), inline_decls.end());
+    for (const css::Rule* r : matched) d.insert(d.end(), r->important.begin(), r->important.end());
+    d.insert(d.end(), important.begin(), important.end());
     return d;
+  }
+
+  void collect_style_sheets(const pugi::xml_node& root) {
+    for (const pugi::xpath_node& xn : root.select_nodes("//*")) {
+      const pugi::xml_node n = xn.node();
+      if (local_name(n) != "style") continue;
+      const std::string_view type = n.attribute("type").value();
+      if (!type.empty() && type != "text/css") continue;
+      std::string text;
+      for (pugi::xml_node c : n.children()) {
+        if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) text += c.value();
+      }
+      const size_t before = sheet_.unsupported.size();
+      css::parse(text, sheet_);
+      for (size_t i = before; i < sheet_.unsupported.size(); ++i) {
+        warn(n, "CSS selector '" + sheet_.unsupported[i] + "' not supported; rule skipped");
+      }
+    }
   }
 
   static std::optional<std::string_view> prop(const Decls& d, std::string_view key) {
@@ -557,9 +584,9 @@ class SvgLoader {
     } else if (name == "text") {
       warn(n, "text is not supported; skipped");
     } else if (name == "image") {
-      warn(n, "embedded images are not supported in SVG characters; skipped");
+      image(n, ctx);
     } else if (name == "style") {
-      warn(n, "CSS <style> rules are not applied (use style attributes)");
+      // applied through the cascade (collect_style_sheets)
     } else if (name == "foreignObject") {
       warn(n, "foreignObject skipped");
     } else {
@@ -649,9 +676,9 @@ class SvgLoader {
   void shape(const pugi::xml_node& n, const Ctx& ctx) {
     const std::string_view name = local_name(n);
     std::vector<PathCmd> cmds;
-    auto move = [&](Vec2 p) { cmds.push_back({PathCmd::Move, {}, {}, p}); };
-    auto line = [&](Vec2 p) { cmds.push_back({PathCmd::Line, {}, {}, p}); };
-    auto close = [&](Vec2 p) { cmds.push_back({PathCmd::Close, {}, {}, p}); };
+    auto move = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Move, p)); };
+    auto line = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Line, p)); };
+    auto close = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Close, p)); };
     auto arc = [&](Vec2 from, double rx, double ry, Vec2 to) {
       std::vector<CubicSeg> segs;
       arc_to_cubics(from, rx, ry, 0, false, true, to, segs);
@@ -725,6 +752,129 @@ class SvgLoader {
       if (name == "polygon") close(pts[0]);
     }
     emit(n, ctx, cmds);
+  }
+
+  // ---- images ------------------------------------------------------------------------
+  static std::vector<unsigned char> base64_decode(std::string_view in) {
+    std::vector<unsigned char> out;
+    unsigned buf = 0;
+    int bits = 0;
+    for (char ch : in) {
+      int v;
+      if (ch >= 'A' && ch <= 'Z') v = ch - 'A';
+      else if (ch >= 'a' && ch <= 'z') v = ch - 'a' + 26;
+      else if (ch >= '0' && ch <= '9') v = ch - '0' + 52;
+      else if (ch == '+' || ch == '-') v = 62;
+      else if (ch == '/' || ch == '_') v = 63;
+      else continue;  // whitespace, padding
+      buf = (buf << 6) | static_cast<unsigned>(v);
+      bits += 6;
+      if (bits >= 8) {
+        bits -= 8;
+        out.push_back(static_cast<unsigned char>((buf >> bits) & 0xff));
+      }
+    }
+    return out;
+  }
+
+  // Decodes a raster image from a data: URI or a file next to the SVG (PNG, JPEG, GIF,
+  // BMP through stb_image). Images are cached by reference.
+  std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href) {
+    const std::string key(href);
+    if (auto it = images_.find(key); it != images_.end()) return it->second;
+    std::vector<unsigned char> bytes;
+    std::string label;
+    if (href.rfind("data:", 0) == 0) {
+      const size_t comma = href.find(',');
+      if (comma == std::string_view::npos || href.substr(0, comma).find(";base64") == std::string_view::npos) {
+        warn(n, "image data URI is not base64; skipped");
+        return images_[key] = nullptr;
+      }
+      if (href.substr(0, comma).find("svg") != std::string_view::npos) {
+        warn(n, "nested SVG images are not supported; skipped");
+        return images_[key] = nullptr;
+      }
+      bytes = base64_decode(href.substr(comma + 1));
+      label = "embedded image";
+    } else {
+      if (href.find("://") != std::string_view::npos) {
+        warn(n, "remote image '" + key + "' not loaded");
+        return images_[key] = nullptr;
+      }
+      std::filesystem::path p = std::filesystem::path(name_).parent_path() / std::string(href);
+      if (p.extension() == ".svg" || p.extension() == ".svgz") {
+        warn(n, "nested SVG images are not supported; skipped");
+        return images_[key] = nullptr;
+      }
+      std::ifstream in(p, std::ios::binary);
+      if (!in) {
+        warn(n, "image file '" + p.string() + "' not found; skipped");
+        return images_[key] = nullptr;
+      }
+      bytes.assign(std::istreambuf_iterator<char>(in), {});
+      label = p.string();
+    }
+    int w = 0, h = 0, comp = 0;
+    stbi_uc* px = bytes.empty() || bytes.size() > (1u << 30)
+                      ? nullptr
+                      : stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &comp, 4);
+    if (!px) {
+      warn(n, "cannot decode image (" + label + "); skipped");
+      return images_[key] = nullptr;
+    }
+    auto t = std::make_shared<Texture>();
+    t->name = label;
+    t->width = w;
+    t->height = h;
+    t->rgba.assign(px, px + static_cast<size_t>(w) * h * 4);
+    stbi_image_free(px);
+    return images_[key] = t;
+  }
+
+  // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
+  void image(const pugi::xml_node& n, const Ctx& ctx) {
+    if (!ctx.style.visible) return;
+    const std::string_view href = trim(href_of(n));
+    if (href.empty()) return;
+    std::shared_ptr<const Texture> tex = load_image(n, href);
+    if (!tex) return;
+    const double x = length_attr(n, "x", 0, ctx.vp, 0), y = length_attr(n, "y", 1, ctx.vp, 0);
+    double w = length_attr(n, "width", 0, ctx.vp, 0), h = length_attr(n, "height", 1, ctx.vp, 0);
+    if (!n.attribute("width") && !n.attribute("height")) {
+      w = tex->width;
+      h = tex->height;
+    } else if (!n.attribute("width")) {
+      w = h * tex->width / tex->height;
+    } else if (!n.attribute("height")) {
+      h = w * tex->height / tex->width;
+    }
+    if (!(w > 0) || !(h > 0)) return;
+    // Placement of the whole image inside the viewport (x, y, w, h).
+    const Affine2 place = viewbox_transform({0, 0, static_cast<double>(tex->width), static_cast<double>(tex->height)},
+                                            w, h, n.attribute("preserveAspectRatio").value());
+    const Vec2 i0 = place.apply({0, 0}), i1 = place.apply({static_cast<double>(tex->width), static_cast<double>(tex->height)});
+    // The drawn rectangle is the image clipped to its viewport.
+    const double x0 = x + std::max(0.0, i0.x()), y0 = y + std::max(0.0, i0.y());
+    const double x1 = x + std::min(w, i1.x()), y1 = y + std::min(h, i1.y());
+    if (!(x1 > x0) || !(y1 > y0)) return;
+    std::vector<PathCmd> cmds{PathCmd::to(PathCmd::Move, {x0, y0}), PathCmd::to(PathCmd::Line, {x1, y0}),
+                              PathCmd::to(PathCmd::Line, {x1, y1}), PathCmd::to(PathCmd::Line, {x0, y1}),
+                              PathCmd::to(PathCmd::Close, {x0, y0})};
+    const double det = ctx.ctm.det();
+    if (!std::isfinite(det) || std::abs(det) < 1e-12) return;
+    // character point -> user point -> image pixels -> [0, 1]
+    const Affine2 uv = Affine2::scale(1.0 / tex->width, 1.0 / tex->height) * place.inverse() *
+                       Affine2::translate(-x, -y) * ctx.ctm.inverse();
+    Ctx img_ctx = ctx;
+    img_ctx.style.fill = Paint{Paint::Color, Rgba{1, 1, 1, 1}, {}, false, {}, false};
+    img_ctx.style.fill_opacity = 1;
+    img_ctx.style.stroke = Paint{};
+    const size_t before = ch_.shapes.size();
+    emit(n, img_ctx, cmds);
+    if (ch_.shapes.size() > before) {
+      ch_.shapes.back().fill.texture = tex;
+      ch_.shapes.back().fill.uv_from_point = uv;
+    }
   }
 
   void emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds) {
@@ -810,6 +960,8 @@ class SvgLoader {
   std::vector<pugi::xml_node> use_stack_;
   std::set<std::string> warned_;
   std::map<int, int> layer_ids_;
+  css::Sheet sheet_;
+  std::map<std::string, std::shared_ptr<const Texture>> images_;
   Viewport current_vp_;
   Character ch_;
   size_t total_points_ = 0;

@@ -127,7 +127,7 @@ PathData parse_path(std::string_view d) {
         if (!num(x) || !num(y)) return bad_args();
         cur = base + Vec2(x, y);
         start = cur;
-        out.cmds.push_back({PathCmd::Move, Vec2::Zero(), Vec2::Zero(), cur});
+        out.cmds.push_back(PathCmd::to(PathCmd::Move, cur));
         have_current = true;
         cmd = rel ? 'l' : 'L';  // subsequent pairs are implicit linetos
         prev_cmd = 'M';
@@ -137,21 +137,21 @@ PathData parse_path(std::string_view d) {
         double x, y;
         if (!num(x) || !num(y)) return bad_args();
         cur = base + Vec2(x, y);
-        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        out.cmds.push_back(PathCmd::to(PathCmd::Line, cur));
         break;
       }
       case 'H': {
         double x;
         if (!num(x)) return bad_args();
         cur = Vec2(rel ? cur.x() + x : x, cur.y());
-        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        out.cmds.push_back(PathCmd::to(PathCmd::Line, cur));
         break;
       }
       case 'V': {
         double y;
         if (!num(y)) return bad_args();
         cur = Vec2(cur.x(), rel ? cur.y() + y : y);
-        out.cmds.push_back({PathCmd::Line, Vec2::Zero(), Vec2::Zero(), cur});
+        out.cmds.push_back(PathCmd::to(PathCmd::Line, cur));
         break;
       }
       case 'C': {
@@ -207,7 +207,7 @@ PathData parse_path(std::string_view d) {
         break;
       }
       case 'Z': {
-        out.cmds.push_back({PathCmd::Close, Vec2::Zero(), Vec2::Zero(), start});
+        out.cmds.push_back(PathCmd::to(PathCmd::Close, start));
         cur = start;
         skip_separators(d, pos);
         break;

@@ -25,6 +25,14 @@ struct PathCmd {
   enum Kind { Move, Line, Cubic, Close } kind = Move;
   Vec2 c1 = Vec2::Zero(), c2 = Vec2::Zero();  ///< cubic control points
   Vec2 p = Vec2::Zero();                      ///< end point
+
+  /// Move, Line or Close to `to` (control points zero).
+  static PathCmd to(Kind k, const Vec2& to) {
+    PathCmd c;
+    c.kind = k;
+    c.p = to;
+    return c;
+  }
 };
 
 struct PathData {

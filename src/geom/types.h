@@ -36,6 +36,11 @@ struct Affine2 {
   Vec2 apply(const Vec2& p) const { return {a * p.x() + c * p.y() + e, b * p.x() + d * p.y() + f}; }
   Vec2 apply_linear(const Vec2& v) const { return {a * v.x() + c * v.y(), b * v.x() + d * v.y()}; }
   double det() const { return a * d - b * c; }
+  /// Inverse map; identity-free garbage (non-finite) when det() == 0.
+  Affine2 inverse() const {
+    const double k = 1.0 / det();
+    return {d * k, -b * k, -c * k, a * k, (c * f - d * e) * k, (b * e - a * f) * k};
+  }
   /// Largest stretch factor of the linear part (spectral norm).
   double max_scale() const {
     const double s1 = a * a + b * b + c * c + d * d;

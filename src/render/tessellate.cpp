@@ -62,7 +62,9 @@ CharacterMesh prepare_mesh(const Character& ch) {
     m.shapes[i].fill = triangulate_fill(s.points, rings, s.fill.rule);
     if (s.fill.texture) {
       for (const Vec2& v : m.shapes[i].fill.vertices) {
-        const Vec2 uv = s.fill.uv_from_point.apply(v);
+        // SDL_RenderGeometry rejects a whole call for one coordinate outside [0, 1],
+        // and rounding (or an outline traced half a pixel past the border) gets there.
+        const Vec2 uv = s.fill.uv_from_point.apply(v).cwiseMax(Vec2(0, 0)).cwiseMin(Vec2(1, 1));
         m.shapes[i].uv.push_back({static_cast<float>(uv.x()), static_cast<float>(uv.y())});
       }
     }

@@ -324,3 +324,80 @@ TEST(load_svg, ExampleCharactersHaveOverlappingPartsAndOpenStrokes) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+TEST(load_svg, IllustratorStyleSheetWithClasses) {
+  // Illustrator's default "internal CSS" export.
+  auto ch = load(R"svg(<defs><style><![CDATA[
+      .st0{fill:#FF0000;}
+      .st1{fill:none;stroke:#0000FF;stroke-width:4;}
+      /* comment */ rect.big, #special { fill: #00ff00 }
+      @media print { .st0 { fill: black } }
+      g > rect { fill: yellow }
+    ]]></style></defs>
+    <rect id="a" class="st0" width="1" height="1"/>
+    <path id="b" class="st1" d="M0 0 L10 0"/>
+    <rect id="c" class="st0 big" width="1" height="1"/>
+    <circle id="special" class="st0" r="1"/>
+    <rect id="d" class="st0" style="fill:#123456" width="1" height="1"/>
+    <rect id="e" fill="#abcdef" width="1" height="1"/>)svg");
+  EXPECT_EQ(color_hex(find(ch, "a")->fill.color), "#ff0000");
+  EXPECT_FALSE(find(ch, "b")->fill.enabled);
+  EXPECT_EQ(color_hex(find(ch, "b")->stroke.color), "#0000ff");
+  EXPECT_DOUBLE_EQ(find(ch, "b")->stroke.width, 4);
+  EXPECT_EQ(color_hex(find(ch, "c")->fill.color), "#00ff00");        // more specific rule wins
+  EXPECT_EQ(color_hex(find(ch, "special")->fill.color), "#00ff00");  // id beats class
+  EXPECT_EQ(color_hex(find(ch, "d")->fill.color), "#123456");        // style attribute beats CSS
+  EXPECT_EQ(color_hex(find(ch, "e")->fill.color), "#abcdef");
+  EXPECT_TRUE(has_warning(ch, "CSS selector 'g > rect' not supported"));
+}
+
+TEST(load_svg, CssImportantAndUniversal) {
+  auto ch = load(R"svg(<style>* { fill: blue } .x { fill: green !important }</style>
+    <rect id="a" width="1" height="1"/>
+    <rect id="b" class="x" style="fill:red" width="1" height="1"/>)svg");
+  EXPECT_EQ(color_hex(find(ch, "a")->fill.color), "#0000ff");
+  EXPECT_EQ(color_hex(find(ch, "b")->fill.color), "#008000");
+}
+
+}  // namespace
+}  // namespace mar
+
+#include "render/image.h"
+#include "test_util.h"
+
+namespace mar {
+namespace {
+
+TEST(load_svg, ImageElementBecomesTexturedRectangle) {
+  const auto dir = test::temp_dir("svg-image");
+  Image img{4, 2, std::vector<std::uint8_t>(4 * 2 * 4, 255)};
+  ASSERT_EQ(write_png((dir / "pic.png").string(), img), "");
+  const std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">\n"
+                          "<image id=\"a\" href=\"pic.png\" x=\"10\" y=\"10\" width=\"40\" height=\"40\"/>\n"
+                          "<image id=\"b\" href=\"pic.png\" x=\"10\" y=\"60\" width=\"40\" height=\"40\" "
+                          "preserveAspectRatio=\"none\" transform=\"translate(50 0)\"/>\n"
+                          "<image id=\"c\" href=\"missing.png\" width=\"5\" height=\"5\"/>\n"
+                          "<image id=\"d\" href=\"data:image/png;base64,!!!!\" width=\"5\" height=\"5\"/>\n</svg>\n";
+  std::ofstream((dir / "doc.svg").string()) << svg;
+  auto r = load_svg_file((dir / "doc.svg").string());
+  ASSERT_TRUE(r.ok()) << r.error;
+  const Character& ch = *r.value;
+  ASSERT_EQ(ch.shapes.size(), 2u);
+  // 4x2 image in a 40x40 box, xMidYMid meet: 40 wide, 20 high, centred vertically.
+  expect_bounds(ch.shapes[0], 10, 20, 50, 40, 1e-9);
+  ASSERT_TRUE(ch.shapes[0].fill.texture);
+  EXPECT_EQ(ch.shapes[0].fill.texture->width, 4);
+  const Vec2 uv = ch.shapes[0].fill.uv_from_point.apply(Vec2(50, 40));
+  EXPECT_NEAR(uv.x(), 1, 1e-12);
+  EXPECT_NEAR(uv.y(), 1, 1e-12);
+  expect_bounds(ch.shapes[1], 60, 60, 100, 100, 1e-9);  // stretched, moved by the transform
+  EXPECT_NEAR(ch.shapes[1].fill.uv_from_point.apply(Vec2(80, 80)).x(), 0.5, 1e-12);
+  EXPECT_TRUE(has_warning(ch, "not found"));
+  EXPECT_TRUE(has_warning(ch, "cannot decode image"));
+}
+
+}  // namespace
+}  // namespace mar
