@@ -54,6 +54,8 @@ Canvas::~Canvas() {
   if (window_) {
     SDL_DestroyWindow(window_);
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
+    // Last subsystem gone: SDL_Quit also closes SDL's D-Bus connection.
+    if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0) SDL_Quit();
   }
 }
 

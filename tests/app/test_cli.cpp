@@ -125,7 +125,11 @@ TEST(cli_view, WindowPixelsEqualOffscreenPixels) {
   const std::string ch = q(test::characters_dir() / "butterfly.svg");
   auto h = test::run_cli("view " + ch + " --headless --size 160x120 --supersample 1 --out-dir " + q(dir));
   ASSERT_EQ(h.exit_code, 0) << h.err;
-  const std::string cmd = "xvfb-run -a -s '-screen 0 640x480x24' '" + std::string(MARIONETTE_BINARY) + "' view " +
+  // Leak checking is off for this one child: libdbus and the X11 modules SDL dlopens keep
+  // allocations LeakSanitizer cannot attribute (unloaded modules). Our code's leaks are
+  // checked by every other test, offscreen rendering included.
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 640x480x24' '" +
+                          std::string(MARIONETTE_BINARY) + "' view " +
                           ch + " --size 160x120 --software --seconds 0.3 --screenshot " + q(dir / "window.png") +
                           " >/dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
