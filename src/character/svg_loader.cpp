@@ -6,7 +6,6 @@
 #include "geom/polygon.h"
 
 #include <pugixml.hpp>
-#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -94,7 +93,7 @@ class SvgLoader {
     ch_.source = name_;
 
     Ctx ctx;
-    const auto vb = parse_viewbox(root.attribute("viewBox").value());
+    const auto vb = svg::parse_viewbox(root.attribute("viewBox").value());
     Viewport outer{vb ? (*vb)[2] : 100.0, vb ? (*vb)[3] : 100.0};
     double w = length_attr(root, "width", 0, outer, vb ? (*vb)[2] : 100.0);
     double h = length_attr(root, "height", 1, outer, vb ? (*vb)[3] : 100.0);
@@ -104,7 +103,7 @@ class SvgLoader {
     ch_.height = h;
     ctx.vp = vb ? Viewport{(*vb)[2], (*vb)[3]} : Viewport{w, h};
     ctx.style = compute_style(root, ctx.style);
-    ctx.ctm = vb ? viewbox_transform(*vb, w, h, root.attribute("preserveAspectRatio").value())
+    ctx.ctm = vb ? svg::viewbox_transform(*vb, w, h, root.attribute("preserveAspectRatio").value())
                  : Affine2::identity();
     if (!visible_element(root)) return Result<Character>::success(std::move(ch_));
     for (pugi::xml_node c : root.children()) {
@@ -276,65 +275,11 @@ class SvgLoader {
     return std::nullopt;
   }
 
-  static std::optional<double> number(std::string_view v) {
-    v = trim(v);
-    size_t pos = 0;
-    auto r = svg::read_number(v, pos);
-    if (!r || !std::isfinite(*r)) return std::nullopt;
-    return r;
-  }
-
-  static double opacity_value(std::string_view v, double fallback) {
-    v = trim(v);
-    bool pct = !v.empty() && v.back() == '%';
-    if (pct) v.remove_suffix(1);
-    auto r = number(v);
-    if (!r) return fallback;
-    return std::clamp(pct ? *r / 100.0 : *r, 0.0, 1.0);
-  }
-
-  // Parses a length; axis 0 = x, 1 = y, 2 = other (percent of the normalised diagonal).
-  static std::optional<double> parse_length(std::string_view v, int axis, const Viewport& vp) {
-    v = trim(v);
-    size_t pos = 0;
-    auto r = svg::read_number(v, pos);
-    if (!r) return std::nullopt;
-    std::string_view unit = trim(v.substr(pos));
-    double k = 1;
-    if (unit.empty() || unit == "px") {
-      k = 1;
-    } else if (unit == "%") {
-      const double ref = axis == 0   ? vp.w
-                         : axis == 1 ? vp.h
-                                     : std::sqrt((vp.w * vp.w + vp.h * vp.h) / 2.0);
-      k = ref / 100.0;
-    } else if (unit == "in") {
-      k = 96;
-    } else if (unit == "cm") {
-      k = 96 / 2.54;
-    } else if (unit == "mm") {
-      k = 96 / 25.4;
-    } else if (unit == "pt") {
-      k = 96.0 / 72.0;
-    } else if (unit == "pc") {
-      k = 16;
-    } else if (unit == "em") {
-      k = 16;
-    } else if (unit == "ex") {
-      k = 8;
-    } else {
-      return std::nullopt;
-    }
-    const double out = *r * k;
-    if (!std::isfinite(out)) return std::nullopt;
-    return out;
-  }
-
   double length_attr(const pugi::xml_node& n, const char* attr, int axis, const Viewport& vp,
                      double fallback) {
     pugi::xml_attribute a = n.attribute(attr);
     if (!a) return fallback;
-    auto v = parse_length(a.value(), axis, vp);
+    auto v = svg::parse_length(a.value(), axis, vp.w, vp.h);
     if (!v) {
       warn(n, std::string("bad length ") + attr + "=\"" + a.value() + "\"");
       return fallback;
@@ -358,15 +303,15 @@ class SvgLoader {
     // currentColor is resolved where it is specified (inherited as a colour).
     if (s.fill.kind == Paint::CurrentColor) s.fill = Paint{Paint::Color, s.color, {}, false, {}, false};
     if (s.stroke.kind == Paint::CurrentColor) s.stroke = Paint{Paint::Color, s.color, {}, false, {}, false};
-    if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = opacity_value(*v, 1);
-    if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = opacity_value(*v, 1);
+    if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = svg::parse_opacity(*v, 1);
+    if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = svg::parse_opacity(*v, 1);
     if (auto v = prop(d, "fill-rule"); v) {
       if (trim(*v) == "evenodd") s.fill_rule = FillRule::EvenOdd;
       if (trim(*v) == "nonzero") s.fill_rule = FillRule::NonZero;
     }
     if (auto v = prop(d, "stroke-width"); v && !is_inherit(*v)) {
       Viewport vp = current_vp_;
-      if (auto w = parse_length(*v, 2, vp); w && *w >= 0) s.stroke_width = *w;
+      if (auto w = svg::parse_length(*v, 2, vp.w, vp.h); w && *w >= 0) s.stroke_width = *w;
     }
     if (auto v = prop(d, "stroke-linejoin"); v) {
       const std::string_view j = trim(*v);
@@ -381,14 +326,14 @@ class SvgLoader {
       if (j == "square") s.cap = LineCap::Square;
     }
     if (auto v = prop(d, "stroke-miterlimit"); v) {
-      if (auto m = number(*v); m && *m >= 1) s.miter_limit = *m;
+      if (auto m = svg::parse_number(*v); m && *m >= 1) s.miter_limit = *m;
     }
     if (auto v = prop(d, "visibility"); v) {
       const std::string_view j = trim(*v);
       if (j == "hidden" || j == "collapse") s.visible = false;
       if (j == "visible") s.visible = true;
     }
-    if (auto v = prop(d, "opacity"); v) s.group_opacity *= opacity_value(*v, 1);
+    if (auto v = prop(d, "opacity"); v) s.group_opacity *= svg::parse_opacity(*v, 1);
     if (auto v = prop(d, "stroke-dasharray"); v && trim(*v) != "none") {
       warn(n, "stroke-dasharray is not supported; drawn solid");
     }
@@ -427,7 +372,7 @@ class SvgLoader {
               c = *pc;
             }
           }
-          if (auto v = prop(d, "stop-opacity")) c.a *= static_cast<float>(opacity_value(*v, 1));
+          if (auto v = prop(d, "stop-opacity")) c.a *= static_cast<float>(svg::parse_opacity(*v, 1));
           stops.push_back(c);
         }
       }
@@ -488,41 +433,6 @@ class SvgLoader {
   }
 
   // ---- viewports ---------------------------------------------------------------------
-  static std::optional<std::array<double, 4>> parse_viewbox(std::string_view v) {
-    std::array<double, 4> vb{};
-    size_t pos = 0;
-    svg::skip_separators(v, pos);
-    for (double& x : vb) {
-      auto r = svg::read_number(v, pos);
-      if (!r || !std::isfinite(*r)) return std::nullopt;
-      x = *r;
-      svg::skip_separators(v, pos);
-    }
-    if (vb[2] <= 0 || vb[3] <= 0) return std::nullopt;
-    return vb;
-  }
-
-  static Affine2 viewbox_transform(const std::array<double, 4>& vb, double w, double h,
-                                   std::string_view par) {
-    par = trim(par);
-    if (par.rfind("defer", 0) == 0) par = trim(par.substr(5));
-    double sx = w / vb[2], sy = h / vb[3];
-    if (par.rfind("none", 0) == 0) {
-      return Affine2::scale(sx, sy) * Affine2::translate(-vb[0], -vb[1]);
-    }
-    std::string_view align = par.substr(0, par.find(' '));
-    if (align.empty()) align = "xMidYMid";
-    const bool slice = par.find("slice") != std::string_view::npos;
-    const double s = slice ? std::max(sx, sy) : std::min(sx, sy);
-    double tx = -vb[0] * s, ty = -vb[1] * s;
-    const double ex = w - vb[2] * s, ey = h - vb[3] * s;
-    if (align.find("xMid") != std::string_view::npos) tx += ex / 2;
-    if (align.find("xMax") != std::string_view::npos) tx += ex;
-    if (align.find("YMid") != std::string_view::npos) ty += ey / 2;
-    if (align.find("YMax") != std::string_view::npos) ty += ey;
-    return Affine2::translate(tx, ty) * Affine2::scale(s, s);
-  }
-
   Affine2 element_transform(const pugi::xml_node& n) {
     pugi::xml_attribute t = n.attribute("transform");
     if (!t) return Affine2::identity();
@@ -622,9 +532,9 @@ class SvgLoader {
     double h = use_h > 0 ? use_h : length_attr(content, "height", 1, ctx.vp, ctx.vp.h);
     if (!(w > 0) || !(h > 0)) return;  // zero-size viewport draws nothing
     ctx.ctm = ctx.ctm * Affine2::translate(x, y);
-    const auto vb = parse_viewbox(content.attribute("viewBox").value());
+    const auto vb = svg::parse_viewbox(content.attribute("viewBox").value());
     if (vb) {
-      ctx.ctm = ctx.ctm * viewbox_transform(*vb, w, h, content.attribute("preserveAspectRatio").value());
+      ctx.ctm = ctx.ctm * svg::viewbox_transform(*vb, w, h, content.attribute("preserveAspectRatio").value());
       ctx.vp = {(*vb)[2], (*vb)[3]};
     } else {
       ctx.vp = {w, h};
@@ -679,11 +589,6 @@ class SvgLoader {
     auto move = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Move, p)); };
     auto line = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Line, p)); };
     auto close = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Close, p)); };
-    auto arc = [&](Vec2 from, double rx, double ry, Vec2 to) {
-      std::vector<CubicSeg> segs;
-      arc_to_cubics(from, rx, ry, 0, false, true, to, segs);
-      for (const CubicSeg& s : segs) cmds.push_back({PathCmd::Cubic, s.c1, s.c2, s.p});
-    };
     const Viewport& vp = ctx.vp;
     if (name == "path") {
       svg::PathData pd = svg::parse_path(n.attribute("d").value());
@@ -701,26 +606,7 @@ class SvgLoader {
       if (n.attribute("ry")) ry = length_attr(n, "ry", 1, vp, -1);
       if (rx < 0 && ry >= 0) rx = ry;
       if (ry < 0 && rx >= 0) ry = rx;
-      rx = std::clamp(rx, 0.0, w / 2);
-      ry = std::clamp(ry, 0.0, h / 2);
-      if (rx <= 0 || ry <= 0) {
-        move({x, y});
-        line({x + w, y});
-        line({x + w, y + h});
-        line({x, y + h});
-        close({x, y});
-      } else {
-        move({x + rx, y});
-        line({x + w - rx, y});
-        arc({x + w - rx, y}, rx, ry, {x + w, y + ry});
-        line({x + w, y + h - ry});
-        arc({x + w, y + h - ry}, rx, ry, {x + w - rx, y + h});
-        line({x + rx, y + h});
-        arc({x + rx, y + h}, rx, ry, {x, y + h - ry});
-        line({x, y + ry});
-        arc({x, y + ry}, rx, ry, {x + rx, y});
-        close({x + rx, y});
-      }
+      cmds = svg::rect_path(x, y, w, h, std::clamp(rx, 0.0, w / 2), std::clamp(ry, 0.0, h / 2));
     } else if (name == "circle" || name == "ellipse") {
       const double cx = length_attr(n, "cx", 0, vp, 0), cy = length_attr(n, "cy", 1, vp, 0);
       double rx, ry;
@@ -733,12 +619,7 @@ class SvgLoader {
         if (ry < 0 && rx > 0) ry = rx;
       }
       if (!(rx > 0) || !(ry > 0)) return;
-      move({cx + rx, cy});
-      arc({cx + rx, cy}, rx, ry, {cx, cy + ry});
-      arc({cx, cy + ry}, rx, ry, {cx - rx, cy});
-      arc({cx - rx, cy}, rx, ry, {cx, cy - ry});
-      arc({cx, cy - ry}, rx, ry, {cx + rx, cy});
-      close({cx + rx, cy});
+      cmds = svg::ellipse_path(cx, cy, rx, ry);
     } else if (name == "line") {
       move({length_attr(n, "x1", 0, vp, 0), length_attr(n, "y1", 1, vp, 0)});
       line({length_attr(n, "x2", 0, vp, 0), length_attr(n, "y2", 1, vp, 0)});
@@ -755,80 +636,13 @@ class SvgLoader {
   }
 
   // ---- images ------------------------------------------------------------------------
-  static std::vector<unsigned char> base64_decode(std::string_view in) {
-    std::vector<unsigned char> out;
-    unsigned buf = 0;
-    int bits = 0;
-    for (char ch : in) {
-      int v;
-      if (ch >= 'A' && ch <= 'Z') v = ch - 'A';
-      else if (ch >= 'a' && ch <= 'z') v = ch - 'a' + 26;
-      else if (ch >= '0' && ch <= '9') v = ch - '0' + 52;
-      else if (ch == '+' || ch == '-') v = 62;
-      else if (ch == '/' || ch == '_') v = 63;
-      else continue;  // whitespace, padding
-      buf = (buf << 6) | static_cast<unsigned>(v);
-      bits += 6;
-      if (bits >= 8) {
-        bits -= 8;
-        out.push_back(static_cast<unsigned char>((buf >> bits) & 0xff));
-      }
-    }
-    return out;
-  }
-
-  // Decodes a raster image from a data: URI or a file next to the SVG (PNG, JPEG, GIF,
-  // BMP through stb_image). Images are cached by reference.
   std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href) {
     const std::string key(href);
     if (auto it = images_.find(key); it != images_.end()) return it->second;
-    std::vector<unsigned char> bytes;
-    std::string label;
-    if (href.rfind("data:", 0) == 0) {
-      const size_t comma = href.find(',');
-      if (comma == std::string_view::npos || href.substr(0, comma).find(";base64") == std::string_view::npos) {
-        warn(n, "image data URI is not base64; skipped");
-        return images_[key] = nullptr;
-      }
-      if (href.substr(0, comma).find("svg") != std::string_view::npos) {
-        warn(n, "nested SVG images are not supported; skipped");
-        return images_[key] = nullptr;
-      }
-      bytes = base64_decode(href.substr(comma + 1));
-      label = "embedded image";
-    } else {
-      if (href.find("://") != std::string_view::npos) {
-        warn(n, "remote image '" + key + "' not loaded");
-        return images_[key] = nullptr;
-      }
-      std::filesystem::path p = std::filesystem::path(name_).parent_path() / std::string(href);
-      if (p.extension() == ".svg" || p.extension() == ".svgz") {
-        warn(n, "nested SVG images are not supported; skipped");
-        return images_[key] = nullptr;
-      }
-      std::ifstream in(p, std::ios::binary);
-      if (!in) {
-        warn(n, "image file '" + p.string() + "' not found; skipped");
-        return images_[key] = nullptr;
-      }
-      bytes.assign(std::istreambuf_iterator<char>(in), {});
-      label = p.string();
-    }
-    int w = 0, h = 0, comp = 0;
-    stbi_uc* px = bytes.empty() || bytes.size() > (1u << 30)
-                      ? nullptr
-                      : stbi_load_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &comp, 4);
-    if (!px) {
-      warn(n, "cannot decode image (" + label + "); skipped");
-      return images_[key] = nullptr;
-    }
-    auto t = std::make_shared<Texture>();
-    t->name = label;
-    t->width = w;
-    t->height = h;
-    t->rgba.assign(px, px + static_cast<size_t>(w) * h * 4);
-    stbi_image_free(px);
-    return images_[key] = t;
+    std::string problem;
+    auto tex = svg::decode_image_href(href, std::filesystem::path(name_).parent_path().string(), problem);
+    if (!tex) warn(n, problem + "; skipped");
+    return images_[key] = tex;
   }
 
   // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
@@ -850,7 +664,7 @@ class SvgLoader {
     }
     if (!(w > 0) || !(h > 0)) return;
     // Placement of the whole image inside the viewport (x, y, w, h).
-    const Affine2 place = viewbox_transform({0, 0, static_cast<double>(tex->width), static_cast<double>(tex->height)},
+    const Affine2 place = svg::viewbox_transform({0, 0, static_cast<double>(tex->width), static_cast<double>(tex->height)},
                                             w, h, n.attribute("preserveAspectRatio").value());
     const Vec2 i0 = place.apply({0, 0}), i1 = place.apply({static_cast<double>(tex->width), static_cast<double>(tex->height)});
     // The drawn rectangle is the image clipped to its viewport.

@@ -284,6 +284,166 @@ std::vector<Vec2> parse_points(std::string_view s, bool* odd) {
   return pts;
 }
 
+namespace {
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && is_ws(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_ws(s.back())) s.remove_suffix(1);
+  return s;
+}
+}  // namespace
+
+std::optional<double> parse_number(std::string_view v) {
+  v = trim(v);
+  size_t pos = 0;
+  auto r = read_number(v, pos);
+  if (!r || !std::isfinite(*r)) return std::nullopt;
+  return r;
+}
+
+double parse_opacity(std::string_view v, double fallback) {
+  v = trim(v);
+  const bool pct = !v.empty() && v.back() == '%';
+  if (pct) v.remove_suffix(1);
+  auto r = parse_number(v);
+  if (!r) return fallback;
+  return std::clamp(pct ? *r / 100.0 : *r, 0.0, 1.0);
+}
+
+std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h) {
+  v = trim(v);
+  size_t pos = 0;
+  auto r = read_number(v, pos);
+  if (!r) return std::nullopt;
+  const std::string_view unit = trim(v.substr(pos));
+  double k = 1;
+  if (unit.empty() || unit == "px") {
+    k = 1;
+  } else if (unit == "%") {
+    const double ref = axis == 0 ? vp_w : axis == 1 ? vp_h : std::sqrt((vp_w * vp_w + vp_h * vp_h) / 2.0);
+    k = ref / 100.0;
+  } else if (unit == "in") {
+    k = 96;
+  } else if (unit == "cm") {
+    k = 96 / 2.54;
+  } else if (unit == "mm") {
+    k = 96 / 25.4;
+  } else if (unit == "pt") {
+    k = 96.0 / 72.0;
+  } else if (unit == "pc") {
+    k = 16;
+  } else if (unit == "em") {
+    k = 16;
+  } else if (unit == "ex") {
+    k = 8;
+  } else {
+    return std::nullopt;
+  }
+  const double out = *r * k;
+  if (!std::isfinite(out)) return std::nullopt;
+  return out;
+}
+
+std::optional<std::array<double, 4>> parse_viewbox(std::string_view v) {
+  std::array<double, 4> vb{};
+  size_t pos = 0;
+  skip_separators(v, pos);
+  for (double& x : vb) {
+    auto r = read_number(v, pos);
+    if (!r || !std::isfinite(*r)) return std::nullopt;
+    x = *r;
+    skip_separators(v, pos);
+  }
+  if (vb[2] <= 0 || vb[3] <= 0) return std::nullopt;
+  return vb;
+}
+
+Affine2 viewbox_transform(const std::array<double, 4>& vb, double w, double h, std::string_view par) {
+  while (!par.empty() && is_ws(par.front())) par.remove_prefix(1);
+  if (par.rfind("defer", 0) == 0) par.remove_prefix(5);
+  while (!par.empty() && is_ws(par.front())) par.remove_prefix(1);
+  const double sx = w / vb[2], sy = h / vb[3];
+  if (par.rfind("none", 0) == 0) return Affine2::scale(sx, sy) * Affine2::translate(-vb[0], -vb[1]);
+  std::string_view align = par.substr(0, par.find(' '));
+  if (align.empty()) align = "xMidYMid";
+  const bool slice = par.find("slice") != std::string_view::npos;
+  const double s = slice ? std::max(sx, sy) : std::min(sx, sy);
+  double tx = -vb[0] * s, ty = -vb[1] * s;
+  const double ex = w - vb[2] * s, ey = h - vb[3] * s;
+  if (align.find("xMid") != std::string_view::npos) tx += ex / 2;
+  if (align.find("xMax") != std::string_view::npos) tx += ex;
+  if (align.find("YMid") != std::string_view::npos) ty += ey / 2;
+  if (align.find("YMax") != std::string_view::npos) ty += ey;
+  return Affine2::translate(tx, ty) * Affine2::scale(s, s);
+}
+
+namespace {
+void quarter_arc(std::vector<PathCmd>& cmds, Vec2 from, double rx, double ry, Vec2 to) {
+  std::vector<CubicSeg> segs;
+  arc_to_cubics(from, rx, ry, 0, false, true, to, segs);
+  for (const CubicSeg& s : segs) cmds.push_back({PathCmd::Cubic, s.c1, s.c2, s.p});
+}
+}  // namespace
+
+std::vector<PathCmd> rect_path(double x, double y, double w, double h, double rx, double ry) {
+  std::vector<PathCmd> c;
+  if (rx <= 0 || ry <= 0) {
+    c = {PathCmd::to(PathCmd::Move, {x, y}), PathCmd::to(PathCmd::Line, {x + w, y}),
+         PathCmd::to(PathCmd::Line, {x + w, y + h}), PathCmd::to(PathCmd::Line, {x, y + h}),
+         PathCmd::to(PathCmd::Close, {x, y})};
+    return c;
+  }
+  c.push_back(PathCmd::to(PathCmd::Move, {x + rx, y}));
+  c.push_back(PathCmd::to(PathCmd::Line, {x + w - rx, y}));
+  quarter_arc(c, {x + w - rx, y}, rx, ry, {x + w, y + ry});
+  c.push_back(PathCmd::to(PathCmd::Line, {x + w, y + h - ry}));
+  quarter_arc(c, {x + w, y + h - ry}, rx, ry, {x + w - rx, y + h});
+  c.push_back(PathCmd::to(PathCmd::Line, {x + rx, y + h}));
+  quarter_arc(c, {x + rx, y + h}, rx, ry, {x, y + h - ry});
+  c.push_back(PathCmd::to(PathCmd::Line, {x, y + ry}));
+  quarter_arc(c, {x, y + ry}, rx, ry, {x + rx, y});
+  c.push_back(PathCmd::to(PathCmd::Close, {x + rx, y}));
+  return c;
+}
+
+std::vector<PathCmd> ellipse_path(double cx, double cy, double rx, double ry) {
+  std::vector<PathCmd> c{PathCmd::to(PathCmd::Move, {cx + rx, cy})};
+  quarter_arc(c, {cx + rx, cy}, rx, ry, {cx, cy + ry});
+  quarter_arc(c, {cx, cy + ry}, rx, ry, {cx - rx, cy});
+  quarter_arc(c, {cx - rx, cy}, rx, ry, {cx, cy - ry});
+  quarter_arc(c, {cx, cy - ry}, rx, ry, {cx + rx, cy});
+  c.push_back(PathCmd::to(PathCmd::Close, {cx + rx, cy}));
+  return c;
+}
+
+std::vector<unsigned char> base64_decode(std::string_view in) {
+  std::vector<unsigned char> out;
+  unsigned buf = 0;
+  int bits = 0;
+  for (char ch : in) {
+    int v;
+    if (ch >= 'A' && ch <= 'Z') {
+      v = ch - 'A';
+    } else if (ch >= 'a' && ch <= 'z') {
+      v = ch - 'a' + 26;
+    } else if (ch >= '0' && ch <= '9') {
+      v = ch - '0' + 52;
+    } else if (ch == '+' || ch == '-') {
+      v = 62;
+    } else if (ch == '/' || ch == '_') {
+      v = 63;
+    } else {
+      continue;  // whitespace, padding
+    }
+    buf = (buf << 6) | static_cast<unsigned>(v);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out.push_back(static_cast<unsigned char>((buf >> bits) & 0xff));
+    }
+  }
+  return out;
+}
+
 std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m,
                                       double tolerance) {
   std::vector<FlatContour> out;

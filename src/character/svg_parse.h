@@ -1,9 +1,12 @@
 // Pure parsers for SVG micro-syntaxes: numbers, path data, transform lists, point lists.
 #pragma once
 
+#include "character/character.h"
 #include "geom/flatten.h"
 #include "geom/types.h"
 
+#include <array>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -51,6 +54,39 @@ std::optional<Affine2> parse_transform(std::string_view s);
 
 /// Parses a points list for polyline/polygon; an odd trailing number is dropped.
 std::vector<Vec2> parse_points(std::string_view s, bool* odd = nullptr);
+
+/// A whole attribute value as one finite number (surrounding whitespace allowed).
+std::optional<double> parse_number(std::string_view v);
+
+/// Opacity: a number or percentage, clamped to [0, 1]; `fallback` when malformed.
+double parse_opacity(std::string_view v, double fallback);
+
+/// A length in px: number with px, pt, pc, mm, cm, in, em (16 px), ex (8 px) or %.
+/// Percentages refer to the viewport: axis 0 = width, 1 = height, 2 = the normalised
+/// diagonal sqrt((w^2 + h^2) / 2). nullopt when malformed or not finite.
+std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h);
+
+/// Parses a viewBox "min-x min-y width height"; nullopt when malformed or not positive.
+std::optional<std::array<double, 4>> parse_viewbox(std::string_view v);
+
+/// The viewBox -> viewport map for a viewport of w x h and a preserveAspectRatio value
+/// ("none", or xMin|xMid|xMax + YMin|YMid|YMax, then meet|slice; default xMidYMid meet).
+Affine2 viewbox_transform(const std::array<double, 4>& vb, double w, double h, std::string_view par);
+
+/// Outline of a rect with corner radii (already resolved: >= 0, clamped to half the size).
+std::vector<PathCmd> rect_path(double x, double y, double w, double h, double rx, double ry);
+
+/// Outline of an ellipse (four quarter arcs).
+std::vector<PathCmd> ellipse_path(double cx, double cy, double rx, double ry);
+
+/// Decodes base64 (standard and URL alphabets; whitespace and padding ignored).
+std::vector<unsigned char> base64_decode(std::string_view in);
+
+/// Decodes the raster image an <image> href names: a base64 data URI or a file relative
+/// to `base_dir` (PNG, JPEG, GIF, BMP via stb_image). nullptr with `problem` set when it
+/// cannot (remote, nested SVG, missing, undecodable). Defined in svg_image.cpp.
+std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir,
+                                                 std::string& problem);
 
 /// One flattened contour in output units.
 struct FlatContour {

@@ -12,6 +12,16 @@ Points square(double x, double y, double s, bool ccw = true) {
   return p;
 }
 
+// Five points of a regular pentagram, radius 100: its edges cross five times.
+Points pentagram() {
+  Points star;
+  for (int k = 0; k < 5; ++k) {
+    const double a = M_PI / 2 + k * 4 * M_PI / 5;
+    star.emplace_back(100 * std::cos(a), 100 * std::sin(a));
+  }
+  return star;
+}
+
 struct Shape {
   Points pts;
   std::vector<Ring> rings;
@@ -43,12 +53,7 @@ TEST(triangulate_fill, HoleRespectsFillRule) {
 
 TEST(triangulate_fill, SelfIntersectingStar) {
   Shape s;
-  Points star;
-  for (int k = 0; k < 5; ++k) {
-    const double a = M_PI / 2 + k * 4 * M_PI / 5;
-    star.emplace_back(100 * std::cos(a), 100 * std::sin(a));
-  }
-  s.add(star);
+  s.add(pentagram());
   const FillMesh nz = triangulate_fill(s.pts, s.rings, FillRule::NonZero);
   const FillMesh eo = triangulate_fill(s.pts, s.rings, FillRule::EvenOdd);
   // The inner pentagon is winding 2: filled by nonzero, empty by evenodd.
@@ -60,12 +65,7 @@ TEST(triangulate_fill, SelfIntersectingStar) {
 
 TEST(triangulate_fill, MeshFollowsDeformedPoints) {
   Shape s;
-  Points star;
-  for (int k = 0; k < 5; ++k) {
-    const double a = M_PI / 2 + k * 4 * M_PI / 5;
-    star.emplace_back(100 * std::cos(a), 100 * std::sin(a));
-  }
-  s.add(star);
+  s.add(pentagram());
   const FillMesh m = triangulate_fill(s.pts, s.rings, FillRule::NonZero);
   std::vector<Vec2> rest(m.vertices.size());
   fill_mesh_positions(m, s.pts, rest);
