@@ -1,0 +1,52 @@
+// (f) The steady-state solve (local + global steps, shape reconstruction) allocates nothing.
+#include "character/load.h"
+#include "solve/feature_frame.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <new>
+
+namespace {
+std::atomic<long> g_allocs{0};
+}
+
+void* operator new(std::size_t n) {
+  g_allocs.fetch_add(1, std::memory_order_relaxed);
+  if (void* p = std::malloc(n ? n : 1)) return p;
+  throw std::bad_alloc();
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+
+namespace mar {
+namespace {
+
+TEST(FeatureFrameSolver, SteadyStateSolveAllocatesNothing) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  const FeatureFrame f = build_feature_frame(*ch.value, default_frame_options());
+  const std::vector<Vec2> rest{{150, 60}, {110, 395}, {190, 395}, {50, 250}};
+  std::vector<ShapeParam> handles;
+  for (const Vec2& p : rest) handles.push_back(bind_point(f, *ch.value, p));
+  FeatureFrameSolver s;
+  ASSERT_TRUE(s.prepare(f, handles, SolverWeights{}));
+  std::vector<Points> shapes;
+  for (const SubShape& sh : ch.value->shapes) shapes.push_back(sh.points);
+  std::vector<Vec2> targets = rest;
+  std::vector<double> energies(13);
+  auto frame = [&](int k) {
+    targets[3] = rest[3] + Vec2(std::sin(k * 0.1) * 40, std::cos(k * 0.13) * 40);
+    s.solve(targets, 12, energies);
+    reconstruct_shapes(f, s.vertices(), shapes);
+  };
+  for (int k = 0; k < 10; ++k) frame(k);
+  const long before = g_allocs.load();
+  for (int k = 10; k < 210; ++k) frame(k);
+  EXPECT_EQ(g_allocs.load() - before, 0);
+}
+
+}  // namespace
+}  // namespace mar
