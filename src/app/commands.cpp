@@ -86,52 +86,46 @@ int cmd_render(const RenderArgs& a) {
   return kExitOk;
 }
 
-int cmd_inspect(const InspectArgs& a) {
-  LoadOptions lo;
-  lo.mask_path = a.mask;
-  Result<Character> r = load_character(a.input, lo);
-  if (!r.ok()) {
-    std::cerr << "error: " << r.error << "\n";
-    return kExitBadInput;
-  }
-  const Character& ch = *r.value;
+nlohmann::ordered_json inspect_json(const Character& ch) {
   size_t closed = 0;
   for (const SubShape& s : ch.shapes) closed += s.closed() ? 1 : 0;
-  if (a.json) {
-    nlohmann::ordered_json j;
-    j["source"] = ch.source;
-    j["width"] = ch.width;
-    j["height"] = ch.height;
-    j["layers"] = ch.layers;
-    nlohmann::ordered_json shapes = nlohmann::ordered_json::array();
-    for (const SubShape& s : ch.shapes) {
-      const Bounds b = s.bounds();
-      nlohmann::ordered_json o;
-      o["id"] = s.id;
-      o["element"] = s.element;
-      o["closed"] = s.closed();
-      o["contours"] = s.contours.size();
-      o["vertices"] = s.points.size();
-      o["layer"] = s.layer;
-      o["layer_name"] = ch.layers[static_cast<size_t>(s.layer)];
-      o["bounds"] = {b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()};
-      o["fill"] = s.fill.enabled ? (s.fill.texture ? "texture" : color_hex(s.fill.color)) : "none";
-      o["stroke"] = s.stroke.enabled ? color_hex(s.stroke.color) : "none";
-      shapes.push_back(o);
-    }
-    j["subshapes"] = shapes;
-    const Bounds b = ch.bounds();
-    j["totals"] = {{"subshapes", ch.shapes.size()},
-                   {"closed", closed},
-                   {"open", ch.shapes.size() - closed},
-                   {"vertices", ch.vertex_count()},
-                   {"layers", ch.layers.size()},
-                   {"bounds", b.empty() ? nlohmann::ordered_json::array()
-                                        : nlohmann::ordered_json{b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()}}};
-    j["warnings"] = ch.warnings;
-    std::cout << j.dump(2) << "\n";
-    return kExitOk;
+  nlohmann::ordered_json j;
+  j["source"] = ch.source;
+  j["width"] = ch.width;
+  j["height"] = ch.height;
+  j["layers"] = ch.layers;
+  nlohmann::ordered_json shapes = nlohmann::ordered_json::array();
+  for (const SubShape& s : ch.shapes) {
+    const Bounds b = s.bounds();
+    nlohmann::ordered_json o;
+    o["id"] = s.id;
+    o["element"] = s.element;
+    o["closed"] = s.closed();
+    o["contours"] = s.contours.size();
+    o["vertices"] = s.points.size();
+    o["layer"] = s.layer;
+    o["layer_name"] = ch.layers[static_cast<size_t>(s.layer)];
+    o["bounds"] = {b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()};
+    o["fill"] = s.fill.enabled ? (s.fill.texture ? "texture" : color_hex(s.fill.color)) : "none";
+    o["stroke"] = s.stroke.enabled ? color_hex(s.stroke.color) : "none";
+    shapes.push_back(o);
   }
+  j["subshapes"] = shapes;
+  const Bounds b = ch.bounds();
+  j["totals"] = {{"subshapes", ch.shapes.size()},
+                 {"closed", closed},
+                 {"open", ch.shapes.size() - closed},
+                 {"vertices", ch.vertex_count()},
+                 {"layers", ch.layers.size()},
+                 {"bounds", b.empty() ? nlohmann::ordered_json::array()
+                                      : nlohmann::ordered_json{b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()}}};
+  j["warnings"] = ch.warnings;
+  return j;
+}
+
+void print_inspect_text(const Character& ch) {
+  size_t closed = 0;
+  for (const SubShape& s : ch.shapes) closed += s.closed() ? 1 : 0;
   std::printf("%s  (%g x %g, %zu layers)\n", ch.source.c_str(), ch.width, ch.height, ch.layers.size());
   std::printf("%-28s %-8s %-6s %8s %5s  %s\n", "id", "element", "kind", "vertices", "layer", "bounds");
   for (const SubShape& s : ch.shapes) {
@@ -139,11 +133,31 @@ int cmd_inspect(const InspectArgs& a) {
     std::printf("%-28s %-8s %-6s %8zu %5d  [%.1f, %.1f] - [%.1f, %.1f]\n", s.id.c_str(), s.element.c_str(),
                 s.closed() ? "closed" : "open", s.points.size(), s.layer, b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y());
   }
-  std::printf("totals: %zu sub-shapes (%zu closed, %zu open), %zu vertices, %zu layers\n", ch.shapes.size(),
-              closed, ch.shapes.size() - closed, ch.vertex_count(), ch.layers.size());
+  std::printf("totals: %zu sub-shapes (%zu closed, %zu open), %zu vertices, %zu layers\n", ch.shapes.size(), closed,
+              ch.shapes.size() - closed, ch.vertex_count(), ch.layers.size());
   if (!ch.warnings.empty()) {
     std::printf("warnings (%zu):\n", ch.warnings.size());
     for (const std::string& w : ch.warnings) std::printf("  %s\n", w.c_str());
+  }
+}
+
+int cmd_inspect(const InspectArgs& a) {
+  if (!a.rig.empty()) return cmd_inspect_rig(a);
+  if (!a.overlay.empty()) {
+    std::cerr << "error: -o (frame overlay) needs --rig\n";
+    return kExitBadInput;
+  }
+  LoadOptions lo;
+  lo.mask_path = a.mask;
+  Result<Character> r = load_character(a.input, lo);
+  if (!r.ok()) {
+    std::cerr << "error: " << r.error << "\n";
+    return kExitBadInput;
+  }
+  if (a.json) {
+    std::cout << inspect_json(*r.value).dump(2) << "\n";
+  } else {
+    print_inspect_text(*r.value);
   }
   return kExitOk;
 }

@@ -4,6 +4,8 @@
 
 #include "character/character.h"
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
@@ -26,8 +28,24 @@ struct InspectArgs {
   std::string input;
   std::string mask;
   bool json = false;
+  std::string rig;      ///< with a rig: the seed 000 Table 1 columns and the handles
+  std::string overlay;  ///< with a rig: PNG of the frame drawn over the character
 };
 int cmd_inspect(const InspectArgs& a);
+int cmd_inspect_rig(const InspectArgs& a);  // pose_commands.cpp
+
+struct PoseArgs {
+  std::string input;
+  std::string rig;
+  std::vector<std::string> targets;  ///< "NAME=X,Y"
+  int iterations = -1;               ///< -1 = the rig's
+  std::string dump;
+  std::string output;
+  std::string size;
+  std::string background;
+  bool overlay = false;
+};
+int cmd_pose(const PoseArgs& a);
 
 struct ViewArgs {
   std::vector<std::string> inputs;
@@ -40,6 +58,11 @@ struct ViewArgs {
   std::string screenshot;  ///< window mode: save the first frame's pixels here
 };
 int cmd_view(const ViewArgs& a);
+
+/// The inspect report of a character, as JSON or as the text table (shared by inspect
+/// with and without a rig).
+nlohmann::ordered_json inspect_json(const Character& ch);
+void print_inspect_text(const Character& ch);
 
 /// Parses "WxH" (both 1..8192).
 std::optional<std::pair<int, int>> parse_size(const std::string& s);

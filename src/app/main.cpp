@@ -23,6 +23,20 @@ int main(int argc, char** argv) {
   i->add_option("character", inspect.input, "Character file (.svg or .png)")->required();
   i->add_option("--mask", inspect.mask, "Mask PNG for a PNG character");
   i->add_flag("--json", inspect.json, "Machine-readable output");
+  i->add_option("--rig", inspect.rig, "Rig file: add the feature-frame statistics (seed 000 Table 1) and handles");
+  i->add_option("-o,--output", inspect.overlay, "With --rig: PNG of the feature frame over the character");
+
+  mar::PoseArgs pose;
+  CLI::App* p = app.add_subcommand("pose", "Solve a pose from rest for handle targets");
+  p->add_option("character", pose.input, "Character file")->required();
+  p->add_option("--rig", pose.rig, "Rig file")->required();
+  p->add_option("--target", pose.targets, "NAME=X,Y (repeatable); other handles stay at rest");
+  p->add_option("--iterations", pose.iterations, "Solver iterations (default: the rig's)");
+  p->add_option("--dump", pose.dump, "JSON with deformed sub-shapes, frame vertices, energies, residuals");
+  p->add_option("-o,--output", pose.output, "PNG of the posed character");
+  p->add_option("--size", pose.size, "PNG size WxH (default: document size)");
+  p->add_option("--background", pose.background, "RRGGBB or transparent (default)");
+  p->add_flag("--overlay", pose.overlay, "Draw the deformed feature frame and handles too");
 
   mar::ViewArgs view;
   CLI::App* v = app.add_subcommand("view", "Show characters in a window, or write PNGs when there is no display");
@@ -47,6 +61,7 @@ int main(int argc, char** argv) {
   }
   if (r->parsed()) return mar::cmd_render(render);
   if (i->parsed()) return mar::cmd_inspect(inspect);
+  if (p->parsed()) return mar::cmd_pose(pose);
   if (v->parsed()) return mar::cmd_view(view);
   return mar::kExitBadInput;
 }

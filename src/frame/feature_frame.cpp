@@ -14,6 +14,23 @@ namespace mar {
 
 FrameOptions default_frame_options() { return FrameOptions{}; }
 
+FrameOptions frame_options_from_rig(const Rig& rig) {
+  FrameOptions o = default_frame_options();
+  o.mode = rig.uniform_sampling ? SamplingMode::Uniform : SamplingMode::Features;
+  o.interval = rig.interval;
+  for (const RigSewing& e : rig.sewing) {
+    SewingEdit s;
+    s.kind = e.action == RigSewing::Add ? SewingEdit::Add : e.action == RigSewing::Delete ? SewingEdit::Delete : SewingEdit::Move;
+    s.from = e.from;
+    s.to = e.to;
+    s.new_from = e.new_from;
+    s.new_to = e.new_to;
+    s.where = rig.path + ":" + std::to_string(e.line);
+    o.sewing.push_back(s);
+  }
+  return o;
+}
+
 namespace {
 
 struct ContourRef {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "character/character.h"
+#include "character/rig.h"
 
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ struct FrameOptions {
 };
 
 FrameOptions default_frame_options();
+
+/// Frame options of a rig: sampling mode and interval, sewing edits (with file:line).
+FrameOptions frame_options_from_rig(const Rig& rig);
 
 struct FrameVertexOrigin {
   int shape = 0;    ///< index into Character::shapes

@@ -1,0 +1,208 @@
+// inspect --rig and pose: the feature-frame commands.
+#include "app/commands.h"
+#include "app/puppet.h"
+#include "render/canvas.h"
+#include "render/overlay.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+
+namespace mar {
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+// Renders the puppet's current shapes (and optionally its frame) into a PNG.
+int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& bg, bool overlay,
+                  std::span<const Vec2> handle_points) {
+  const int ss = 2;
+  auto canvas = Canvas::offscreen(w * ss, h * ss);
+  if (!canvas.ok()) {
+    std::cerr << "error: " << canvas.error << "\n";
+    return kExitRuntime;
+  }
+  Canvas& c = **canvas.value;
+  c.clear(bg);
+  DrawList list;
+  const Affine2 view = fit_view(p.character.width, p.character.height, w * ss, h * ss);
+  build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list);
+  if (overlay) append_frame_overlay(p.frame, p.solver.vertices(), handle_points, view, list);
+  if (std::string err = c.draw(list); !err.empty()) {
+    std::cerr << "error: " << err << "\n";
+    return kExitRuntime;
+  }
+  const std::vector<std::uint8_t> px = c.read_premultiplied();
+  if (std::string err = write_png(path, downsample_premultiplied(px.data(), w, h, ss)); !err.empty()) {
+    std::cerr << "error: " << err << "\n";
+    return kExitRuntime;
+  }
+  return kExitOk;
+}
+
+std::pair<int, int> doc_size(const Character& ch) {
+  return {std::clamp(static_cast<int>(std::ceil(ch.width)), 1, 8192), std::clamp(static_cast<int>(std::ceil(ch.height)), 1, 8192)};
+}
+
+}  // namespace
+
+int cmd_inspect_rig(const InspectArgs& a) {
+  if (!a.mask.empty()) {
+    std::cerr << "error: --mask with --rig is not supported yet\n";
+    return kExitBadInput;
+  }
+  auto loaded = load_puppet(a.input, a.rig);
+  if (!loaded.ok()) {
+    std::cerr << "error: " << loaded.error << "\n";
+    return kExitBadInput;
+  }
+  Puppet& p = **loaded.value;
+  // PRE and SOL: medians of 7 runs (the first prepare happened in load_puppet).
+  std::vector<double> pre{p.prefactor_ms}, sol;
+  const SolverWeights w{p.rig.w_rigidity, p.rig.w_coupling, p.rig.w_position};
+  const std::vector<Vec2> targets = p.rest_targets();
+  for (int k = 0; k < 7; ++k) {
+    FeatureFrameSolver s;
+    const auto t0 = std::chrono::steady_clock::now();
+    s.prepare(p.frame, p.bindings, w);
+    const auto t1 = std::chrono::steady_clock::now();
+    s.solve(targets, 12);
+    const auto t2 = std::chrono::steady_clock::now();
+    pre.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
+    sol.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
+  }
+  const FeatureFrame& f = p.frame;
+  for (const std::string& warning : f.warnings) std::cerr << "warning: " << warning << "\n";
+  if (a.json) {
+    nlohmann::ordered_json j = inspect_json(p.character);
+    j["table1"] = {{"S.VER", f.shape_vertices},
+                   {"F.LINES", f.lines.size()},
+                   {"sewing_total", f.sewing_lines},
+                   {"sewing_user", f.user_sewing_lines},
+                   {"F.VER", f.rest.size()},
+                   {"PRE_ms", median(pre)},
+                   {"SOL_ms", median(sol)}};
+    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
+    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
+    j["handles"] = hs;
+    j["frame_warnings"] = f.warnings;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_inspect_text(p.character);
+    std::printf("\nfeature frame (rig %s)\n", p.rig.path.c_str());
+    std::printf("%8s  %-22s %6s %9s %9s\n", "S.VER", "F.LINES (sewing, user)", "F.VER", "PRE ms", "SOL ms");
+    const std::string lines = std::to_string(f.lines.size()) + " (" + std::to_string(f.sewing_lines) + ", " +
+                              std::to_string(f.user_sewing_lines) + ")";
+    std::printf("%8zu  %-22s %6zu %9.3f %9.3f\n", f.shape_vertices, lines.c_str(), f.rest.size(), median(pre),
+                median(sol));
+    std::printf("handles:");
+    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
+    std::printf("\n");
+  }
+  if (!a.overlay.empty()) {
+    const auto [w2, h2] = doc_size(p.character);
+    const int rc = write_picture(p, a.overlay, w2, h2, Rgba{1, 1, 1, 1}, true, targets);
+    if (rc != kExitOk) return rc;
+  }
+  return kExitOk;
+}
+
+int cmd_pose(const PoseArgs& a) {
+  auto loaded = load_puppet(a.input, a.rig);
+  if (!loaded.ok()) {
+    std::cerr << "error: " << loaded.error << "\n";
+    return kExitBadInput;
+  }
+  Puppet& p = **loaded.value;
+  std::vector<Vec2> targets = p.rest_targets();
+  for (const std::string& t : a.targets) {
+    const size_t eq = t.find('=');
+    double x = 0, y = 0;
+    char extra = 0;
+    if (eq == std::string::npos || std::sscanf(t.c_str() + eq + 1, "%lf,%lf%c", &x, &y, &extra) != 2 ||
+        !std::isfinite(x) || !std::isfinite(y)) {
+      std::cerr << "error: --target must be NAME=X,Y, got '" << t << "'\n";
+      return kExitBadInput;
+    }
+    const std::string name = t.substr(0, eq);
+    const int h = p.rig.find_handle(name);
+    if (h < 0) {
+      std::string names;
+      for (const RigHandle& rh : p.rig.handles) names += (names.empty() ? "" : ", ") + rh.name;
+      std::cerr << "error: no handle named '" << name << "' in " << a.rig << " (handles: " << names << ")\n";
+      return kExitBadInput;
+    }
+    targets[static_cast<size_t>(h)] = {x, y};
+  }
+  if (a.iterations != -1 && (a.iterations < 1 || a.iterations > 100000)) {
+    std::cerr << "error: --iterations must be 1..100000\n";
+    return kExitBadInput;
+  }
+  const int iterations = a.iterations > 0 ? a.iterations : p.rig.iterations;
+  std::vector<double> energies(static_cast<size_t>(iterations) + 1);
+  p.solver.align_to(targets);
+  p.solver.solve(targets, iterations, energies);
+  p.reconstruct();
+  if (!a.dump.empty()) {
+    nlohmann::ordered_json j;
+    nlohmann::ordered_json subs = nlohmann::ordered_json::array();
+    for (size_t s = 0; s < p.shapes.size(); ++s) {
+      nlohmann::ordered_json pts = nlohmann::ordered_json::array();
+      for (const Vec2& q : p.shapes[s]) pts.push_back({q.x(), q.y()});
+      subs.push_back({{"id", p.character.shapes[s].id}, {"points", pts}});
+    }
+    j["subshapes"] = subs;
+    nlohmann::ordered_json fv = nlohmann::ordered_json::array();
+    for (const Vec2& q : p.solver.vertices()) fv.push_back({q.x(), q.y()});
+    j["frame_vertices"] = fv;
+    j["energy_per_iteration"] = std::vector<double>(energies.begin() + 1, energies.end());
+    nlohmann::ordered_json res = nlohmann::ordered_json::object();
+    for (size_t h = 0; h < p.bindings.size(); ++h) {
+      res[p.rig.handles[h].name] = (eval_param(p.bindings[h], p.solver.vertices()) - targets[h]).norm();
+    }
+    j["handle_residuals"] = res;
+    std::ofstream out(a.dump);
+    out << j.dump(1) << "\n";
+    if (!out) {
+      std::cerr << "error: cannot write " << a.dump << "\n";
+      return kExitRuntime;
+    }
+  }
+  if (!a.output.empty()) {
+    auto [w, h] = doc_size(p.character);
+    if (!a.size.empty()) {
+      auto sz = parse_size(a.size);
+      if (!sz) {
+        std::cerr << "error: --size must be WxH\n";
+        return kExitBadInput;
+      }
+      w = sz->first;
+      h = sz->second;
+    }
+    Rgba bg{0, 0, 0, 0};
+    if (!a.background.empty()) {
+      auto b = parse_background(a.background);
+      if (!b) {
+        std::cerr << "error: --background must be RRGGBB or transparent\n";
+        return kExitBadInput;
+      }
+      bg = *b;
+    }
+    const int rc = write_picture(p, a.output, w, h, bg, a.overlay, targets);
+    if (rc != kExitOk) return rc;
+  }
+  if (a.dump.empty() && a.output.empty()) {
+    for (size_t h = 0; h < p.bindings.size(); ++h) {
+      std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(),
+                  (eval_param(p.bindings[h], p.solver.vertices()) - targets[h]).norm());
+    }
+  }
+  return kExitOk;
+}
+
+}  // namespace mar

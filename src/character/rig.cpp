@@ -1,0 +1,208 @@
+#include "character/rig.h"
+
+#include <toml++/toml.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace mar {
+
+Rig default_rig() { return Rig{}; }
+
+std::string Rig::character_path() const {
+  const std::filesystem::path c(character);
+  if (c.is_absolute()) return character;
+  return (std::filesystem::path(path).parent_path() / c).lexically_normal().string();
+}
+
+int Rig::find_handle(const std::string& name) const {
+  for (size_t i = 0; i < handles.size(); ++i) {
+    if (handles[i].name == name) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+namespace {
+
+struct RigError {
+  std::string message;
+};
+
+std::string at(const std::string& path, const toml::node& n) {
+  return path + ":" + std::to_string(n.source().begin.line);
+}
+
+double number(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
+  throw RigError{at(path, n) + ": " + what + " must be a finite number"};
+}
+
+Vec2 point(const std::string& path, const toml::node& n, const char* what) {
+  const toml::array* a = n.as_array();
+  if (!a || a->size() != 2) throw RigError{at(path, n) + ": " + what + " must be [x, y]"};
+  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
+}
+
+void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
+                const char* where) {
+  for (const auto& [k, v] : t) {
+    bool ok = false;
+    for (std::string_view n : known) ok = ok || k.str() == n;
+    if (!ok) throw RigError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
+  }
+}
+
+}  // namespace
+
+Result<Rig> parse_rig(std::string_view text, const std::string& path) {
+  toml::table root;
+  try {
+    root = toml::parse(text, path);
+  } catch (const toml::parse_error& e) {
+    return Result<Rig>::failure(path + ":" + std::to_string(e.source().begin.line) + ": " +
+                                std::string(e.description()));
+  }
+  try {
+    Rig r = default_rig();
+    r.path = path;
+    check_keys(path, root, {"character", "iterations", "weights", "sampling", "handle", "sewing"}, "the rig");
+    const toml::node* ch = root.get("character");
+    if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
+    r.character = ch->value<std::string>().value_or("");
+    if (const toml::node* it = root.get("iterations")) {
+      const auto v = it->value<int64_t>();
+      if (!v || *v < 1 || *v > 1000) throw RigError{at(path, *it) + ": iterations must be a whole number 1..1000"};
+      r.iterations = static_cast<int>(*v);
+    }
+    if (const toml::node* w = root.get("weights")) {
+      const toml::table* t = w->as_table();
+      if (!t) throw RigError{at(path, *w) + ": [weights] must be a table"};
+      check_keys(path, *t, {"rigidity", "coupling", "position"}, "[weights]");
+      auto get = [&](const char* k, double& out) {
+        if (const toml::node* n = t->get(k)) {
+          out = number(path, *n, k);
+          if (out < 0) throw RigError{at(path, *n) + ": " + k + " must not be negative"};
+        }
+      };
+      get("rigidity", r.w_rigidity);
+      get("coupling", r.w_coupling);
+      get("position", r.w_position);
+      if (r.w_coupling <= 0) throw RigError{at(path, *w) + ": coupling must be positive (it holds the parts together)"};
+    }
+    if (const toml::node* s = root.get("sampling")) {
+      const toml::table* t = s->as_table();
+      if (!t) throw RigError{at(path, *s) + ": [sampling] must be a table"};
+      check_keys(path, *t, {"mode", "interval"}, "[sampling]");
+      if (const toml::node* m = t->get("mode")) {
+        const std::string mode = m->value<std::string>().value_or("");
+        if (mode == "uniform") {
+          r.uniform_sampling = true;
+        } else if (mode != "features") {
+          throw RigError{at(path, *m) + ": sampling mode must be \"features\" or \"uniform\""};
+        }
+      }
+      if (const toml::node* i = t->get("interval")) {
+        r.interval = number(path, *i, "interval");
+        if (r.interval <= 0) throw RigError{at(path, *i) + ": interval must be positive"};
+      }
+    }
+    std::set<std::string> names;
+    if (const toml::node* hs = root.get("handle")) {
+      const toml::array* a = hs->as_array();
+      if (!a) throw RigError{at(path, *hs) + ": use [[handle]] tables"};
+      for (const toml::node& hn : *a) {
+        const toml::table* t = hn.as_table();
+        if (!t) throw RigError{at(path, hn) + ": a handle must be a table"};
+        check_keys(path, *t, {"name", "rest"}, "[[handle]]");
+        RigHandle h;
+        const toml::node* name = t->get("name");
+        if (!name || !name->is_string() || name->value<std::string>()->empty()) {
+          throw RigError{at(path, hn) + ": a handle needs a non-empty name"};
+        }
+        h.name = *name->value<std::string>();
+        if (!names.insert(h.name).second) throw RigError{at(path, *name) + ": handle '" + h.name + "' defined twice"};
+        const toml::node* rest = t->get("rest");
+        if (!rest) throw RigError{at(path, hn) + ": handle '" + h.name + "' needs rest = [x, y]"};
+        h.rest = point(path, *rest, "rest");
+        r.handles.push_back(std::move(h));
+      }
+    }
+    if (const toml::node* ss = root.get("sewing")) {
+      const toml::array* a = ss->as_array();
+      if (!a) throw RigError{at(path, *ss) + ": use [[sewing]] tables"};
+      for (const toml::node& sn : *a) {
+        const toml::table* t = sn.as_table();
+        if (!t) throw RigError{at(path, sn) + ": a sewing edit must be a table"};
+        check_keys(path, *t, {"action", "from", "to", "new_from", "new_to"}, "[[sewing]]");
+        RigSewing e;
+        e.line = static_cast<int>(sn.source().begin.line);
+        const std::string action = t->get("action") ? t->get("action")->value<std::string>().value_or("") : "add";
+        if (action == "add") {
+          e.action = RigSewing::Add;
+        } else if (action == "delete") {
+          e.action = RigSewing::Delete;
+        } else if (action == "move") {
+          e.action = RigSewing::Move;
+        } else {
+          throw RigError{at(path, sn) + ": sewing action must be add, delete or move"};
+        }
+        const toml::node* from = t->get("from");
+        const toml::node* to = t->get("to");
+        if (!from || !to) throw RigError{at(path, sn) + ": sewing edit needs from = [x, y] and to = [x, y]"};
+        e.from = point(path, *from, "from");
+        e.to = point(path, *to, "to");
+        if (e.action == RigSewing::Move) {
+          const toml::node* nf = t->get("new_from");
+          const toml::node* nt = t->get("new_to");
+          if (!nf || !nt) throw RigError{at(path, sn) + ": move needs new_from = [x, y] and new_to = [x, y]"};
+          e.new_from = point(path, *nf, "new_from");
+          e.new_to = point(path, *nt, "new_to");
+        }
+        r.sewing.push_back(e);
+      }
+    }
+    return Result<Rig>::success(std::move(r));
+  } catch (const RigError& e) {
+    return Result<Rig>::failure(e.message);
+  }
+}
+
+Result<Rig> load_rig(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return Result<Rig>::failure(path + ": cannot open rig file");
+  std::ostringstream ss;
+  ss << in.rdbuf();
+  return parse_rig(ss.str(), path);
+}
+
+std::string write_rig(const Rig& r) {
+  std::ostringstream o;
+  o.precision(17);
+  auto pt = [&](const Vec2& p) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "[" << p.x() << ", " << p.y() << "]";
+    return s.str();
+  };
+  o << "character = " << toml::value<std::string>(r.character) << "\n";
+  o << "iterations = " << r.iterations << "\n\n";
+  o << "[weights]\nrigidity = " << r.w_rigidity << "\ncoupling = " << r.w_coupling << "\nposition = " << r.w_position
+    << "\n\n";
+  o << "[sampling]\nmode = \"" << (r.uniform_sampling ? "uniform" : "features") << "\"\n";
+  if (r.interval > 0) o << "interval = " << r.interval << "\n";
+  for (const RigHandle& h : r.handles) {
+    o << "\n[[handle]]\nname = " << toml::value<std::string>(h.name) << "\nrest = " << pt(h.rest) << "\n";
+  }
+  for (const RigSewing& e : r.sewing) {
+    o << "\n[[sewing]]\naction = \""
+      << (e.action == RigSewing::Add ? "add" : e.action == RigSewing::Delete ? "delete" : "move") << "\"\n";
+    o << "from = " << pt(e.from) << "\nto = " << pt(e.to) << "\n";
+    if (e.action == RigSewing::Move) o << "new_from = " << pt(e.new_from) << "\nnew_to = " << pt(e.new_to) << "\n";
+  }
+  return o.str();
+}
+
+}  // namespace mar

@@ -1,0 +1,57 @@
+// Rig file (TOML, config/rigs/): which character, its handles, sewing edits, frame
+// sampling, solver iterations and weights. Validated once at load; errors name file:line.
+//
+//   character = "../characters/butterfly.svg"   # relative to the rig file
+//   iterations = 12
+//   [weights]   rigidity = 1.0  coupling = 1.0  position = 100.0
+//   [sampling]  mode = "features" | "uniform"   interval = 20.0   (uniform: arc length)
+//   [[handle]]  name = "head"   rest = [200.0, 135.0]
+//   [[sewing]]  action = "add" | "delete" | "move"   from = [x, y]   to = [x, y]
+//               (move also: new_from = [x, y]   new_to = [x, y])
+#pragma once
+
+#include "character/character.h"
+
+#include <string>
+#include <vector>
+
+namespace mar {
+
+struct RigHandle {
+  std::string name;
+  Vec2 rest = Vec2::Zero();
+};
+
+struct RigSewing {
+  enum Action { Add, Delete, Move } action = Add;
+  Vec2 from = Vec2::Zero(), to = Vec2::Zero();
+  Vec2 new_from = Vec2::Zero(), new_to = Vec2::Zero();
+  int line = 0;  ///< line in the rig file (0 when made in code)
+};
+
+struct Rig {
+  std::string path;       ///< the rig file (for messages and relative paths)
+  std::string character;  ///< as written in the file
+  int iterations = 12;
+  double w_rigidity = 1, w_coupling = 1, w_position = 100;
+  bool uniform_sampling = false;
+  double interval = 0;  ///< uniform sampling interval, character units (0 = automatic)
+  std::vector<RigHandle> handles;
+  std::vector<RigSewing> sewing;
+
+  /// The character path resolved against the rig file's folder.
+  std::string character_path() const;
+  /// Index of the handle with this name, or -1.
+  int find_handle(const std::string& name) const;
+};
+
+Rig default_rig();
+
+/// Loads and validates a rig. Errors: "file:line: what is wrong".
+Result<Rig> load_rig(const std::string& path);
+Result<Rig> parse_rig(std::string_view text, const std::string& path);
+
+/// TOML text of a rig; parse_rig(write_rig(r)) gives r back.
+std::string write_rig(const Rig& rig);
+
+}  // namespace mar

@@ -1,0 +1,43 @@
+#include "render/overlay.h"
+
+namespace mar {
+
+void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, std::span<const Vec2> handles,
+                          const Affine2& view, DrawList& out) {
+  const int first = static_cast<int>(out.indices.size());
+  StrokeStyle thin, thick, user, dot, ring;
+  thin.half_width = 1.0;
+  thick.half_width = 2.0;
+  user.half_width = 2.0;
+  thin.cap = thick.cap = user.cap = LineCap::Round;
+  dot.half_width = 3.5;
+  dot.cap = LineCap::Round;
+  ring.half_width = 6.0;
+  ring.cap = LineCap::Round;
+  const SDL_Color feature{40, 90, 220, 255}, sewing{240, 140, 0, 255}, usersew{220, 30, 30, 255},
+      point{20, 20, 20, 255}, handle{0, 170, 80, 200};
+  Vec2 seg[2];
+  for (size_t j = 0; j < frame.lines.size(); ++j) {
+    const FrameLine& l = frame.lines[j];
+    seg[0] = view.apply(v[static_cast<size_t>(l.a)]);
+    seg[1] = view.apply(v[static_cast<size_t>(l.b)]);
+    const bool is_feature = l.kind == FrameLine::Feature;
+    stroke_polyline(seg, false, is_feature ? thin : (l.kind == FrameLine::UserSewing ? user : thick),
+                    is_feature ? feature : (l.kind == FrameLine::UserSewing ? usersew : sewing), out);
+  }
+  for (const Vec2& p : v) {
+    seg[0] = seg[1] = view.apply(p);
+    stroke_polyline(seg, false, dot, point, out);
+  }
+  for (const Vec2& h : handles) {
+    seg[0] = seg[1] = view.apply(h);
+    stroke_polyline(seg, false, ring, handle, out);
+  }
+  if (!out.batches.empty() && out.batches.back().texture == nullptr) {
+    out.batches.back().index_count = static_cast<int>(out.indices.size()) - out.batches.back().first_index;
+  } else {
+    out.batches.push_back({nullptr, first, static_cast<int>(out.indices.size()) - first});
+  }
+}
+
+}  // namespace mar
