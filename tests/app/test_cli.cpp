@@ -143,3 +143,75 @@ TEST(cli_view, WindowPixelsEqualOffscreenPixels) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+std::string rig(const char* name) { return q(test::source_dir() / "config" / "rigs" / (std::string(name) + ".toml")); }
+std::string character(const char* name) { return q(test::characters_dir() / (std::string(name) + ".svg")); }
+
+TEST(cli_inspect_rig, Table1ColumnsAndHandles) {
+  for (const char* name : {"butterfly", "figure", "koi"}) {
+    const auto overlay = test::temp_dir("rig") / (std::string(name) + "-overlay.png");
+    auto r = test::run_cli("inspect " + character(name) + " --rig " + rig(name) + " --json -o " + q(overlay));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const auto j = nlohmann::json::parse(r.out);
+    const auto& t = j["table1"];
+    EXPECT_EQ(t["S.VER"].get<size_t>(), j["totals"]["vertices"].get<size_t>()) << name;
+    EXPECT_GT(t["F.VER"].get<int>(), 0);
+    EXPECT_LT(t["F.VER"].get<size_t>(), t["S.VER"].get<size_t>());
+    EXPECT_GE(t["F.LINES"].get<int>(), t["sewing_total"].get<int>());
+    EXPECT_GE(t["sewing_total"].get<int>(), t["sewing_user"].get<int>());
+    EXPECT_GE(t["PRE_ms"].get<double>(), 0.0);
+    EXPECT_GE(t["SOL_ms"].get<double>(), 0.0);
+    ASSERT_TRUE(j["handles"].is_array());
+    EXPECT_GE(j["handles"].size(), 5u);
+    EXPECT_EQ(j["handles"][0]["rest"].size(), 2u);
+    EXPECT_TRUE(std::filesystem::exists(overlay));
+  }
+  auto text = test::run_cli("inspect " + character("butterfly") + " --rig " + rig("butterfly"));
+  ASSERT_EQ(text.exit_code, 0);
+  EXPECT_NE(text.out.find("F.LINES (sewing, user)"), std::string::npos);
+  EXPECT_NE(text.out.find("(11, 2)"), std::string::npos) << text.out;  // two user sewing lines
+}
+
+TEST(cli_pose, DumpHasTheContractKeysAndMeetsTargets) {
+  const auto dump = test::temp_dir("pose") / "pose.json";
+  const auto png = test::temp_dir("pose") / "pose.png";
+  auto r = test::run_cli("pose " + character("figure") + " --rig " + rig("figure") +
+                         " --target right-hand=260,130 --target left-foot=70,385 --iterations 30 --dump " + q(dump) +
+                         " -o " + q(png));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(dump);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j.size(), 4u);
+  ASSERT_TRUE(j.contains("subshapes") && j.contains("frame_vertices") && j.contains("energy_per_iteration") &&
+              j.contains("handle_residuals"));
+  EXPECT_EQ(j["energy_per_iteration"].size(), 30u);
+  for (size_t k = 1; k < j["energy_per_iteration"].size(); ++k) {
+    EXPECT_LE(j["energy_per_iteration"][k].get<double>(), j["energy_per_iteration"][k - 1].get<double>() * (1 + 1e-12));
+  }
+  auto inspect = nlohmann::json::parse(test::run_cli("inspect " + character("figure") + " --rig " + rig("figure") + " --json").out);
+  ASSERT_EQ(j["subshapes"].size(), inspect["subshapes"].size());
+  for (size_t s = 0; s < j["subshapes"].size(); ++s) {
+    EXPECT_EQ(j["subshapes"][s]["id"], inspect["subshapes"][s]["id"]);  // loader order
+    EXPECT_EQ(j["subshapes"][s]["points"].size(), inspect["subshapes"][s]["vertices"].get<size_t>());
+  }
+  EXPECT_EQ(j["frame_vertices"].size(), inspect["table1"]["F.VER"].get<size_t>());
+  for (auto& [name, res] : j["handle_residuals"].items()) EXPECT_LT(res.get<double>(), 2.0) << name;
+  EXPECT_TRUE(std::filesystem::exists(png));
+}
+
+TEST(cli_pose, BadTargetsAndRigsExitTwo) {
+  EXPECT_EQ(test::run_cli("pose " + character("figure") + " --rig " + rig("figure") + " --target nobody=1,2").exit_code, 2);
+  EXPECT_EQ(test::run_cli("pose " + character("figure") + " --rig " + rig("figure") + " --target head=1").exit_code, 2);
+  EXPECT_EQ(test::run_cli("pose " + character("figure") + " --rig " + rig("figure") + " --iterations 0").exit_code, 2);
+  EXPECT_EQ(test::run_cli("pose " + character("figure") + " --rig /nonexistent.toml").exit_code, 2);
+  const std::string bad = test::write_temp("bad.toml", "character = \"x.svg\"\niterations = \"many\"\n");
+  auto r = test::run_cli("pose " + character("figure") + " --rig " + q(bad));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("bad.toml:2"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace mar

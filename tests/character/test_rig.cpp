@@ -1,0 +1,136 @@
+#include "character/rig.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+namespace mar {
+namespace {
+
+constexpr const char* kRig = R"toml(character = "../characters/butterfly.svg"
+iterations = 20
+
+[weights]
+rigidity = 2.0
+coupling = 0.5
+position = 50.0
+
+[sampling]
+mode = "uniform"
+interval = 15.5
+
+[[handle]]
+name = "head"
+rest = [200.0, 135.5]
+
+[[handle]]
+name = "tail"
+rest = [200, 308]
+
+[[sewing]]
+action = "add"
+from = [165.0, 75.0]
+to = [189.0, 170.0]
+
+[[sewing]]
+action = "move"
+from = [1.0, 2.0]
+to = [3.0, 4.0]
+new_from = [5.0, 6.0]
+new_to = [7.0, 8.0]
+
+[[sewing]]
+action = "delete"
+from = [9.0, 10.0]
+to = [11.0, 12.0]
+)toml";
+
+TEST(parse_rig, ReadsEveryField) {
+  auto r = parse_rig(kRig, "/rigs/b.toml");
+  ASSERT_TRUE(r.ok()) << r.error;
+  const Rig& g = *r.value;
+  EXPECT_EQ(g.character_path(), "/characters/butterfly.svg");
+  EXPECT_EQ(g.iterations, 20);
+  EXPECT_EQ(g.w_rigidity, 2.0);
+  EXPECT_EQ(g.w_coupling, 0.5);
+  EXPECT_EQ(g.w_position, 50.0);
+  EXPECT_TRUE(g.uniform_sampling);
+  EXPECT_EQ(g.interval, 15.5);
+  ASSERT_EQ(g.handles.size(), 2u);
+  EXPECT_EQ(g.handles[0].rest, Vec2(200, 135.5));
+  EXPECT_EQ(g.handles[1].rest, Vec2(200, 308));  // integers accepted
+  ASSERT_EQ(g.sewing.size(), 3u);
+  EXPECT_EQ(g.sewing[1].action, RigSewing::Move);
+  EXPECT_EQ(g.sewing[1].new_to, Vec2(7, 8));
+  EXPECT_EQ(g.sewing[2].action, RigSewing::Delete);
+  EXPECT_EQ(g.sewing[0].line, 21);  // the [[sewing]] header line
+  EXPECT_EQ(g.find_handle("tail"), 1);
+  EXPECT_EQ(g.find_handle("nope"), -1);
+}
+
+// (g) A rig file round-trips.
+TEST(write_rig, RoundTrips) {
+  auto r = parse_rig(kRig, "b.toml");
+  ASSERT_TRUE(r.ok());
+  const std::string text = write_rig(*r.value);
+  auto back = parse_rig(text, "b.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << text;
+  const Rig &a = *r.value, &b = *back.value;
+  EXPECT_EQ(a.character, b.character);
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.w_rigidity, b.w_rigidity);
+  EXPECT_EQ(a.w_coupling, b.w_coupling);
+  EXPECT_EQ(a.w_position, b.w_position);
+  EXPECT_EQ(a.uniform_sampling, b.uniform_sampling);
+  EXPECT_EQ(a.interval, b.interval);
+  ASSERT_EQ(a.handles.size(), b.handles.size());
+  for (size_t i = 0; i < a.handles.size(); ++i) {
+    EXPECT_EQ(a.handles[i].name, b.handles[i].name);
+    EXPECT_EQ(a.handles[i].rest, b.handles[i].rest);
+  }
+  ASSERT_EQ(a.sewing.size(), b.sewing.size());
+  for (size_t i = 0; i < a.sewing.size(); ++i) {
+    EXPECT_EQ(a.sewing[i].action, b.sewing[i].action);
+    EXPECT_EQ(a.sewing[i].from, b.sewing[i].from);
+    EXPECT_EQ(a.sewing[i].to, b.sewing[i].to);
+    EXPECT_EQ(a.sewing[i].new_from, b.sewing[i].new_from);
+    EXPECT_EQ(a.sewing[i].new_to, b.sewing[i].new_to);
+  }
+  EXPECT_EQ(write_rig(b), text);  // and the text is stable
+}
+
+TEST(parse_rig, ErrorsNameFileAndLine) {
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"character = \"a.svg\"\niterations = 0\n", "r.toml:2: iterations"},
+      {"character = \"a.svg\"\n[[handle]]\nname = \"h\"\nrest = [1]\n", "r.toml:4: rest must be [x, y]"},
+      {"character = \"a.svg\"\n[[handle]]\nname = \"h\"\nrest = [1, 2]\n[[handle]]\nname = \"h\"\nrest = [3, 4]\n",
+       "r.toml:6: handle 'h' defined twice"},
+      {"character = \"a.svg\"\n[sampling]\nmode = \"random\"\n", "r.toml:3: sampling mode"},
+      {"character = \"a.svg\"\n\n[[sewing]]\naction = \"stitch\"\nfrom = [0, 0]\nto = [1, 1]\n", "r.toml:3: sewing action"},
+      {"character = \"a.svg\"\nspeed = 3\n", "r.toml:2: unknown key 'speed'"},
+      {"character = \"a.svg\"\n[weights]\ncoupling = -1\n", "r.toml:3: coupling must not be negative"},
+      {"iterations = 3\n", "'character'"},
+      {"character = \"a.svg\"\nthis is not toml\n", "r.toml:2:"},
+  };
+  for (const Case& c : cases) {
+    auto r = parse_rig(c.text, "r.toml");
+    ASSERT_FALSE(r.ok()) << c.text;
+    EXPECT_NE(r.error.find(c.expect), std::string::npos) << "got: " << r.error;
+  }
+  EXPECT_FALSE(load_rig("/nonexistent/rig.toml").ok());
+}
+
+TEST(load_rig, ExampleRigsLoad) {
+  for (const char* name : {"butterfly", "figure", "koi"}) {
+    auto r = load_rig((test::source_dir() / "config" / "rigs" / (std::string(name) + ".toml")).string());
+    ASSERT_TRUE(r.ok()) << r.error;
+    EXPECT_GE(r.value->handles.size(), 5u);
+    EXPECT_TRUE(std::filesystem::exists(r.value->character_path())) << r.value->character_path();
+  }
+}
+
+}  // namespace
+}  // namespace mar
