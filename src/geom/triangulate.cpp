@@ -158,6 +158,33 @@ FillMesh triangulate_fill(std::span<const Vec2> points, std::span<const Ring> ri
   return mesh;
 }
 
+HullMesh triangulate_hull(std::span<const Vec2> points, std::span<const Ring> rings, std::span<const char> closed) {
+  HullMesh out;
+  CDTP cdt;
+  for (size_t r = 0; r < rings.size(); ++r) {
+    const Ring& ring = rings[r];
+    std::vector<VH> hs;
+    for (int k = 0; k < ring.count; ++k) {
+      const Vec2& p = points[static_cast<size_t>(ring.begin + k)];
+      if (p.allFinite()) hs.push_back(cdt.insert(K::Point_2(p.x(), p.y())));
+    }
+    const bool close = r < closed.size() && closed[r];
+    for (size_t k = 0; k + 1 < hs.size() || (close && k < hs.size() && hs.size() > 2); ++k) {
+      VH a = hs[k], b = hs[(k + 1) % hs.size()];
+      if (a != b) cdt.insert_constraint(a, b);
+    }
+  }
+  std::unordered_map<const void*, int> index;
+  for (auto v = cdt.finite_vertices_begin(); v != cdt.finite_vertices_end(); ++v) {
+    index[&*v] = static_cast<int>(out.vertices.size());
+    out.vertices.emplace_back(v->point().x(), v->point().y());
+  }
+  for (auto f = cdt.finite_faces_begin(); f != cdt.finite_faces_end(); ++f) {
+    for (int i = 0; i < 3; ++i) out.triangles.push_back(index[&*f->vertex(i)]);
+  }
+  return out;
+}
+
 void fill_mesh_positions(const FillMesh& mesh, std::span<const Vec2> points, std::span<Vec2> out) {
   const size_t n = mesh.vertices.size();
   for (size_t i = 0; i < n && i < out.size(); ++i) {

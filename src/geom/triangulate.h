@@ -34,6 +34,17 @@ struct FillMesh {
 FillMesh triangulate_fill(std::span<const Vec2> points, std::span<const Ring> rings,
                           FillRule rule);
 
+/// Constrained Delaunay triangulation of all the points with every ring edge (open
+/// polylines given as rings with `closed` false) as a constraint, keeping every face of
+/// the convex hull: one connected mesh over a whole multi-part character, as a single
+/// outline-based method would use. Vertices are the input points (duplicates merged,
+/// intersection points appended); triangles counter-clockwise.
+struct HullMesh {
+  Points vertices;
+  std::vector<int> triangles;
+};
+HullMesh triangulate_hull(std::span<const Vec2> points, std::span<const Ring> rings, std::span<const char> closed);
+
 /// Recomputes mesh vertex positions from (possibly deformed) input points.
 /// Writes #V entries into `out` (which must have that size); allocates nothing.
 void fill_mesh_positions(const FillMesh& mesh, std::span<const Vec2> points, std::span<Vec2> out);

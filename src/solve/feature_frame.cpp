@@ -51,19 +51,36 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
     }
   }
   // Adjacency over all lines (feature + sewing), CSR.
-  std::vector<std::vector<int>> nb(q);
-  for (const FrameLine& l : frame.lines) {
+  std::vector<std::vector<std::pair<int, int>>> nb(q);  // (neighbour, feature line or -1)
+  for (int li = 0; li < static_cast<int>(frame.lines.size()); ++li) {
+    const FrameLine& l = frame.lines[static_cast<size_t>(li)];
     if (l.a == l.b) continue;
-    nb[static_cast<size_t>(l.a)].push_back(l.b);
-    nb[static_cast<size_t>(l.b)].push_back(l.a);
+    const int line = li < frame.feature_lines ? li : -1;
+    nb[static_cast<size_t>(l.a)].push_back({l.b, line});
+    nb[static_cast<size_t>(l.b)].push_back({l.a, line});
   }
   adj_begin_.assign(q + 1, 0);
   adj_.clear();
+  adj_line_.clear();
   for (size_t i = 0; i < q; ++i) {
     adj_begin_[i] = static_cast<int>(adj_.size());
-    adj_.insert(adj_.end(), nb[i].begin(), nb[i].end());
+    for (const auto& [n, line] : nb[i]) {
+      adj_.push_back(n);
+      adj_line_.push_back(line);
+    }
   }
   adj_begin_[q] = static_cast<int>(adj_.size());
+  adj_rest_.resize(adj_.size());
+  for (size_t i = 0; i < q; ++i) {
+    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+      adj_rest_[static_cast<size_t>(k)] = frame.rest[static_cast<size_t>(adj_[static_cast<size_t>(k)])] - frame.rest[i];
+    }
+  }
+  line_rest_.resize(static_cast<size_t>(frame.feature_lines));
+  for (int j = 0; j < frame.feature_lines; ++j) {
+    const FrameLine& l = frame.lines[static_cast<size_t>(j)];
+    line_rest_[static_cast<size_t>(j)] = frame.rest[static_cast<size_t>(l.b)] - frame.rest[static_cast<size_t>(l.a)];
+  }
 
   // Components without a handle get a tiny pull toward the pose the solve starts from.
   UnionFind uf(q);
@@ -123,6 +140,17 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
   }
   rhs_.setZero(static_cast<Eigen::Index>(2 * q));
   x_.setZero(static_cast<Eigen::Index>(2 * q));
+  work_.setZero(static_cast<Eigen::Index>(2 * q));
+  diag_ = ldlt_.vectorD();
+  // (P b)[perm[i]] = b[i], Eigen's convention for PermutationMatrix * vector.
+  const auto& P = ldlt_.permutationP().indices();
+  perm_.assign(P.data(), P.data() + P.size());
+  if (perm_.empty()) {
+    perm_.resize(2 * q);
+    std::iota(perm_.begin(), perm_.end(), 0);
+  }
+  perm_inv_.assign(perm_.size(), 0);
+  for (size_t i = 0; i < perm_.size(); ++i) perm_inv_[static_cast<size_t>(perm_[i])] = static_cast<int>(i);
   line_c_.assign(frame.lines.size(), 1.0);
   line_s_.assign(frame.lines.size(), 0.0);
   vert_c_.assign(q, 1.0);
@@ -207,73 +235,102 @@ double FeatureFrameSolver::energy(std::span<const Vec2> targets) const {
   return energy_with_rotations(v_, scratch_line_, scratch_vert_, targets);
 }
 
+// Local step for the feature lines: R_j turns ebar_j onto e_j (angle of e * conj(ebar)).
+// The vertex rotations Rhat_i are computed inside global_step, fused with their use.
 void FeatureFrameSolver::local_step() {
   const FeatureFrame& f = *frame_;
   for (int j = 0; j < f.feature_lines; ++j) {
     const FrameLine& l = f.lines[static_cast<size_t>(j)];
     const Vec2 e = v_[static_cast<size_t>(l.b)] - v_[static_cast<size_t>(l.a)];
-    const Vec2 eb = f.rest[static_cast<size_t>(l.b)] - f.rest[static_cast<size_t>(l.a)];
+    const Vec2& eb = line_rest_[static_cast<size_t>(j)];
     const double re = e.x() * eb.x() + e.y() * eb.y(), im = e.y() * eb.x() - e.x() * eb.y();
-    const double len = std::hypot(re, im);
-    if (len > 1e-300 && std::isfinite(len)) {  // zero-length edge keeps its rotation
-      line_c_[static_cast<size_t>(j)] = re / len;
-      line_s_[static_cast<size_t>(j)] = im / len;
-    }
-  }
-  const size_t q = v_.size();
-  for (size_t i = 0; i < q; ++i) {
-    double re = 0, im = 0;
-    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
-      const Vec2 d = v_[n] - v_[i], db = f.rest[n] - f.rest[i];
-      re += d.x() * db.x() + d.y() * db.y();
-      im += d.y() * db.x() - d.x() * db.y();
-    }
-    const double len = std::hypot(re, im);
-    if (len > 1e-300 && std::isfinite(len)) {
-      vert_c_[i] = re / len;
-      vert_s_[i] = im / len;
+    const double len2 = re * re + im * im;
+    if (len2 > 1e-280 && std::isfinite(len2)) {  // zero-length edge keeps its rotation
+      const double inv = 1.0 / std::sqrt(len2);
+      line_c_[static_cast<size_t>(j)] = re * inv;
+      line_s_[static_cast<size_t>(j)] = im * inv;
     }
   }
 }
 
 void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
-  const FeatureFrame& f = *frame_;
   const double cr = w_.rigidity / 12.0, cc = w_.coupling / 3.0;
-  rhs_.setZero();
-  auto add = [&](int i, const Vec2& g) {
-    rhs_[2 * i] += g.x();
-    rhs_[2 * i + 1] += g.y();
-  };
-  for (int j = 0; j < f.feature_lines; ++j) {
-    const FrameLine& l = f.lines[static_cast<size_t>(j)];
-    const Vec2 g = cr * rot(line_c_[static_cast<size_t>(j)], line_s_[static_cast<size_t>(j)],
-                            f.rest[static_cast<size_t>(l.b)] - f.rest[static_cast<size_t>(l.a)]);
-    add(l.b, g);
-    add(l.a, -g);
-  }
   const size_t q = v_.size();
+  // Vertex rotations Rhat_i: angle of sum_k (v_k - v_i) conj(vbar_k - vbar_i); a vanishing
+  // sum keeps the previous rotation.
   for (size_t i = 0; i < q; ++i) {
+    double re = 0, im = 0;
+    const Vec2 vi = v_[i];
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const int n = adj_[static_cast<size_t>(k)];
-      const Vec2 g = cc * rot(vert_c_[i], vert_s_[i], f.rest[static_cast<size_t>(n)] - f.rest[i]);
-      add(n, g);
-      add(static_cast<int>(i), -g);
+      const Vec2 d = v_[static_cast<size_t>(adj_[static_cast<size_t>(k)])] - vi;
+      const Vec2& db = adj_rest_[static_cast<size_t>(k)];
+      re += d.x() * db.x() + d.y() * db.y();
+      im += d.y() * db.x() - d.x() * db.y();
     }
+    const double len2 = re * re + im * im;
+    if (len2 > 1e-280 && std::isfinite(len2)) {
+      const double inv = 1.0 / std::sqrt(len2);
+      vert_c_[i] = re * inv;
+      vert_s_[i] = im * inv;
+    }
+  }
+  // Right-hand side, gathered per vertex, written in the factor's permuted order:
+  //   b_i = -sum_{k in N(i)} [ c_c (Rhat_i + Rhat_k) + c_r R_j ] (vbar_k - vbar_i)
+  // (R_j only when (i, k) is feature line j), plus handle and regulariser terms.
+  double* y = work_.data();
+  const int* perm = perm_.data();
+  for (size_t i = 0; i < q; ++i) {
+    double gx = 0, gy = 0;
+    const double ci = vert_c_[i], si = vert_s_[i];
+    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+      const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
+      double c = cc * (ci + vert_c_[n]), sn = cc * (si + vert_s_[n]);
+      const int line = adj_line_[static_cast<size_t>(k)];
+      if (line >= 0) {
+        c += cr * line_c_[static_cast<size_t>(line)];
+        sn += cr * line_s_[static_cast<size_t>(line)];
+      }
+      const Vec2& db = adj_rest_[static_cast<size_t>(k)];
+      gx -= c * db.x() - sn * db.y();
+      gy -= sn * db.x() + c * db.y();
+    }
+    if (free_[i]) {
+      gx += eps_ * anchor_[i].x();
+      gy += eps_ * anchor_[i].y();
+    }
+    y[perm[2 * i]] = gx;
+    y[perm[2 * i + 1]] = gy;
   }
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
     const HandleCoeff k = coeff(handles_[h]);
-    const Vec2 c = targets[h] - k.offset;
-    // M(alpha)^T c = conj(alpha) * c
-    add(k.a, w_.position * Vec2(k.ar * c.x() + k.ai * c.y(), k.ar * c.y() - k.ai * c.x()));
-    add(k.b, w_.position * Vec2(k.br * c.x() + k.bi * c.y(), k.br * c.y() - k.bi * c.x()));
+    const Vec2 t = targets[h] - k.offset;
+    // M(alpha)^T t = conj(alpha) * t
+    y[perm[2 * k.a]] += w_.position * (k.ar * t.x() + k.ai * t.y());
+    y[perm[2 * k.a + 1]] += w_.position * (k.ar * t.y() - k.ai * t.x());
+    y[perm[2 * k.b]] += w_.position * (k.br * t.x() + k.bi * t.y());
+    y[perm[2 * k.b + 1]] += w_.position * (k.br * t.y() - k.bi * t.x());
+  }
+  // Solve L D L^T y = P b in place on the factor's raw arrays (L unit lower, column-major,
+  // diagonal not stored): the factor is very sparse, so Eigen's generic per-column
+  // iterator overhead would dominate.
+  const auto& L = ldlt_.matrixL().nestedExpression();
+  const int* col = L.outerIndexPtr();
+  const int* row = L.innerIndexPtr();
+  const double* val = L.valuePtr();
+  const double* D = diag_.data();
+  const int n = static_cast<int>(work_.size());
+  for (int j = 0; j < n; ++j) {
+    const double yj = y[j];
+    for (int p = col[j]; p < col[j + 1]; ++p) y[row[p]] -= val[p] * yj;
+  }
+  for (int j = 0; j < n; ++j) y[j] /= D[j];
+  for (int j = n - 1; j >= 0; --j) {
+    double sum = y[j];
+    for (int p = col[j]; p < col[j + 1]; ++p) sum -= val[p] * y[row[p]];
+    y[j] = sum;
   }
   for (size_t i = 0; i < q; ++i) {
-    if (free_[i]) add(static_cast<int>(i), eps_ * anchor_[i]);
-  }
-  x_ = ldlt_.solve(rhs_);
-  for (size_t i = 0; i < q; ++i) {
-    const Vec2 p(x_[static_cast<Eigen::Index>(2 * i)], x_[static_cast<Eigen::Index>(2 * i + 1)]);
+    const Vec2 p(y[perm[2 * i]], y[perm[2 * i + 1]]);
     if (p.allFinite()) v_[i] = p;  // never let a NaN through: keep the previous position
   }
 }

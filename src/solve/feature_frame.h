@@ -62,6 +62,8 @@ class FeatureFrameSolver {
   void optimal_rotations(std::span<const Vec2> v, std::span<double> line_angle, std::span<double> vertex_angle) const;
 
   size_t vertex_count() const { return v_.size(); }
+  /// Non-zeros of the factor L (diagnostics, benchmarks).
+  long factor_nonzeros() const { return ldlt_.matrixL().nestedExpression().nonZeros(); }
   size_t handle_count() const { return handles_.size(); }
   const FeatureFrame* frame() const { return frame_; }
 
@@ -73,10 +75,14 @@ class FeatureFrameSolver {
   SolverWeights w_;
   std::vector<ShapeParam> handles_;
   std::vector<int> adj_begin_, adj_;  ///< CSR: neighbours of each vertex over all lines
+  std::vector<Vec2> adj_rest_;        ///< vbar_k - vbar_i per CSR entry
+  std::vector<int> adj_line_;         ///< feature line of each CSR entry, -1 for sewing lines
+  std::vector<Vec2> line_rest_;       ///< vbar_b - vbar_a per feature line
   std::vector<char> free_;            ///< vertex is in a component without a handle
   double eps_ = 0;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
-  Eigen::VectorXd rhs_, x_;
+  Eigen::VectorXd rhs_, x_, work_, diag_;  ///< diag_: D of the factor (vectorD() copies)
+  std::vector<int> perm_, perm_inv_;  ///< factor's fill-reducing permutation and inverse
   std::vector<Vec2> v_, anchor_;
   std::vector<double> line_c_, line_s_;  ///< R_j as cos/sin (feature lines)
   std::vector<double> vert_c_, vert_s_;  ///< Rhat_i as cos/sin
