@@ -1,25 +1,10 @@
 // Rebuilding the draw list of a character every frame allocates nothing after warm-up.
 #include "character/load.h"
 #include "render/tessellate.h"
+#include "alloc_counter.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-
-void* operator new(std::size_t n) {
-  g_allocs.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace mar {
 namespace {
@@ -43,9 +28,9 @@ TEST(build_draw_list, NoHeapAllocationAfterWarmUp) {
   // The animation cycles every 100 frames; the first cycle is the warm-up in which the
   // buffers reach their working size, the next two must not allocate.
   for (int f = 0; f < 100; ++f) frame(f);
-  const long before = g_allocs.load();
+  const long before = test::allocation_count();
   for (int f = 100; f < 300; ++f) frame(f % 100);
-  EXPECT_EQ(g_allocs.load() - before, 0);
+  EXPECT_EQ(test::allocation_count() - before, 0);
   EXPECT_GT(list.indices.size(), 100u);
 }
 

@@ -1,25 +1,10 @@
 // (f) The steady-state solve (local + global steps, shape reconstruction) allocates nothing.
 #include "character/load.h"
 #include "solve/feature_frame.h"
+#include "alloc_counter.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
-
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
-namespace {
-std::atomic<long> g_allocs{0};
-}
-
-void* operator new(std::size_t n) {
-  g_allocs.fetch_add(1, std::memory_order_relaxed);
-  if (void* p = std::malloc(n ? n : 1)) return p;
-  throw std::bad_alloc();
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 
 namespace mar {
 namespace {
@@ -43,9 +28,9 @@ TEST(FeatureFrameSolver, SteadyStateSolveAllocatesNothing) {
     reconstruct_shapes(f, s.vertices(), shapes);
   };
   for (int k = 0; k < 10; ++k) frame(k);
-  const long before = g_allocs.load();
+  const long before = test::allocation_count();
   for (int k = 10; k < 210; ++k) frame(k);
-  EXPECT_EQ(g_allocs.load() - before, 0);
+  EXPECT_EQ(test::allocation_count() - before, 0);
 }
 
 }  // namespace
