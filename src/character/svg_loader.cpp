@@ -507,19 +507,7 @@ class SvgLoader {
   bool passes_conditions(const pugi::xml_node& c) {
     // We implement no extensions, and an empty list evaluates to false as well.
     if (c.attribute("requiredExtensions")) return false;
-    if (pugi::xml_attribute lang = c.attribute("systemLanguage")) {
-      std::string_view l = lang.value();
-      bool ok = false;
-      size_t pos = 0;
-      while (pos <= l.size()) {
-        const size_t comma = l.find(',', pos);
-        std::string_view tag = trim(l.substr(pos, comma == std::string_view::npos ? l.npos : comma - pos));
-        if (tag == "en" || tag.rfind("en-", 0) == 0) ok = true;
-        if (comma == std::string_view::npos) break;
-        pos = comma + 1;
-      }
-      return ok;
-    }
+    if (pugi::xml_attribute lang = c.attribute("systemLanguage")) return svg::system_language_matches(lang.value());
     return true;
   }
 

@@ -343,6 +343,18 @@ std::optional<double> parse_length(std::string_view v, int axis, double vp_w, do
   return out;
 }
 
+bool system_language_matches(std::string_view l) {
+  size_t pos = 0;
+  while (pos <= l.size()) {
+    const size_t comma = l.find(',', pos);
+    const std::string_view tag = trim(l.substr(pos, comma == std::string_view::npos ? l.npos : comma - pos));
+    if (tag == "en" || tag.rfind("en-", 0) == 0) return true;
+    if (comma == std::string_view::npos) break;
+    pos = comma + 1;
+  }
+  return false;
+}
+
 std::optional<std::array<double, 4>> parse_viewbox(std::string_view v) {
   std::array<double, 4> vb{};
   size_t pos = 0;

@@ -66,6 +66,10 @@ double parse_opacity(std::string_view v, double fallback);
 /// diagonal sqrt((w^2 + h^2) / 2). nullopt when malformed or not finite.
 std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h);
 
+/// A `systemLanguage` list ("en, fr-CA") passes when it names English (en or en-*), the
+/// language marionette's messages are in.
+bool system_language_matches(std::string_view list);
+
 /// Parses a viewBox "min-x min-y width height"; nullopt when malformed or not positive.
 std::optional<std::array<double, 4>> parse_viewbox(std::string_view v);
 
