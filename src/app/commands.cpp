@@ -40,25 +40,30 @@ void print_warnings(const Character& ch) {
 
 }  // namespace
 
+bool apply_picture_flags(const std::string& size, const std::string& background, int& w, int& h, Rgba& bg) {
+  if (!size.empty()) {
+    auto sz = parse_size(size);
+    if (!sz) {
+      std::cerr << "error: --size must be WxH with 1..8192 pixels each, got '" << size << "'\n";
+      return false;
+    }
+    w = sz->first;
+    h = sz->second;
+  }
+  if (!background.empty()) {
+    auto b = parse_background(background);
+    if (!b) {
+      std::cerr << "error: --background must be RRGGBB or transparent, got '" << background << "'\n";
+      return false;
+    }
+    bg = *b;
+  }
+  return true;
+}
+
 int cmd_render(const RenderArgs& a) {
   RenderOptions ro;
-  if (!a.size.empty()) {
-    auto sz = parse_size(a.size);
-    if (!sz) {
-      std::cerr << "error: --size must be WxH with 1..8192 pixels each, got '" << a.size << "'\n";
-      return kExitBadInput;
-    }
-    ro.width = sz->first;
-    ro.height = sz->second;
-  }
-  if (!a.background.empty()) {
-    auto bg = parse_background(a.background);
-    if (!bg) {
-      std::cerr << "error: --background must be RRGGBB or transparent, got '" << a.background << "'\n";
-      return kExitBadInput;
-    }
-    ro.background = *bg;
-  }
+  if (!apply_picture_flags(a.size, a.background, ro.width, ro.height, ro.background)) return kExitBadInput;
   if (a.supersample != 1 && a.supersample != 2 && a.supersample != 4) {
     std::cerr << "error: --supersample must be 1, 2 or 4\n";
     return kExitBadInput;

@@ -69,4 +69,8 @@ std::optional<std::pair<int, int>> parse_size(const std::string& s);
 /// Parses "RRGGBB", "#RRGGBB" or "transparent".
 std::optional<Rgba> parse_background(const std::string& s);
 
+/// Applies the --size and --background flags of a picture command (each only when given)
+/// to `w`, `h` and `bg`; prints the error and returns false when one is malformed.
+bool apply_picture_flags(const std::string& size, const std::string& background, int& w, int& h, Rgba& bg);
+
 }  // namespace mar

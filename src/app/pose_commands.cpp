@@ -175,24 +175,8 @@ int cmd_pose(const PoseArgs& a) {
   }
   if (!a.output.empty()) {
     auto [w, h] = doc_size(p.character);
-    if (!a.size.empty()) {
-      auto sz = parse_size(a.size);
-      if (!sz) {
-        std::cerr << "error: --size must be WxH\n";
-        return kExitBadInput;
-      }
-      w = sz->first;
-      h = sz->second;
-    }
     Rgba bg{0, 0, 0, 0};
-    if (!a.background.empty()) {
-      auto b = parse_background(a.background);
-      if (!b) {
-        std::cerr << "error: --background must be RRGGBB or transparent\n";
-        return kExitBadInput;
-      }
-      bg = *b;
-    }
+    if (!apply_picture_flags(a.size, a.background, w, h, bg)) return kExitBadInput;
     const int rc = write_picture(p, a.output, w, h, bg, a.overlay, targets);
     if (rc != kExitOk) return rc;
   }
