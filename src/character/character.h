@@ -2,6 +2,7 @@
 #pragma once
 
 #include "geom/triangulate.h"
+#include "geom/result.h"
 #include "geom/types.h"
 
 #include <cstdint>
@@ -82,16 +83,6 @@ struct Character {
 
   Bounds bounds() const;
   size_t vertex_count() const;
-};
-
-/// Value-or-error for load-time operations (never used inside the frame loop).
-template <class T>
-struct Result {
-  std::optional<T> value;
-  std::string error;
-  bool ok() const { return value.has_value(); }
-  static Result success(T v) { return Result{std::move(v), {}}; }
-  static Result failure(std::string e) { return Result{std::nullopt, std::move(e)}; }
 };
 
 }  // namespace mar

@@ -1,0 +1,39 @@
+// The device-agnostic input event: what every decoder produces and the mapping consumes.
+#pragma once
+
+#include <cstdint>
+
+namespace mar {
+
+/// What kind of control an event comes from. `number` and `channel` are read per kind.
+enum class ControlKind : uint8_t {
+  None,
+  MidiNoteOn,        ///< channel, number = note, value = velocity 1..127
+  MidiNoteOff,       ///< channel, number = note, value = release velocity (note-on vel 0 lands here)
+  MidiCC,            ///< channel, number = controller 0..127, value 0..127
+  MidiPitchBend,     ///< channel, value 0..16383 (centre 8192)
+  MidiProgram,       ///< channel, value = program
+  MidiChannelPressure,
+  MidiPolyPressure,  ///< channel, number = note
+  HidValue,          ///< number = usage (page << 16 | id), channel = collection index, value = logical
+  EncoderDelta,      ///< number = encoder index, value = signed detents (or quarter steps)
+  Button,            ///< number = button index, value 1 pressed / 0 released
+  PointerX,          ///< value in [lo, hi]
+  PointerY,
+  Pressure,
+};
+
+/// One decoded control change. `t_ns` is the device timestamp on the loop's monotonic clock.
+struct Event {
+  int64_t t_ns = 0;
+  uint16_t source = 0;  ///< device index in the show
+  ControlKind kind = ControlKind::None;
+  uint8_t channel = 0;
+  uint32_t number = 0;
+  int32_t value = 0;
+  int32_t lo = 0, hi = 0;  ///< logical range of an absolute control (lo == hi: relative)
+};
+
+const char* control_kind_name(ControlKind k);
+
+}  // namespace mar
