@@ -1,0 +1,93 @@
+#include "firmware_sim/midi_controller.h"
+
+#include "input/usb_midi.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mar {
+
+int MidiControllerSim::cc_of(const std::string& c) {
+  auto indexed = [&](const char* prefix, int base) -> int {
+    const std::string p = prefix;
+    if (c.rfind(p, 0) != 0 || c.size() != p.size() + 1) return -1;
+    const int i = c.back() - '1';
+    return i >= 0 && i < 8 ? base + i : -1;
+  };
+  for (auto [p, base] : {std::pair{"fader", 0}, {"knob", 16}, {"solo", 32}, {"mute", 48}, {"rec", 64}})
+    if (int cc = indexed(p, base); cc >= 0) return cc;
+  static const std::pair<const char*, int> transport[] = {
+      {"play", 41}, {"stop", 42}, {"rewind", 43}, {"forward", 44}, {"record", 45}, {"cycle", 46},
+      {"marker_set", 60}, {"marker_prev", 61}, {"marker_next", 62}, {"track_prev", 58}, {"track_next", 59}};
+  for (auto [name, cc] : transport)
+    if (c == name) return cc;
+  return -1;
+}
+
+void MidiControllerSim::send_cc(int64_t t_ns, int cc, int value) {
+  const uint8_t msg[3] = {0xB0, uint8_t(cc & 0x7F), uint8_t(value & 0x7F)};
+  uint8_t pk[4];
+  usb_midi_encode(0, msg, pk);
+  emit(t_ns, pk);
+  position_[cc & 0x7F] = value;
+}
+
+void MidiControllerSim::move(const std::string& control, double t_s, double to, double dur_s) {
+  const int cc = cc_of(control);
+  if (cc < 0) return;
+  const int from = position_[cc];
+  const int target = int(std::lround(std::clamp(to, 0.0, 1.0) * 127));
+  if (dur_s <= 0 || from == target) {
+    if (from != target || dur_s <= 0) send_cc(to_ns(t_s), cc, target);
+    return;
+  }
+  // The firmware scans its ADC at 1 kHz and sends a CC when the 7-bit value changes.
+  const int steps = int(std::ceil(dur_s * 1000));
+  int last = from;
+  for (int k = 1; k <= steps; ++k) {
+    const double u = double(k) / steps;
+    const int v = int(std::lround(from + (target - from) * u));
+    if (v != last) {
+      send_cc(to_ns(t_s + u * dur_s), cc, v);
+      last = v;
+    }
+  }
+}
+
+void MidiControllerSim::press(const std::string& control, double t_s, double hold_s) {
+  const int cc = cc_of(control);
+  if (cc < 0) return;
+  send_cc(to_ns(t_s), cc, 127);
+  send_cc(to_ns(t_s + std::max(hold_s, 0.001)), cc, 0);
+}
+
+Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>& w) {
+  using R = Result<bool>;
+  // move CONTROL VALUE [over SECONDS] | press CONTROL [for SECONDS]
+  if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]' or 'press CONTROL [for S]'");
+  if (cc_of(w[1]) < 0)
+    return R::failure("unknown control '" + w[1] + "' (fader1-8, knob1-8, solo1-8, mute1-8, rec1-8, play, stop, ...)");
+  double dur = 0;
+  if (w[0] == "move") {
+    double v = 0;
+    if (w.size() < 3 || !parse_number(w[2], v) || v < 0 || v > 1) return R::failure("move needs a value in 0..1");
+    if (w.size() == 5 && w[3] == "over" && parse_number(w[4], dur) && dur >= 0) {
+    } else if (w.size() != 3) {
+      return R::failure("expected 'move CONTROL VALUE [over SECONDS]'");
+    }
+    move(w[1], t, v, dur);
+    return R::success(true);
+  }
+  if (w[0] == "press") {
+    dur = 0.1;
+    if (w.size() == 4 && w[2] == "for" && parse_number(w[3], dur) && dur >= 0) {
+    } else if (w.size() != 2) {
+      return R::failure("expected 'press CONTROL [for SECONDS]'");
+    }
+    press(w[1], t, dur);
+    return R::success(true);
+  }
+  return R::failure("unknown action '" + w[0] + "' (move, press)");
+}
+
+}  // namespace mar

@@ -1,0 +1,82 @@
+// Simulated devices: each models a device's firmware and writes the bytes or edges the
+// real device would send (USB-MIDI packets, HID reports per a real report descriptor,
+// GPIO edges with contact bounce). They are driven by a physical-units API or a timeline
+// script (docs: firmware_sim/README.md), and their output feeds the same decoders as
+// hardware.
+//
+// Records are generated when an action is scheduled (load time), kept sorted by time, and
+// handed out by drain() without allocating. A script may end with `loop SECONDS`: the
+// timeline then repeats with that period, for shows of any length.
+#pragma once
+
+#include "geom/result.h"
+#include "input/wire.h"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mar {
+
+class SimDevice {
+ public:
+  virtual ~SimDevice() = default;
+  /// Device kind for messages ("nanokontrol2", "knob_box", "pen_tablet", "gamepad").
+  virtual const char* kind() const = 0;
+  /// The wire kind every record of this device has.
+  virtual WireKind wire() const = 0;
+
+  /// Runs a timeline script (one action per line, times in seconds from start; see
+  /// README). Errors are "line N: ..." and leave the device unchanged.
+  Result<bool> load_script(const std::string& text);
+  /// Repeats the timeline every `period_s` seconds (0: play once).
+  void set_loop(double period_s);
+  /// Sorts the timeline; call after scheduling actions and before drain().
+  void finish();
+
+  /// Calls `on(const WireRecord&)` for records with time <= now_ns, in time order.
+  template <class F>
+  void drain(int64_t now_ns, F&& on) {
+    while (!timeline_.empty()) {
+      if (next_ == timeline_.size()) {
+        if (loop_ns_ <= 0) return;
+        next_ = 0;
+        offset_ns_ += loop_ns_;
+      }
+      const WireRecord& r = timeline_[next_];
+      if (r.t_ns + offset_ns_ > now_ns) return;
+      WireRecord out = r;
+      out.t_ns += offset_ns_;
+      ++next_;
+      on(static_cast<const WireRecord&>(out));
+    }
+  }
+  /// Restarts playback from time 0.
+  void rewind() { next_ = 0; offset_ns_ = 0; }
+  const std::vector<WireRecord>& timeline() const { return timeline_; }
+  /// Time of the last scheduled record (ns).
+  int64_t end_ns() const;
+
+ protected:
+  /// One script line's action at time `t` (seconds), `w` = words after the time.
+  virtual Result<bool> action(double t, const std::vector<std::string>& w) = 0;
+  void emit(int64_t t_ns, std::span<const uint8_t> bytes);
+  std::vector<WireRecord> timeline_;
+
+ private:
+  size_t next_ = 0;
+  int64_t loop_ns_ = 0, offset_ns_ = 0;
+};
+
+/// Makes a simulated device by kind. `descriptor` is a HID report descriptor file (.hex
+/// text or raw .bin) for the HID devices; empty selects the built-in one. `options` holds
+/// the show file's extra keys as text (e.g. "bounce_ms" for the knob box).
+Result<std::unique_ptr<SimDevice>> make_sim_device(const std::string& kind, const std::string& descriptor,
+                                                   double bounce_ms = 0, uint32_t seed = 1);
+
+// Helpers for script parsing, shared by the devices.
+double seconds(int64_t ns);
+int64_t to_ns(double s);
+bool parse_number(const std::string& s, double& out);
+
+}  // namespace mar

@@ -1,0 +1,38 @@
+// Raw device output as it crosses the wire, with its timestamp: what backends read, what
+// simulated devices write, what --record stores and replay feeds back. Fixed size, so a
+// frame can queue them without allocating.
+#pragma once
+
+#include <cstdint>
+#include <cstring>
+#include <span>
+
+namespace mar {
+
+enum class WireKind : uint8_t {
+  UsbMidi = 1,    ///< USB-MIDI event packets (multiples of 4 bytes), a bulk IN transfer
+  MidiBytes = 2,  ///< a MIDI 1.0 byte stream chunk (serial, ALSA raw)
+  HidReport = 3,  ///< one HID input report (report-ID byte first when numbered)
+  GpioEdge = 4,   ///< data[0] = line index in the device, data[1] = level after the edge
+};
+
+struct WireRecord {
+  static constexpr size_t kMax = 64;
+  int64_t t_ns = 0;
+  uint16_t source = 0;
+  WireKind kind = WireKind::UsbMidi;
+  uint8_t size = 0;
+  uint8_t data[kMax] = {};
+  std::span<const uint8_t> bytes() const { return {data, size}; }
+  static WireRecord make(int64_t t, WireKind k, std::span<const uint8_t> b, uint16_t source = 0) {
+    WireRecord r;
+    r.t_ns = t;
+    r.kind = k;
+    r.source = source;
+    r.size = uint8_t(b.size() < kMax ? b.size() : kMax);
+    std::memcpy(r.data, b.data(), r.size);
+    return r;
+  }
+};
+
+}  // namespace mar

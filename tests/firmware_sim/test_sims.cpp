@@ -1,0 +1,199 @@
+// Simulated devices: their wire output decodes, through the program's decoders, to the
+// gestures that produced it; layouts follow the real devices in the corpus.
+#include "firmware_sim/hid_device.h"
+#include "firmware_sim/knob_box.h"
+#include "firmware_sim/midi_controller.h"
+#include "input/quadrature.h"
+#include "input/usb_midi.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+
+namespace mar {
+namespace {
+
+TEST(MidiControllerSim, CcNumbersMatchArdoursNanoKontrol2Map) {
+  const auto p = test::corpus_dir() / "midi/ardour-midi-maps/Korg_nanoKONTROL2.map";
+  if (!std::filesystem::exists(p)) GTEST_SKIP() << "corpus not found";
+  std::ifstream in(p);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  const std::regex route(R"re(ctl="(\d+)" uri="/route/(\w+) B(\d)")re");
+  int checked = 0;
+  for (std::sregex_iterator it(text.begin(), text.end(), route), end; it != end; ++it) {
+    const int cc = std::stoi((*it)[1]);
+    const std::string what = (*it)[2], bank = (*it)[3];
+    const std::string name = what == "gain" ? "fader" : what == "pandirection" ? "knob" : what == "recenable" ? "rec" : what;
+    EXPECT_EQ(MidiControllerSim::cc_of(name + bank), cc) << name << bank;
+    ++checked;
+  }
+  EXPECT_EQ(checked, 40);
+  const std::regex transport(R"re(ctl="(\d+)" function="transport-(roll|stop)")re");
+  for (std::sregex_iterator it(text.begin(), text.end(), transport), end; it != end; ++it)
+    EXPECT_EQ(MidiControllerSim::cc_of((*it)[2] == "roll" ? "play" : "stop"), std::stoi((*it)[1]));
+}
+
+TEST(MidiControllerSim, FaderSweepDecodesTo127IncreasingCCs) {
+  MidiControllerSim sim;
+  ASSERT_TRUE(sim.load_script("0 move fader3 0\n0.5 move fader3 1 over 1.0\n").ok());
+  UsbMidiDecoder dec;
+  std::vector<std::pair<int64_t, int>> values;
+  sim.drain(INT64_MAX, [&](const WireRecord& r) {
+    EXPECT_EQ(r.kind, WireKind::UsbMidi);
+    dec.feed(r.bytes(), [&](uint8_t, const MidiMessage& m) {
+      EXPECT_EQ(m.bytes[0], 0xB0);
+      EXPECT_EQ(m.bytes[1], 2);
+      values.push_back({r.t_ns, m.bytes[2]});
+    });
+  });
+  ASSERT_EQ(values.size(), 128u);  // the initial 0, then 1..127
+  for (size_t i = 1; i < values.size(); ++i) {
+    EXPECT_EQ(values[i].second, int(i));
+    EXPECT_GE(values[i].first, values[i - 1].first);
+  }
+  EXPECT_NEAR(double(values.back().first) * 1e-9, 1.5, 5e-3);  // 127 reached in the last 1/254 s
+}
+
+TEST(MidiControllerSim, ScriptErrorsNameTheLine) {
+  MidiControllerSim sim;
+  auto r = sim.load_script("0 move fader1 0.5\n1.0 move fader9 1\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("line 2"), std::string::npos) << r.error;
+  EXPECT_TRUE(sim.timeline().empty());
+  EXPECT_FALSE(sim.load_script("x move fader1 1").ok());
+  EXPECT_FALSE(sim.load_script("0 wiggle fader1").ok());
+}
+
+TEST(KnobBoxSim, TwentyFourDetentsWithBounceDecodeExactly) {
+  for (double bounce : {0.0, 1.0, 5.0}) {
+    KnobBoxSim sim(bounce, 42);
+    ASSERT_TRUE(sim.load_script("0 turn 2 24 over 2.0\n3 turn 2 -5 over 0.5\n4 press 2 for 0.2\n").ok());
+    QuadratureDecoder q(4);
+    q.set_levels(true, true);
+    int presses = 0, button = 1, edges = 0;
+    int64_t last_button = -1'000'000'000;
+    std::vector<int> detents;
+    sim.drain(INT64_MAX, [&](const WireRecord& r) {
+      const int line = r.data[0], level = r.data[1];
+      ++edges;
+      if (line == KnobBoxSim::line_button(2)) {
+        // lockout debounce: the first edge counts, chatter within 10 ms is ignored
+        if (level != button && r.t_ns - last_button > 10'000'000) {
+          button = level;
+          last_button = r.t_ns;
+          presses += level == 0;
+        }
+        return;
+      }
+      ASSERT_TRUE(line == KnobBoxSim::line_a(2) || line == KnobBoxSim::line_b(2));
+      if (r.t_ns > 2'900'000'000 && detents.size() == 0) detents.push_back(q.take_detents());
+      q.edge({r.t_ns, uint8_t(line == KnobBoxSim::line_a(2) ? 0 : 1), uint8_t(level)});
+    });
+    detents.push_back(q.take_detents());
+    ASSERT_EQ(detents.size(), 2u);
+    EXPECT_EQ(detents[0], 24) << "bounce " << bounce;
+    EXPECT_EQ(detents[1], -5) << "bounce " << bounce;
+    EXPECT_EQ(presses, 1);
+    if (bounce > 0) {
+      EXPECT_GT(edges, 4 * 29 + 2) << "bounce adds edges";
+    } else {
+      EXPECT_EQ(edges, 4 * 29 + 2);
+    }
+  }
+}
+
+// Decodes the reports of a pen simulator back into (x, y, pressure, tip).
+struct PenSample {
+  double x, y, p;
+  int tip;
+};
+std::vector<PenSample> decode_pen(const PenTabletSim& sim, SimDevice& dev) {
+  const HidDescriptor& d = sim.descriptor();
+  std::vector<PenSample> out;
+  dev.drain(INT64_MAX, [&](const WireRecord& r) {
+    const HidReport* rep = d.input_for(r.bytes());
+    EXPECT_NE(rep, nullptr);
+    if (!rep) return;
+    EXPECT_EQ(r.size, rep->size_bytes());
+    auto get = [&](uint32_t u) {
+      int k = 0;
+      const HidField* f = d.find_usage(u, &k);
+      int32_t v = 0;
+      EXPECT_TRUE(f && f->value(r.bytes(), k, v));
+      return f ? double(v - f->logical_min) / (f->logical_max - f->logical_min) : 0.0;
+    };
+    out.push_back({get(usage::X), get(usage::Y), get(usage::TipPressure), int(get(usage::TipSwitch))});
+  });
+  return out;
+}
+
+TEST(PenTabletSim, RealDescriptorsCarryTheStroke) {
+  const auto root = test::corpus_dir() / "hid";
+  if (!std::filesystem::exists(root)) GTEST_SKIP() << "corpus not found";
+  for (const char* file : {"wacom-hid-descriptors/Huion_H640P/0003_256C_006D.0006.hid.bin",
+                           "hid-tools-descriptors/test_tablet__TestXPPen_Artist24_28bd_093a.hex",
+                           "wacom-hid-descriptors/Huion_H640P/0003_256C_006D.0005.hid.bin", ""}) {
+    SCOPED_TRACE(file);
+    auto dev = make_sim_device("pen_tablet", *file ? (root / file).string() : "");
+    ASSERT_TRUE(dev.ok()) << dev.error;
+    auto* pen = static_cast<PenTabletSim*>(dev.value->get());
+    ASSERT_TRUE(pen->load_script("0 stroke 0.1,0.2 0.9,0.2 over 1.0 pressure 0.6\n").ok());
+    const auto s = decode_pen(*pen, *pen);
+    ASSERT_EQ(s.size(), 202u);  // 200 Hz over 1 s, both ends, and the lift
+    EXPECT_NEAR(s.front().x, 0.1, 1e-3);
+    EXPECT_NEAR(s[100].x, 0.5, 1e-3);
+    EXPECT_NEAR(s[200].x, 0.9, 1e-3);
+    EXPECT_NEAR(s[100].y, 0.2, 1e-3);
+    EXPECT_NEAR(s[100].p, 0.6, 1e-3);
+    EXPECT_EQ(s[100].tip, 1);
+    EXPECT_EQ(s.back().tip, 0);
+  }
+}
+
+TEST(GamepadSim, Ps4UsbReportsCarrySticksAndButtons) {
+  const auto p = test::corpus_dir() / "hid/hid-tools-descriptors/sony_gamepad__PS4ControllerUSB.hex";
+  if (!std::filesystem::exists(p)) GTEST_SKIP() << "corpus not found";
+  auto dev = make_sim_device("gamepad", p.string());
+  ASSERT_TRUE(dev.ok()) << dev.error;
+  auto* pad = static_cast<GamepadSim*>(dev.value->get());
+  ASSERT_TRUE(pad->load_script("0 stick left 1,-1 over 0.1\n0.2 press 2 for 0.1\n").ok());
+  const HidDescriptor& d = pad->descriptor();
+  std::vector<std::array<int32_t, 4>> got;  // X, Y, B2, hat
+  pad->drain(INT64_MAX, [&](const WireRecord& r) {
+    ASSERT_EQ(r.size, 64);
+    ASSERT_EQ(r.data[0], 1);  // report ID 1
+    std::array<int32_t, 4> v{};
+    const uint32_t us[4] = {usage::X, usage::Y, usage::button(2), usage::Hat};
+    for (int i = 0; i < 4; ++i) {
+      int k = 0;
+      const HidField* f = d.find_usage(us[i], &k);
+      ASSERT_NE(f, nullptr);
+      ASSERT_TRUE(f->value(r.bytes(), k, v[size_t(i)]));
+    }
+    got.push_back(v);
+  });
+  ASSERT_EQ(got.size(), 25u + 2u);
+  EXPECT_EQ(got[24][0], 255);
+  EXPECT_EQ(got[24][1], 0);
+  EXPECT_EQ(got[25][2], 1);
+  EXPECT_EQ(got[26][2], 0);
+  EXPECT_EQ(got[0][3], 8);  // hat at rest: null state
+}
+
+TEST(SimDevice, LoopRepeatsTheTimeline) {
+  MidiControllerSim sim;
+  ASSERT_TRUE(sim.load_script("0.1 press play for 0.1\nloop 1.0\n").ok());
+  int n = 0;
+  int64_t last = 0;
+  sim.drain(to_ns(3.5), [&](const WireRecord& r) {
+    ++n;
+    last = r.t_ns;
+  });
+  EXPECT_EQ(n, 8);  // 4 cycles (0, 1, 2, 3 s) x press and release
+  EXPECT_EQ(last, to_ns(3.2));
+}
+
+}  // namespace
+}  // namespace mar
