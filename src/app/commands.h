@@ -59,6 +59,17 @@ struct ViewArgs {
 };
 int cmd_view(const ViewArgs& a);
 
+struct RunArgs {
+  std::string show;
+  bool headless = false;
+  long frames = -1;
+  double rate = 0;
+  std::string stats, record, dump_frames, learn, replay;
+  int every = 1;
+};
+/// `run` and `replay` (replay: `replay` set to the recording).
+int cmd_run(const RunArgs& a);
+
 /// The inspect report of a character, as JSON or as the text table (shared by inspect
 /// with and without a rig).
 nlohmann::ordered_json inspect_json(const Character& ch);

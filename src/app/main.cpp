@@ -49,6 +49,27 @@ int main(int argc, char** argv) {
   v->add_option("--supersample", view.supersample, "Headless PNGs: 1, 2 or 4 samples per axis");
   v->add_option("--screenshot", view.screenshot, "Window mode: save the first frame as PNG");
 
+  mar::RunArgs run;
+  CLI::App* run_cmd = app.add_subcommand("run", "Run a live show (window, or headless with --headless or no display)");
+  run_cmd->add_option("show", run.show, "Show file (TOML)")->required();
+  run_cmd->add_flag("--headless", run.headless, "Offscreen with a fixed-rate clock");
+  run_cmd->add_option("--frames", run.frames, "Stop after N frames (headless default: until the scripts end)");
+  run_cmd->add_option("--rate", run.rate, "Frame rate in Hz (default: the show's)");
+  run_cmd->add_option("--stats", run.stats, "Write frame statistics as JSON");
+  run_cmd->add_option("--record", run.record, "Record the raw wire data with timestamps");
+  run_cmd->add_option("--dump-frames", run.dump_frames, "Write frames as PNG into this folder");
+  run_cmd->add_option("--every", run.every, "With --dump-frames: every Kth frame");
+  run_cmd->add_option("--learn", run.learn, "Bind the next control that moves to TARGET and write it into the show");
+
+  mar::RunArgs replay;
+  CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");
+  replay_cmd->add_option("recording", replay.replay, "File written by run --record")->required();
+  replay_cmd->add_option("--show", replay.show, "Show file")->required();
+  replay_cmd->add_option("--stats", replay.stats, "Write frame statistics as JSON");
+  replay_cmd->add_option("--dump-frames", replay.dump_frames, "Write frames as PNG into this folder");
+  replay_cmd->add_option("--every", replay.every, "With --dump-frames: every Kth frame");
+  replay.headless = true;
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -63,5 +84,7 @@ int main(int argc, char** argv) {
   if (i->parsed()) return mar::cmd_inspect(inspect);
   if (p->parsed()) return mar::cmd_pose(pose);
   if (v->parsed()) return mar::cmd_view(view);
+  if (run_cmd->parsed()) return mar::cmd_run(run);
+  if (replay_cmd->parsed()) return mar::cmd_run(replay);
   return mar::kExitBadInput;
 }

@@ -1,0 +1,442 @@
+#include "app/live.h"
+
+#include "character/color.h"
+#include "firmware_sim/hid_device.h"
+#include "render/image.h"
+
+#include <SDL.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <thread>
+
+namespace mar {
+namespace {
+
+AllocationCounter g_counter = nullptr;
+uint64_t allocations() { return g_counter ? g_counter() : 0; }
+
+double now_us() {
+  return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+bool display_present() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wl = std::getenv("WAYLAND_DISPLAY");
+  return (x && *x) || (wl && *wl);
+}
+
+constexpr char kMagic[8] = {'M', 'A', 'R', 'R', 'E', 'C', '0', '1'};
+constexpr uint8_t kRecWire = 1, kRecFrame = 2;
+
+}  // namespace
+
+void set_allocation_counter(AllocationCounter f) { g_counter = f; }
+
+LiveShow::~LiveShow() {
+  if (record_) std::fclose(record_);
+  if (replay_) std::fclose(replay_);
+}
+
+Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o) {
+  using R = Result<std::unique_ptr<LiveShow>>;
+  auto header = load_show_header(path);
+  if (!header.ok()) return R::failure(header.error);
+  auto puppet = load_puppet(header.value->character, header.value->rig);
+  if (!puppet.ok()) return R::failure(puppet.error);
+  std::unique_ptr<LiveShow> s(new LiveShow());
+  s->opt_ = o;
+  s->puppet_ = std::move(*puppet.value);
+  Puppet& p = *s->puppet_;
+  std::vector<std::string> names;
+  for (const auto& h : p.rig.handles) names.push_back(h.name);
+  const std::vector<Vec2> rest = p.rest_targets();
+  const Bounds bb = p.character.bounds();
+  const double diag = std::hypot(bb.hi.x() - bb.lo.x(), bb.hi.y() - bb.lo.y());
+  auto show = load_show(path, names, rest, diag);
+  if (!show.ok()) return R::failure(show.error);
+  s->show_ = std::move(*show.value);
+  ShowConfig& sh = s->show_;
+  s->period_s_ = 1.0 / (o.rate > 0 ? o.rate : sh.rate_hz);
+  s->iterations_ = sh.iterations;
+  s->hud_ = sh.hud;
+  if (auto c = parse_color(sh.background)) s->background_ = *c;
+
+  Mapping& m = s->mapping_;
+  m.set_handles(names, rest);
+  m.set_iterations(sh.iterations, sh.min_iterations, 200);
+  m.set_weights(p.rig.w_rigidity, p.rig.w_coupling, p.rig.w_position);
+  for (auto& g : sh.groups) m.add_group(g);
+  for (auto& po : sh.poses) m.add_pose(po);
+  for (Binding b : sh.bindings) {
+    if (b.control.kind == ControlSpec::Pointer && b.tf.area[0] == 0 && b.tf.area[2] == 1) {
+      // Default pointer area: the tablet covers the character's bounding box.
+      b.tf.area[0] = bb.lo.x();
+      b.tf.area[1] = bb.lo.y();
+      b.tf.area[2] = bb.hi.x();
+      b.tf.area[3] = bb.hi.y();
+    }
+    m.add_binding(b);
+  }
+
+  for (size_t i = 0; i < sh.devices.size(); ++i) {
+    const ShowDevice& d = sh.devices[i];
+    auto dev = make_sim_device(d.sim, d.descriptor, d.bounce_ms, d.seed);
+    if (!dev.ok()) return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "': " + dev.error);
+    if (auto ok = (*dev.value)->load_script(d.script); !ok.ok())
+      return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "' script " + ok.error);
+    const uint16_t src = uint16_t(i);
+    if (d.sim == "nanokontrol2") {
+      s->decoders_.push_back(WireDecoder::midi(WireKind::UsbMidi, src));
+    } else if (d.sim == "knob_box") {
+      GpioLayout g;
+      for (int e = 1; e <= 4; ++e) {
+        g.encoders.push_back({3 * (e - 1), 3 * (e - 1) + 1, 4});
+        g.buttons.push_back(3 * (e - 1) + 2);
+      }
+      g.debounce_ns = int64_t(d.debounce_ms * 1e6);
+      s->decoders_.push_back(WireDecoder::gpio(g, src));
+    } else {
+      s->decoders_.push_back(WireDecoder::hid(static_cast<HidDeviceSim&>(**dev.value).descriptor(), src));
+    }
+    s->sims_.push_back(std::move(*dev.value));
+  }
+  s->events_.resize(4096);
+  s->handle_params_ = p.bindings;
+  s->handle_params_.reserve(p.bindings.size() + 1);
+  s->targets_ = rest;
+  s->targets_.reserve(rest.size() + 1);
+  s->replay_pending_.reserve(1 << 16);
+  std::string err;
+  if (!s->open_output(&err)) return R::failure(err);
+  return R::success(std::move(s));
+}
+
+bool LiveShow::open_output(std::string* err) {
+  const ShowConfig& sh = show_;
+  if (!opt_.headless && display_present()) {
+    auto w = Canvas::window("marionette - " + std::filesystem::path(sh.path).stem().string(), sh.width, sh.height,
+                            sh.fullscreen, false);
+    if (w.ok()) canvas_ = std::move(*w.value);
+    else if (!opt_.quiet) std::cerr << "warning: no window (" << w.error << "); running headless\n";
+  }
+  if (!canvas_) {
+    opt_.headless = true;
+    auto c = Canvas::offscreen(sh.width, sh.height);
+    if (!c.ok()) {
+      *err = c.error;
+      return false;
+    }
+    canvas_ = std::move(*c.value);
+  }
+  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16);
+  if (!opt_.record_path.empty()) {
+    record_ = std::fopen(opt_.record_path.c_str(), "wb");
+    if (!record_) {
+      *err = opt_.record_path + ": cannot write the recording";
+      return false;
+    }
+    std::setvbuf(record_, nullptr, _IOFBF, 1 << 20);
+    std::fwrite(kMagic, 1, 8, record_);
+  }
+  if (!opt_.replay_path.empty()) {
+    replay_ = std::fopen(opt_.replay_path.c_str(), "rb");
+    char magic[8] = {};
+    if (!replay_ || std::fread(magic, 1, 8, replay_) != 8 || std::memcmp(magic, kMagic, 8) != 0) {
+      *err = opt_.replay_path + ": not a marionette recording";
+      return false;
+    }
+  }
+  if (!opt_.dump_dir.empty()) std::filesystem::create_directories(opt_.dump_dir);
+  return true;
+}
+
+void LiveShow::on_record(const WireRecord& r) {
+  if (record_) {
+    const uint8_t type = kRecWire;
+    std::fwrite(&type, 1, 1, record_);
+    std::fwrite(&r.t_ns, 8, 1, record_);
+    std::fwrite(&r.source, 2, 1, record_);
+    std::fwrite(&r.kind, 1, 1, record_);
+    std::fwrite(&r.size, 1, 1, record_);
+    std::fwrite(r.data, 1, r.size, record_);
+  }
+  if (r.source >= decoders_.size()) return;
+  decoders_[r.source]->feed(r, [&](const Event& e) {
+    if (n_events_ < events_.size()) events_[n_events_++] = e;
+    else ++dropped_events_;
+  });
+}
+
+bool LiveShow::replay_next(int64_t& t_ns, int& iterations) {
+  // Reads wire records up to the next frame marker into replay_pending_.
+  replay_pending_.clear();
+  for (;;) {
+    uint8_t type = 0;
+    if (std::fread(&type, 1, 1, replay_) != 1) return false;
+    if (type == kRecFrame) {
+      uint16_t it = 0;
+      if (std::fread(&t_ns, 8, 1, replay_) != 1 || std::fread(&it, 2, 1, replay_) != 1) return false;
+      iterations = it;
+      return true;
+    }
+    WireRecord r;
+    if (type != kRecWire || std::fread(&r.t_ns, 8, 1, replay_) != 1 || std::fread(&r.source, 2, 1, replay_) != 1 ||
+        std::fread(&r.kind, 1, 1, replay_) != 1 || std::fread(&r.size, 1, 1, replay_) != 1 ||
+        r.size > WireRecord::kMax || std::fread(r.data, 1, r.size, replay_) != r.size)
+      return false;
+    replay_pending_.push_back(r);
+  }
+}
+
+void LiveShow::drain(int64_t t_ns) {
+  n_events_ = 0;
+  if (replay_) {
+    for (const WireRecord& r : replay_pending_) on_record(r);
+  } else {
+    for (size_t i = 0; i < sims_.size(); ++i)
+      sims_[i]->drain(t_ns, [&](const WireRecord& rec) {
+        WireRecord r = rec;
+        r.source = uint16_t(i);
+        on_record(r);
+      });
+  }
+  for (auto& d : decoders_)
+    d->settle(t_ns, [&](const Event& e) {
+      if (n_events_ < events_.size()) events_[n_events_++] = e;
+    });
+}
+
+void LiveShow::regrab(bool down) {
+  // Grab-and-drag: the character point nearest the pen becomes a temporary handle. The
+  // handle set changes, so the system is factorised again (measured: refactor_us).
+  Puppet& p = *puppet_;
+  const double t0 = now_us();
+  const uint64_t a0 = allocations();
+  const std::vector<Vec2> pose(p.solver.vertices().begin(), p.solver.vertices().end());
+  handle_params_.resize(p.bindings.size());
+  targets_.resize(p.bindings.size());
+  if (down) {
+    const Vec2 g = mapping_.grab_point();
+    double best = INFINITY;
+    Vec2 rest = Vec2::Zero();
+    for (size_t s = 0; s < p.shapes.size(); ++s)
+      for (size_t k = 0; k < p.shapes[s].size(); ++k)
+        if (double d = (p.shapes[s][k] - g).squaredNorm(); d < best) {
+          best = d;
+          rest = p.character.shapes[s].points[k];
+        }
+    handle_params_.push_back(bind_point(p.frame, p.character, rest));
+    targets_.push_back(g);
+  }
+  const double* w = mapping_.weights();
+  p.solver.prepare(p.frame, handle_params_, SolverWeights{w[0], w[1], w[2]});
+  p.solver.set_vertices(pose);
+  refactor_us_.add(now_us() - t0);
+  ++refactorizations_;
+  // Factorising a new handle set allocates (Eigen's symbolic and numeric factor); it
+  // happens on pen down/up, not in steady frames, and is counted on its own.
+  refactor_allocs_ += allocations() - a0;
+  alloc_base_ += allocations() - a0;
+  grabbing_ = down;
+}
+
+void LiveShow::frame(int64_t t_ns) {
+  Puppet& p = *puppet_;
+  const double a0 = now_us();
+  if (frames_ == opt_.warmup) alloc_base_ = allocations();
+  drain(t_ns);
+  const double a1 = now_us();
+  for (size_t i = 0; i < n_events_; ++i) mapping_.apply(events_[i]);
+  const double dt = frames_ ? double(t_ns - last_t_) * 1e-9 : 0;
+  last_t_ = t_ns;
+  mapping_.update(dt);
+  // Budget governor: drop an iteration (never below the floor) when the last frame used
+  // more than 80% of the budget, give it back below 40%; replays use the recorded count.
+  const int want = mapping_.iterations();
+  if (!replay_) {
+    const double budget_ms = period_s_ * 1e3;
+    if (iterations_ > want) iterations_ = want;
+    if (last_compute_ms_ > 0.8 * budget_ms && iterations_ > show_.min_iterations) {
+      --iterations_;
+      ++governor_steps_;
+    } else if (last_compute_ms_ < 0.4 * budget_ms && iterations_ < want) {
+      ++iterations_;
+    }
+  }
+  if (mapping_.grab_active() != grabbing_ || mapping_.weights_changed()) regrab(mapping_.grab_active());
+  const auto mt = mapping_.targets();
+  for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];
+  if (grabbing_) targets_.back() = mapping_.grab_point();
+  const double a2 = now_us();
+  p.solver.solve(targets_, iterations_);
+  const double a3 = now_us();
+  p.reconstruct();
+  canvas_->clear(background_);
+  list_.clear();
+  build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_);
+  canvas_->draw(list_);
+  if (hud_ && canvas_->is_window()) draw_hud();
+  const double a4 = now_us();
+  canvas_->present();
+  const double a5 = now_us();
+  if (!opt_.dump_dir.empty() && frames_ % std::max(1, opt_.every) == 0) {
+    // PNG export allocates and writes a file: it is left out of the frame's time and of
+    // the allocation count (a debugging aid, not part of the show).
+    const uint64_t before = allocations();
+    const auto px = canvas_->read_premultiplied();
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%06ld.png", frames_);
+    write_png((std::filesystem::path(opt_.dump_dir) / name).string(),
+              downsample_premultiplied(px.data(), canvas_->width(), canvas_->height(), 1));
+    alloc_base_ += allocations() - before;
+  }
+  // run_hash: FNV-1a over every frame's deformed vertices.
+  for (const Points& s : p.shapes)
+    for (const Vec2& v : s) {
+      const double xy[2] = {v.x(), v.y()};
+      const auto* b = reinterpret_cast<const uint8_t*>(xy);
+      for (size_t k = 0; k < sizeof xy; ++k) hash_ = (hash_ ^ b[k]) * 1099511628211ull;
+    }
+  if (record_) {
+    const uint8_t type = kRecFrame;
+    const uint16_t it = uint16_t(iterations_);
+    std::fwrite(&type, 1, 1, record_);
+    std::fwrite(&t_ns, 8, 1, record_);
+    std::fwrite(&it, 2, 1, record_);
+  }
+  const double compute_us = a5 - a0;
+  for (size_t i = 0; i < n_events_; ++i) st_.latency.add(double(t_ns - events_[i].t_ns) * 1e-3 + compute_us);
+  st_.drain.add(a1 - a0);
+  st_.map.add(a2 - a1);
+  st_.solve.add(a3 - a2);
+  st_.render.add(a4 - a3);
+  st_.present.add(a5 - a4);
+  st_.frame.add(compute_us);
+  last_compute_ms_ = compute_us * 1e-3;
+  if (compute_us > period_s_ * 1e6) ++overruns_;
+  iter_sum_ += iterations_;
+  iter_min_ = std::min(iter_min_, iterations_);
+  iter_max_ = std::max(iter_max_, iterations_);
+  ++frames_;
+  if (frames_ > opt_.warmup) allocs_ = allocations() - alloc_base_;
+}
+
+void LiveShow::draw_hud() {
+  SDL_Renderer* r = canvas_->renderer();
+  const double budget = period_s_ * 1e6, used = last_compute_ms_ * 1e3;
+  const int w = canvas_->width() - 20;
+  SDL_SetRenderDrawBlendMode(r, SDL_BLENDMODE_BLEND);
+  SDL_SetRenderDrawColor(r, 0, 0, 0, 90);
+  SDL_Rect bg{10, 10, w, 14};
+  SDL_RenderFillRect(r, &bg);
+  const double share = std::min(1.0, used / budget);
+  SDL_SetRenderDrawColor(r, share < 0.5 ? 60 : 230, share < 0.8 ? 180 : 60, 60, 220);
+  SDL_Rect bar{10, 10, int(w * share), 14};
+  SDL_RenderFillRect(r, &bar);
+  for (size_t i = 0; i < sims_.size(); ++i) {  // device status: green = present
+    SDL_SetRenderDrawColor(r, 60, 180, 60, 230);
+    SDL_Rect box{10 + int(i) * 18, 30, 14, 14};
+    SDL_RenderFillRect(r, &box);
+  }
+}
+
+int LiveShow::run() {
+  const bool learn = !opt_.learn.empty();
+  int64_t end_ns = 0;
+  for (const auto& s : sims_) end_ns = std::max(end_ns, s->end_ns());
+  long limit = opt_.frames;
+  if (limit < 0 && opt_.headless && !replay_) limit = long(std::ceil(double(end_ns) * 1e-9 / period_s_)) + 1;
+  if (!opt_.quiet)
+    std::cout << (replay_ ? "replaying " : "running ") << show_.path << (opt_.headless ? " headless" : " in a window")
+              << " at " << std::lround(1.0 / period_s_) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
+              << std::endl;
+  const auto start = std::chrono::steady_clock::now();
+  while (!quit_ && (limit < 0 || frames_ < limit)) {
+    int64_t t = int64_t(std::llround(double(frames_) * period_s_ * 1e9));
+    if (replay_) {
+      int it = iterations_;
+      if (!replay_next(t, it)) break;
+      iterations_ = it;
+    } else if (!opt_.headless) {
+      t = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+    }
+    if (canvas_->is_window()) {
+      SDL_Event ev;
+      while (SDL_PollEvent(&ev)) {
+        if (ev.type == SDL_QUIT) quit_ = true;
+        if (ev.type == SDL_KEYDOWN) {
+          const auto k = ev.key.keysym.sym;
+          if (k == SDLK_ESCAPE || k == SDLK_q) quit_ = true;
+          if (k == SDLK_h) hud_ = !hud_;
+        }
+      }
+    }
+    frame(t);
+    if (learn) {
+      for (size_t i = 0; i < n_events_ && !learned_; ++i) {
+        const Event& e = events_[i];
+        std::string control;
+        switch (e.kind) {
+          case ControlKind::MidiCC: control = "cc " + std::to_string(e.number); break;
+          case ControlKind::MidiNoteOn: control = "note " + std::to_string(e.number); break;
+          case ControlKind::MidiPitchBend: control = "pitchbend"; break;
+          case ControlKind::EncoderDelta:
+            control = show_.devices[e.source].sim == "knob_box" ? "encoder " + std::to_string(e.number)
+                                                                : "usage " + std::to_string(e.number);
+            break;
+          case ControlKind::Button: control = "button " + std::to_string(e.number); break;
+          case ControlKind::HidValue: {
+            std::ostringstream o;
+            o << "usage 0x" << std::hex << e.number;
+            control = o.str();
+            break;
+          }
+          default: continue;
+        }
+        if (e.kind == ControlKind::MidiCC || e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiPitchBend)
+          control += " ch " + std::to_string(e.channel + 1);
+        if (std::string err = append_binding(show_.path, show_.devices[e.source].name, control, opt_.learn); !err.empty()) {
+          std::cerr << "error: " << err << "\n";
+          return 1;
+        }
+        std::cout << "learned: " << show_.devices[e.source].name << " '" << control << "' -> " << opt_.learn
+                  << " (written to " << show_.path << ")" << std::endl;
+        learned_ = true;
+      }
+      if (learned_) break;
+    }
+    if (!opt_.headless && !replay_) {
+      const auto next = start + std::chrono::nanoseconds(int64_t(double(frames_) * period_s_ * 1e9));
+      std::this_thread::sleep_until(next);  // frame pacing, outside the frame
+    }
+  }
+  if (record_) std::fflush(record_);
+  if (learn && !learned_) {
+    std::cerr << "error: no control moved; nothing learned for " << opt_.learn << "\n";
+    return 1;
+  }
+  if (!opt_.quiet) {
+    std::cout << frames_ << " frames, frame p50 " << std::lround(st_.frame.quantile(0.5)) << " us, p99 "
+              << std::lround(st_.frame.quantile(0.99)) << " us, overruns " << overruns_ << ", run_hash " << std::hex
+              << hash_ << std::dec << std::endl;
+    if (!opt_.dump_dir.empty()) std::cout << "frames written to " << opt_.dump_dir << std::endl;
+  }
+  if (!opt_.stats_path.empty()) {
+    std::FILE* f = std::fopen(opt_.stats_path.c_str(), "w");
+    if (!f) {
+      std::cerr << "error: " << opt_.stats_path << ": cannot write stats\n";
+      return 1;
+    }
+    const std::string j = stats_json();
+    std::fwrite(j.data(), 1, j.size(), f);
+    std::fclose(f);
+  }
+  return 0;
+}
+
+}  // namespace mar

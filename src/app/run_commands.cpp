@@ -1,0 +1,77 @@
+// `marionette run` and `marionette replay`, and the stats JSON.
+#include "app/commands.h"
+#include "app/live.h"
+
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+namespace mar {
+
+std::string LiveShow::stats_json() const {
+  using nlohmann::json;
+  auto stage = [](const Histogram& h) {
+    return json{{"p50", h.quantile(0.5)}, {"p99", h.quantile(0.99)}, {"max", h.max()}};
+  };
+  json devices = json::array();
+  for (size_t i = 0; i < decoders_.size(); ++i) {
+    const WireStats& w = decoders_[i]->stats();
+    devices.push_back({{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim},
+                       {"status", "present"}, {"records", w.records}, {"events", w.events}, {"malformed", w.malformed}});
+  }
+  json j = {
+      {"show", show_.path},
+      {"frames", frames_},
+      {"rate_hz", 1.0 / period_s_},
+      {"stages_us", {{"drain", stage(st_.drain)}, {"map", stage(st_.map)}, {"solve", stage(st_.solve)},
+                     {"render", stage(st_.render)}, {"present", stage(st_.present)}, {"frame", stage(st_.frame)}}},
+      {"overruns", overruns_},
+      {"iterations", {{"configured", show_.iterations}, {"floor", show_.min_iterations}, {"min", frames_ ? iter_min_ : 0},
+                      {"max", iter_max_}, {"mean", frames_ ? double(iter_sum_) / double(frames_) : 0.0},
+                      {"governor_reductions", governor_steps_}}},
+      {"latency_us", {{"p50", st_.latency.quantile(0.5)}, {"p99", st_.latency.quantile(0.99)}, {"max", st_.latency.max()},
+                      {"events", st_.latency.count()}}},
+      {"events", {{"mapped", mapping_.stats().matched}, {"total", mapping_.stats().events},
+                  {"dropped", dropped_events_}, {"takeover_waits", mapping_.stats().takeover_waits}}},
+      {"refactorizations", {{"count", refactorizations_}, {"p50_us", refactor_us_.quantile(0.5)}, {"max_us", refactor_us_.max()},
+                             {"heap_allocations", refactor_allocs_}}},
+      {"heap_allocations_after_warmup", allocs_},
+      {"warmup_frames", opt_.warmup},
+      {"devices", devices},
+      {"run_hash", [&] {
+         char buf[20];
+         std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash_));
+         return std::string(buf);
+       }()},
+  };
+  return j.dump(2) + "\n";
+}
+
+int cmd_run(const RunArgs& a) {
+  if (a.every < 1) {
+    std::cerr << "error: --every must be >= 1\n";
+    return kExitBadInput;
+  }
+  if (a.rate < 0 || a.rate > 1000) {
+    std::cerr << "error: --rate must be 1..1000 Hz\n";
+    return kExitBadInput;
+  }
+  RunOptions o;
+  o.headless = a.headless;
+  o.frames = a.frames;
+  o.rate = a.rate;
+  o.stats_path = a.stats;
+  o.record_path = a.record;
+  o.dump_dir = a.dump_frames;
+  o.every = a.every;
+  o.learn = a.learn;
+  o.replay_path = a.replay;
+  auto show = LiveShow::load(a.show, o);
+  if (!show.ok()) {
+    std::cerr << "error: " << show.error << "\n";
+    return kExitBadInput;
+  }
+  return (*show.value)->run();
+}
+
+}  // namespace mar

@@ -1,0 +1,459 @@
+#include "app/show.h"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace mar {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShowError {
+  std::string message;
+};
+
+std::string at(const std::string& path, const toml::node& n) {
+  return path + ":" + std::to_string(n.source().begin.line);
+}
+
+double number(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
+  throw ShowError{at(path, n) + ": " + what + " must be a finite number"};
+}
+
+std::string text(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<std::string>()) return *v;
+  throw ShowError{at(path, n) + ": " + what + " must be a string"};
+}
+
+bool boolean(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<bool>()) return *v;
+  throw ShowError{at(path, n) + ": " + what + " must be true or false"};
+}
+
+void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
+                const char* where) {
+  for (const auto& [k, v] : t) {
+    bool ok = false;
+    for (std::string_view n : known) ok = ok || k.str() == n;
+    if (!ok) throw ShowError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
+  }
+}
+
+std::string resolve(const std::string& show_path, const std::string& p) {
+  if (p.empty() || fs::path(p).is_absolute()) return p;
+  // "corpus:" paths name files in the shared test corpus (MARIONETTE_CORPUS_DIR or the
+  // build's default), so shows can use real devices' descriptors without copying them.
+  if (p.rfind("corpus:", 0) == 0) {
+    const char* env = std::getenv("MARIONETTE_CORPUS_DIR");
+    return (fs::path(env && *env ? env : MARIONETTE_DEFAULT_CORPUS_DIR) / p.substr(7)).string();
+  }
+  return (fs::path(show_path).parent_path() / p).lexically_normal().string();
+}
+
+toml::table parse_file(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ShowError{path + ": cannot open the show file"};
+  std::stringstream ss;
+  ss << in.rdbuf();
+  try {
+    return toml::parse(ss.str(), path);
+  } catch (const toml::parse_error& e) {
+    throw ShowError{path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
+  }
+}
+
+void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
+  check_keys(path, root, {"show", "display", "device", "binding", "group", "pose"}, "the show file");
+  const toml::node* sn = root.get("show");
+  if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
+  const toml::table& t = *sn->as_table();
+  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations"}, "[show]");
+  if (auto* n = t.get("character")) s.character = resolve(path, text(path, *n, "character"));
+  if (auto* n = t.get("rig")) s.rig = resolve(path, text(path, *n, "rig"));
+  else throw ShowError{at(path, *sn) + ": [show] needs a rig"};
+  if (auto* n = t.get("rate")) {
+    s.rate_hz = number(path, *n, "rate");
+    if (s.rate_hz < 1 || s.rate_hz > 1000) throw ShowError{at(path, *n) + ": rate must be 1..1000 Hz"};
+  }
+  if (auto* n = t.get("iterations")) {
+    s.iterations = int(number(path, *n, "iterations"));
+    if (s.iterations < 1 || s.iterations > 200) throw ShowError{at(path, *n) + ": iterations must be 1..200"};
+  }
+  if (auto* n = t.get("min_iterations")) {
+    s.min_iterations = int(number(path, *n, "min_iterations"));
+    if (s.min_iterations < 1 || s.min_iterations > s.iterations)
+      throw ShowError{at(path, *n) + ": min_iterations must be 1..iterations"};
+  }
+  s.min_iterations = std::min(s.min_iterations, s.iterations);
+  if (const toml::node* dn = root.get("display")) {
+    const toml::table* d = dn->as_table();
+    if (!d) throw ShowError{at(path, *dn) + ": [display] must be a table"};
+    check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background"}, "[display]");
+    if (auto* n = d->get("width")) s.width = int(number(path, *n, "width"));
+    if (auto* n = d->get("height")) s.height = int(number(path, *n, "height"));
+    if (s.width < 16 || s.height < 16 || s.width > 8192 || s.height > 8192)
+      throw ShowError{at(path, *dn) + ": display size must be 16..8192"};
+    if (auto* n = d->get("fullscreen")) s.fullscreen = boolean(path, *n, "fullscreen");
+    if (auto* n = d->get("hud")) s.hud = boolean(path, *n, "hud");
+    if (auto* n = d->get("background")) s.background = text(path, *n, "background");
+  }
+}
+
+const toml::array* array_of_tables(const std::string& path, const toml::table& root, const char* key) {
+  const toml::node* n = root.get(key);
+  if (!n) return nullptr;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    throw ShowError{at(path, *n) + ": use [[" + std::string(key) + "]] tables"};
+  return a;
+}
+
+std::pair<double, double> pair_of(const std::string& path, const toml::node& n, const char* what) {
+  const toml::array* a = n.as_array();
+  if (!a || a->size() != 2) throw ShowError{at(path, n) + ": " + what + " must be [a, b]"};
+  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
+}
+
+}  // namespace
+
+Result<bool> parse_control(const std::string& s, ControlSpec& c) {
+  using R = Result<bool>;
+  std::istringstream in(s);
+  std::vector<std::string> w;
+  for (std::string t; in >> t;) w.push_back(t);
+  c.text = s;
+  if (w.empty()) return R::failure("empty control");
+  auto num = [&](size_t i, uint32_t& out, uint32_t max) {
+    if (i >= w.size()) return false;
+    char* end = nullptr;
+    const unsigned long v = std::strtoul(w[i].c_str(), &end, 0);
+    if (*end || v > max) return false;
+    out = uint32_t(v);
+    return true;
+  };
+  size_t used = 1;
+  if (w[0] == "cc" || w[0] == "cc14" || w[0] == "note" || w[0] == "nrpn") {
+    c.kind = w[0] == "cc" ? ControlSpec::CC : w[0] == "cc14" ? ControlSpec::CC14 : w[0] == "note" ? ControlSpec::Note : ControlSpec::NRPN;
+    const uint32_t max = c.kind == ControlSpec::NRPN ? 16383 : c.kind == ControlSpec::CC14 ? 31 : 127;
+    if (!num(1, c.number, max)) return R::failure("'" + w[0] + "' needs a number 0.." + std::to_string(max));
+    used = 2;
+  } else if (w[0] == "pitchbend") {
+    c.kind = ControlSpec::PitchBend;
+  } else if (w[0] == "encoder" || w[0] == "button") {
+    c.kind = w[0] == "encoder" ? ControlSpec::Encoder : ControlSpec::GpioButton;
+    if (!num(1, c.number, 255) || c.number < 1) return R::failure("'" + w[0] + "' needs an index from 1");
+    used = 2;
+  } else if (w[0] == "usage") {
+    c.kind = ControlSpec::Hid;
+    if (w.size() < 2) return R::failure("'usage' needs a name or number");
+    static const std::pair<const char*, uint32_t> names[] = {
+        {"x", 0x010030}, {"y", 0x010031}, {"z", 0x010032}, {"rx", 0x010033}, {"ry", 0x010034}, {"rz", 0x010035},
+        {"dial", 0x010037}, {"wheel", 0x010038}, {"hat", 0x010039}, {"pressure", 0x0D0030}, {"in_range", 0x0D0032},
+        {"tip", 0x0D0042}, {"barrel", 0x0D0044}, {"x_tilt", 0x0D003D}, {"y_tilt", 0x0D003E}};
+    bool found = false;
+    for (auto [n, u] : names)
+      if (w[1] == n) {
+        c.number = u;
+        found = true;
+      }
+    if (!found && w[1].rfind("button", 0) == 0) {
+      uint32_t b = 0;
+      w.push_back(w[1].substr(6));
+      if (num(w.size() - 1, b, 0xFFFF) && b > 0) {
+        c.number = 0x090000 | b;
+        found = true;
+      }
+      w.pop_back();
+    }
+    if (!found && !num(1, c.number, 0xFFFFFFFF))
+      return R::failure("unknown usage '" + w[1] + "' (x, y, z, rx, ry, rz, dial, wheel, hat, pressure, tip, "
+                        "in_range, barrel, x_tilt, y_tilt, buttonN, or a number page<<16|id)");
+    used = 2;
+  } else if (w[0] == "pointer") {
+    c.kind = ControlSpec::Pointer;
+  } else {
+    return R::failure("unknown control '" + w[0] + "' (cc, cc14, nrpn, note, pitchbend, usage, encoder, button, pointer)");
+  }
+  if (used + 2 == w.size() && w[used] == "ch") {
+    uint32_t ch = 0;
+    if (!num(used + 1, ch, 16) || ch < 1) return R::failure("channel must be 1..16");
+    c.channel = int(ch) - 1;
+    used += 2;
+  }
+  if (used != w.size()) return R::failure("unexpected '" + w[used] + "' in control '" + s + "'");
+  return R::success(true);
+}
+
+Result<bool> parse_target(const std::string& t, const ShowConfig& s, TargetKind& kind, int& index) {
+  using R = Result<bool>;
+  auto find = [](const auto& list, const std::string& name) {
+    for (size_t i = 0; i < list.size(); ++i)
+      if (list[i] == name) return int(i);
+    return -1;
+  };
+  if (t == "grab") {
+    kind = TargetKind::Grab;
+    index = 0;
+    return R::success(true);
+  }
+  if (t == "solver.iterations") {
+    kind = TargetKind::Iterations;
+    index = 0;
+    return R::success(true);
+  }
+  for (auto [name, i] : {std::pair{"solver.rigidity", 0}, {"solver.coupling", 1}, {"solver.position", 2}})
+    if (t == name) {
+      kind = TargetKind::Weight;
+      index = i;
+      return R::success(true);
+    }
+  const auto dot = t.find('.');
+  const std::string head = t.substr(0, dot), rest = dot == std::string::npos ? "" : t.substr(dot + 1);
+  if (head == "handle") {
+    std::string name = rest;
+    kind = TargetKind::HandlePoint;
+    if (name.size() > 2 && (name.ends_with(".x") || name.ends_with(".y"))) {
+      kind = name.back() == 'x' ? TargetKind::HandleX : TargetKind::HandleY;
+      name.resize(name.size() - 2);
+    }
+    index = find(s.handle_names, name);
+    if (index < 0) return R::failure("the rig has no handle '" + name + "'");
+    return R::success(true);
+  }
+  if (head == "rotate") {
+    kind = TargetKind::Rotate;
+    index = -1;
+    for (size_t i = 0; i < s.groups.size(); ++i)
+      if (s.groups[i].name == rest) index = int(i);
+    if (index < 0) return R::failure("no [[group]] named '" + rest + "'");
+    return R::success(true);
+  }
+  if (head == "pose") {
+    kind = TargetKind::Pose;
+    index = -1;
+    for (size_t i = 0; i < s.poses.size(); ++i)
+      if (s.poses[i].name == rest) index = int(i);
+    if (index < 0) return R::failure("no [[pose]] named '" + rest + "'");
+    return R::success(true);
+  }
+  return R::failure("unknown target '" + t + "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, "
+                    "solver.iterations, solver.rigidity|coupling|position)");
+}
+
+Result<ShowConfig> load_show_header(const std::string& path) {
+  try {
+    ShowConfig s;
+    s.path = path;
+    read_header(path, parse_file(path), s);
+    return Result<ShowConfig>::success(std::move(s));
+  } catch (const ShowError& e) {
+    return Result<ShowConfig>::failure(e.message);
+  }
+}
+
+Result<ShowConfig> load_show(const std::string& path, const std::vector<std::string>& handles,
+                             const std::vector<Vec2>& rest, double diag) {
+  try {
+    ShowConfig s;
+    s.path = path;
+    const toml::table root = parse_file(path);
+    read_header(path, root, s);
+    s.handle_names = handles;
+    s.handle_rest = rest;
+    if (const toml::array* devs = array_of_tables(path, root, "device")) {
+      for (const toml::node& dn : *devs) {
+        const toml::table& t = *dn.as_table();
+        check_keys(path, t, {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed"},
+                   "[[device]]");
+        ShowDevice d;
+        d.line = int(dn.source().begin.line);
+        const toml::node* name = t.get("name");
+        if (!name) throw ShowError{at(path, dn) + ": [[device]] needs a name"};
+        d.name = text(path, *name, "name");
+        for (const auto& other : s.devices)
+          if (other.name == d.name) throw ShowError{at(path, *name) + ": device '" + d.name + "' is named twice"};
+        if (auto* n = t.get("type")) d.type = text(path, *n, "type");
+        if (d.type != "sim")
+          throw ShowError{at(path, dn) + ": device type '" + d.type + "' is not available in this build (sim)"};
+        const toml::node* sim = t.get("sim");
+        if (!sim) throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad"};
+        d.sim = text(path, *sim, "sim");
+        if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad")
+          throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
+        if (auto* n = t.get("descriptor")) d.descriptor = resolve(path, text(path, *n, "descriptor"));
+        if (auto* n = t.get("script")) d.script = text(path, *n, "script");
+        if (auto* n = t.get("script_file")) {
+          const std::string f = resolve(path, text(path, *n, "script_file"));
+          std::ifstream in(f);
+          if (!in) throw ShowError{at(path, *n) + ": cannot open script file " + f};
+          std::stringstream ss;
+          ss << in.rdbuf();
+          d.script = ss.str();
+        }
+        if (auto* n = t.get("bounce_ms")) d.bounce_ms = number(path, *n, "bounce_ms");
+        if (auto* n = t.get("debounce_ms")) d.debounce_ms = number(path, *n, "debounce_ms");
+        if (auto* n = t.get("seed")) d.seed = uint32_t(number(path, *n, "seed"));
+        s.devices.push_back(std::move(d));
+      }
+    }
+    auto handle_of = [&](const toml::node& n) {
+      const std::string h = text(path, n, "handle");
+      for (size_t i = 0; i < handles.size(); ++i)
+        if (handles[i] == h) return int(i);
+      throw ShowError{at(path, n) + ": the rig has no handle '" + h + "'"};
+    };
+    if (const toml::array* gs = array_of_tables(path, root, "group")) {
+      for (const toml::node& gn : *gs) {
+        const toml::table& t = *gn.as_table();
+        check_keys(path, t, {"name", "handles", "pivot", "pivot_handle"}, "[[group]]");
+        RotationGroup g;
+        if (auto* n = t.get("name")) g.name = text(path, *n, "name");
+        else throw ShowError{at(path, gn) + ": [[group]] needs a name"};
+        const toml::array* hs = t.get("handles") ? t.get("handles")->as_array() : nullptr;
+        if (!hs || hs->empty()) throw ShowError{at(path, gn) + ": [[group]] needs handles = [\"name\", ...]"};
+        for (const toml::node& h : *hs) g.handles.push_back(handle_of(h));
+        if (auto* n = t.get("pivot")) {
+          auto [x, y] = pair_of(path, *n, "pivot");
+          g.pivot = Vec2(x, y);
+        } else if (auto* ph = t.get("pivot_handle")) {
+          g.pivot_handle = handle_of(*ph);
+        } else {
+          throw ShowError{at(path, gn) + ": [[group]] needs pivot = [x, y] or pivot_handle"};
+        }
+        s.groups.push_back(std::move(g));
+      }
+    }
+    if (const toml::array* ps = array_of_tables(path, root, "pose")) {
+      for (const toml::node& pn : *ps) {
+        const toml::table& t = *pn.as_table();
+        check_keys(path, t, {"name", "handles"}, "[[pose]]");
+        Pose p;
+        if (auto* n = t.get("name")) p.name = text(path, *n, "name");
+        else throw ShowError{at(path, pn) + ": [[pose]] needs a name"};
+        p.positions.assign(handles.size(), Vec2(NAN, NAN));
+        const toml::table* hs = t.get("handles") ? t.get("handles")->as_table() : nullptr;
+        if (!hs) throw ShowError{at(path, pn) + ": [[pose]] needs handles = { name = [x, y], ... }"};
+        for (const auto& [k, v] : *hs) {
+          int hi = -1;
+          for (size_t i = 0; i < handles.size(); ++i)
+            if (handles[i] == k.str()) hi = int(i);
+          if (hi < 0) throw ShowError{at(path, v) + ": the rig has no handle '" + std::string(k.str()) + "'"};
+          auto [x, y] = pair_of(path, v, "pose position");
+          p.positions[size_t(hi)] = Vec2(x, y);
+        }
+        s.poses.push_back(std::move(p));
+      }
+    }
+    if (const toml::array* bs = array_of_tables(path, root, "binding")) {
+      for (const toml::node& bn : *bs) {
+        const toml::table& t = *bn.as_table();
+        check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
+                             "takeover", "mode", "step", "button", "area"},
+                   "[[binding]]");
+        Binding b;
+        b.line = int(bn.source().begin.line);
+        const toml::node* dev = t.get("device");
+        const toml::node* ctl = t.get("control");
+        const toml::node* tgt = t.get("target");
+        if (!dev || !ctl || !tgt) throw ShowError{at(path, bn) + ": [[binding]] needs device, control and target"};
+        const std::string dname = text(path, *dev, "device");
+        int di = -1;
+        for (size_t i = 0; i < s.devices.size(); ++i)
+          if (s.devices[i].name == dname) di = int(i);
+        if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
+        b.control.device = uint16_t(di);
+        if (auto r = parse_control(text(path, *ctl, "control"), b.control); !r.ok())
+          throw ShowError{at(path, *ctl) + ": " + r.error};
+        if (auto r = parse_target(text(path, *tgt, "target"), s, b.target, b.index); !r.ok())
+          throw ShowError{at(path, *tgt) + ": " + r.error};
+        Transform& tf = b.tf;
+        // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
+        // rest position; a rotation turns -90..90 degrees.
+        if (b.target == TargetKind::HandleX || b.target == TargetKind::HandleY) {
+          const double c = b.target == TargetKind::HandleX ? rest[size_t(b.index)].x() : rest[size_t(b.index)].y();
+          tf.lo = c - 0.25 * diag;
+          tf.hi = c + 0.25 * diag;
+        } else if (b.target == TargetKind::Rotate) {
+          tf.lo = -90;
+          tf.hi = 90;
+        } else if (b.target == TargetKind::Iterations) {
+          tf.lo = s.min_iterations;
+          tf.hi = s.iterations;
+        }
+        if (auto* n = t.get("range")) {
+          std::tie(tf.lo, tf.hi) = pair_of(path, *n, "range");
+          tf.has_range = true;
+        }
+        if (auto* n = t.get("curve")) {
+          tf.curve = number(path, *n, "curve");
+          if (tf.curve <= 0) throw ShowError{at(path, *n) + ": curve must be > 0"};
+        }
+        if (auto* n = t.get("invert")) tf.invert = boolean(path, *n, "invert");
+        if (auto* n = t.get("deadzone")) {
+          tf.deadzone = number(path, *n, "deadzone");
+          if (tf.deadzone < 0 || tf.deadzone >= 1) throw ShowError{at(path, *n) + ": deadzone must be 0..1"};
+        }
+        if (auto* n = t.get("filter")) {
+          const toml::table* f = n->as_table();
+          if (!f) throw ShowError{at(path, *n) + ": filter must be { min_cutoff, beta, d_cutoff }"};
+          check_keys(path, *f, {"min_cutoff", "beta", "d_cutoff"}, "filter");
+          tf.one_euro.enabled = true;
+          if (auto* x = f->get("min_cutoff")) tf.one_euro.min_cutoff = number(path, *x, "min_cutoff");
+          if (auto* x = f->get("beta")) tf.one_euro.beta = number(path, *x, "beta");
+          if (auto* x = f->get("d_cutoff")) tf.one_euro.d_cutoff = number(path, *x, "d_cutoff");
+          if (tf.one_euro.min_cutoff <= 0 || tf.one_euro.d_cutoff <= 0 || tf.one_euro.beta < 0)
+            throw ShowError{at(path, *n) + ": filter cutoffs must be > 0 and beta >= 0"};
+        }
+        if (auto* n = t.get("slew")) tf.slew = std::max(0.0, number(path, *n, "slew"));
+        if (auto* n = t.get("takeover")) tf.takeover = boolean(path, *n, "takeover");
+        if (auto* n = t.get("mode")) {
+          const std::string m = text(path, *n, "mode");
+          static const std::pair<const char*, RelativeMode> modes[] = {
+              {"absolute", RelativeMode::Absolute}, {"twos_complement", RelativeMode::TwosComplement},
+              {"binary_offset", RelativeMode::BinaryOffset}, {"sign_magnitude", RelativeMode::SignMagnitude},
+              {"sign_magnitude_inverted", RelativeMode::SignMagnitudeInv}, {"delta", RelativeMode::Delta}};
+          bool ok = false;
+          for (auto [name, mode] : modes)
+            if (m == name) {
+              tf.relative = mode;
+              ok = true;
+            }
+          if (!ok)
+            throw ShowError{at(path, *n) + ": mode must be absolute, twos_complement, binary_offset, "
+                                           "sign_magnitude, sign_magnitude_inverted or delta"};
+        }
+        if (auto* n = t.get("step")) tf.step = number(path, *n, "step");
+        if (auto* n = t.get("button")) {
+          const std::string m = text(path, *n, "button");
+          if (m != "momentary" && m != "toggle") throw ShowError{at(path, *n) + ": button must be momentary or toggle"};
+          tf.toggle = m == "toggle";
+        }
+        if (auto* n = t.get("area")) {
+          const toml::array* a = n->as_array();
+          if (!a || a->size() != 4) throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1]"};
+          for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
+        }
+        s.bindings.push_back(std::move(b));
+      }
+    }
+    return Result<ShowConfig>::success(std::move(s));
+  } catch (const ShowError& e) {
+    return Result<ShowConfig>::failure(e.message);
+  }
+}
+
+std::string append_binding(const std::string& path, const std::string& device, const std::string& control,
+                           const std::string& target) {
+  std::ofstream out(path, std::ios::app);
+  if (!out) return path + ": cannot write the show file";
+  out << "\n[[binding]]  # learned with --learn\ndevice = \"" << device << "\"\ncontrol = \"" << control
+      << "\"\ntarget = \"" << target << "\"\n";
+  return out ? "" : path + ": write failed";
+}
+
+}  // namespace mar

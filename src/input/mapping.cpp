@@ -1,0 +1,312 @@
+#include "input/mapping.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mar {
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}
+
+void Mapping::set_handles(std::vector<std::string> names, std::vector<Vec2> rest) {
+  names_ = std::move(names);
+  rest_ = rest;
+  goal_ = rest;
+  current_ = rest;
+  targets_ = std::move(rest);
+}
+
+int Mapping::handle_index(const std::string& name) const {
+  for (size_t i = 0; i < names_.size(); ++i)
+    if (names_[i] == name) return int(i);
+  return -1;
+}
+
+int Mapping::add_group(RotationGroup g) {
+  groups_.push_back(std::move(g));
+  angle_goal_.push_back(0);
+  angle_.push_back(0);
+  return int(groups_.size()) - 1;
+}
+
+int Mapping::group_index(const std::string& name) const {
+  for (size_t i = 0; i < groups_.size(); ++i)
+    if (groups_[i].name == name) return int(i);
+  return -1;
+}
+
+int Mapping::add_pose(Pose p) {
+  poses_.push_back(std::move(p));
+  return int(poses_.size()) - 1;
+}
+
+int Mapping::pose_index(const std::string& name) const {
+  for (size_t i = 0; i < poses_.size(); ++i)
+    if (poses_[i].name == name) return int(i);
+  return -1;
+}
+
+void Mapping::add_binding(Binding b) { bindings_.push_back(std::move(b)); }
+
+bool Mapping::apply(const Event& e) {
+  ++stats_.events;
+  bool used = false;
+  for (Binding& b : bindings_) {
+    const ControlSpec& c = b.control;
+    if (c.device != e.source) continue;
+    const bool chan = c.channel < 0 || c.channel == e.channel;
+    bool hit = false;
+    switch (c.kind) {
+      case ControlSpec::CC:
+        if (e.kind == ControlKind::MidiCC && e.number == c.number && chan) {
+          hit = true;
+          if (b.tf.relative != RelativeMode::Absolute)
+            relative(b, relative_delta(b.tf.relative, e.value));
+          else if (b.target == TargetKind::Pose || b.tf.toggle)
+            button(b, e.value >= 64);
+          else
+            absolute(b, e.value / 127.0, e.t_ns);
+        }
+        break;
+      case ControlSpec::CC14:
+        if (e.kind == ControlKind::MidiCC && chan && (e.number == c.number || e.number == c.number + 32)) {
+          hit = true;
+          if (e.number == c.number) {
+            b.msb = e.value;
+            b.lsb = 0;
+          } else {
+            b.lsb = e.value;
+          }
+          absolute(b, ((b.msb << 7) | b.lsb) / 16383.0, e.t_ns);
+        }
+        break;
+      case ControlSpec::NRPN:
+        if (e.kind == ControlKind::MidiCC && chan) {
+          if (e.number == 99) {
+            b.nrpn_hi = e.value;
+            b.nrpn_param = -1;
+          } else if (e.number == 98) {
+            b.nrpn_param = (b.nrpn_hi << 7) | e.value;
+          } else if ((e.number == 6 || e.number == 38) && b.nrpn_param == int(c.number)) {
+            hit = true;
+            if (e.number == 6) {
+              b.msb = e.value;
+              b.lsb = 0;
+            } else {
+              b.lsb = e.value;
+            }
+            absolute(b, ((b.msb << 7) | b.lsb) / 16383.0, e.t_ns);
+          }
+        }
+        break;
+      case ControlSpec::Note:
+        if ((e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiNoteOff) && e.number == c.number && chan) {
+          hit = true;
+          button(b, e.kind == ControlKind::MidiNoteOn);
+        }
+        break;
+      case ControlSpec::PitchBend:
+        if (e.kind == ControlKind::MidiPitchBend && chan) {
+          hit = true;
+          absolute(b, e.value / 16383.0, e.t_ns);
+        }
+        break;
+      case ControlSpec::Hid:
+        if (e.number != c.number) break;
+        if (e.kind == ControlKind::EncoderDelta) {
+          hit = true;
+          relative(b, e.value);
+        } else if (e.kind == ControlKind::HidValue) {
+          hit = true;
+          if (b.tf.relative != RelativeMode::Absolute)
+            relative(b, e.value);
+          else if (b.target == TargetKind::Pose || b.tf.toggle || (e.lo == 0 && e.hi == 1))
+            button(b, e.value != 0);
+          else
+            absolute(b, e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0, e.t_ns);
+        }
+        break;
+      case ControlSpec::Encoder:
+        if (e.kind == ControlKind::EncoderDelta && e.number == c.number) {
+          hit = true;
+          relative(b, e.value);
+        }
+        break;
+      case ControlSpec::GpioButton:
+        if (e.kind == ControlKind::Button && e.number == c.number) {
+          hit = true;
+          button(b, e.value != 0);
+        }
+        break;
+      case ControlSpec::Pointer:
+        if (e.kind != ControlKind::HidValue) break;
+        if (e.number == c.px) {
+          b.px = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+        } else if (e.number == c.py) {
+          b.py = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+        } else if (e.number == c.ptip) {
+          b.tip = e.value != 0;
+        } else {
+          break;
+        }
+        hit = true;
+        {
+          const double* a = b.tf.area;
+          const Vec2 p(a[0] + b.px * (a[2] - a[0]), a[1] + b.py * (a[3] - a[1]));
+          if (b.target == TargetKind::Grab) {
+            grab_active_ = b.tip;
+            grab_point_ = p;
+          } else if (b.target == TargetKind::HandlePoint && b.tip) {
+            goal_[size_t(b.index)] = p;
+            written_by(&b, TargetKind::HandleX, b.index);
+            written_by(&b, TargetKind::HandleY, b.index);
+          }
+        }
+        break;
+    }
+    if (hit) {
+      used = true;
+      ++stats_.matched;
+    }
+  }
+  return used;
+}
+
+void Mapping::absolute(Binding& b, double n, int64_t t) {
+  n = std::clamp(n, 0.0, 1.0);
+  if (b.tf.deadzone > 0) {
+    const double half = 0.5 * b.tf.deadzone, c = n - 0.5;
+    n = std::fabs(c) <= half ? 0.5 : 0.5 + std::copysign((std::fabs(c) - half) / (0.5 - half) * 0.5, c);
+  }
+  if (b.tf.invert) n = 1 - n;
+  if (b.tf.curve != 1) n = std::pow(n, b.tf.curve);
+  n = b.tf.one_euro.filter(n, t);
+  const bool takeover = b.tf.takeover && b.target != TargetKind::Iterations;
+  if (takeover && !b.engaged) {
+    // Soft takeover: the control picks the target up when it reaches or crosses the
+    // target's current value, so a fader that was moved elsewhere cannot make it jump.
+    const double cur = current_norm(b);
+    const bool crossed = b.last_norm >= 0 && (b.last_norm - cur) * (n - cur) <= 0;
+    b.last_norm = n;
+    if (!crossed && std::fabs(n - cur) > 1.0 / 127) {
+      ++stats_.takeover_waits;
+      return;
+    }
+    b.engaged = true;
+  }
+  b.last_norm = n;
+  set_target(b, b.tf.lo + n * (b.tf.hi - b.tf.lo));
+}
+
+double Mapping::current_norm(const Binding& b) const {
+  double v = 0;
+  switch (b.target) {
+    case TargetKind::HandleX: v = goal_[size_t(b.index)].x(); break;
+    case TargetKind::HandleY: v = goal_[size_t(b.index)].y(); break;
+    case TargetKind::Rotate: v = angle_goal_[size_t(b.index)]; break;
+    case TargetKind::Iterations: v = iterations_; break;
+    case TargetKind::Weight: v = weights_[b.index]; break;
+    default: return 0;
+  }
+  return b.tf.hi != b.tf.lo ? (v - b.tf.lo) / (b.tf.hi - b.tf.lo) : 0;
+}
+
+void Mapping::written_by(const Binding* w, TargetKind k, int index) {
+  // Another writer moved the target: absolute controls on it must pick it up again.
+  for (Binding& b : bindings_)
+    if (&b != w && b.target == k && b.index == index) b.engaged = false;
+}
+
+void Mapping::set_target(Binding& b, double v) {
+  const size_t i = size_t(b.index);
+  switch (b.target) {
+    case TargetKind::HandleX: goal_[i].x() = v; break;
+    case TargetKind::HandleY: goal_[i].y() = v; break;
+    case TargetKind::Rotate: angle_goal_[i] = v; break;
+    case TargetKind::Iterations: iterations_ = std::clamp(int(std::lround(v)), it_lo_, it_hi_); break;
+    case TargetKind::Weight:
+      if (v > 0 && std::isfinite(v) && weights_[i] != v) {
+        weights_[i] = v;
+        weights_changed_ = true;
+      }
+      break;
+    default: return;
+  }
+  written_by(&b, b.target, b.index);
+}
+
+void Mapping::relative(Binding& b, double d) {
+  const double step = d * b.tf.step;
+  const size_t i = size_t(b.index);
+  switch (b.target) {
+    case TargetKind::HandleX: goal_[i].x() += step; break;
+    case TargetKind::HandleY: goal_[i].y() += step; break;
+    case TargetKind::Rotate: angle_goal_[i] += step; break;
+    case TargetKind::Iterations: iterations_ = std::clamp(iterations_ + int(d), it_lo_, it_hi_); break;
+    case TargetKind::Weight:
+      if (weights_[i] + step > 0) {
+        weights_[i] += step;
+        weights_changed_ = true;
+      }
+      break;
+    default: return;
+  }
+  written_by(&b, b.target, b.index);
+}
+
+void Mapping::button(Binding& b, bool down) {
+  const bool edge = down && !b.pressed;
+  b.pressed = down;
+  if (b.target == TargetKind::Pose) {
+    if (!edge) return;
+    const Pose& p = poses_[size_t(b.index)];
+    for (size_t h = 0; h < p.positions.size() && h < goal_.size(); ++h)
+      if (std::isfinite(p.positions[h].x())) {
+        goal_[h] = p.positions[h];
+        written_by(&b, TargetKind::HandleX, int(h));
+        written_by(&b, TargetKind::HandleY, int(h));
+      }
+    return;
+  }
+  if (b.tf.toggle) {
+    if (!edge) return;
+    b.toggled = !b.toggled;
+    set_target(b, b.toggled ? b.tf.hi : b.tf.lo);
+  } else {
+    set_target(b, down ? b.tf.hi : b.tf.lo);
+  }
+}
+
+void Mapping::update(double dt) {
+  // Slew: the slowest limit among a target's bindings (0 = none).
+  for (size_t h = 0; h < goal_.size(); ++h) {
+    double slew = 0;
+    for (const Binding& b : bindings_)
+      if (b.tf.slew > 0 && b.index == int(h) &&
+          (b.target == TargetKind::HandleX || b.target == TargetKind::HandleY || b.target == TargetKind::HandlePoint))
+        slew = slew > 0 ? std::min(slew, b.tf.slew) : b.tf.slew;
+    const Vec2 d = goal_[h] - current_[h];
+    const double n = d.norm(), max = slew * dt;
+    current_[h] = (slew > 0 && n > max) ? Vec2(current_[h] + d * (max / n)) : goal_[h];
+  }
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    double slew = 0;
+    for (const Binding& b : bindings_)
+      if (b.tf.slew > 0 && b.target == TargetKind::Rotate && b.index == int(g))
+        slew = slew > 0 ? std::min(slew, b.tf.slew) : b.tf.slew;
+    const double d = angle_goal_[g] - angle_[g], max = slew * dt;
+    angle_[g] = (slew > 0 && std::fabs(d) > max) ? angle_[g] + std::copysign(max, d) : angle_goal_[g];
+  }
+  for (size_t h = 0; h < current_.size(); ++h) targets_[h] = current_[h];
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    const RotationGroup& grp = groups_[g];
+    const Vec2 pivot = grp.pivot_handle >= 0 ? targets_[size_t(grp.pivot_handle)] : grp.pivot;
+    const double c = std::cos(angle_[g] * kDeg), s = std::sin(angle_[g] * kDeg);
+    for (int h : grp.handles) {
+      const Vec2 r = targets_[size_t(h)] - pivot;
+      targets_[size_t(h)] = pivot + Vec2(c * r.x() - s * r.y(), s * r.x() + c * r.y());
+    }
+  }
+}
+
+}  // namespace mar

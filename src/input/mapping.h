@@ -1,0 +1,135 @@
+// Mapping: Events -> handle targets, rotations, poses, solver settings.
+//
+// A binding listens to one control of one device and drives one target through its
+// transforms. Absolute controls: normalise by the control's range, deadzone (about the
+// centre), invert, curve (exponent), One Euro filter, soft takeover, then scale to the
+// target range. Relative controls (encoders, jog wheels, relative CCs in any encoding)
+// add delta x step. Buttons: momentary (low/high of the range while held) or toggle; a
+// pose target applies its pose on press. 14-bit CC pairs and NRPN assemble their value
+// before the transforms. Slew limits act per frame on the final targets.
+//
+// All state is sized when the show loads; apply() and update() allocate nothing.
+#pragma once
+
+#include "geom/types.h"
+#include "input/event.h"
+#include "input/filters.h"
+
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mar {
+
+struct ControlSpec {
+  enum Kind : uint8_t { CC, CC14, NRPN, Note, PitchBend, Hid, Encoder, GpioButton, Pointer } kind = CC;
+  uint16_t device = 0;
+  int channel = -1;     ///< MIDI channel 0-15, -1 = any
+  uint32_t number = 0;  ///< CC / note / NRPN parameter / HID usage / encoder or button index
+  /// HID usages of a pointer: x, y, tip (defaults: Generic Desktop X/Y, Digitizer Tip Switch)
+  uint32_t px = 0x010030, py = 0x010031, ptip = 0x0D0042;
+  std::string text;     ///< as written (for messages and learn)
+};
+
+enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Iterations, Weight, Pose, Grab };
+
+struct Transform {
+  double lo = 0, hi = 1;       ///< output range (target units; degrees for rotations)
+  bool has_range = false;
+  double curve = 1;            ///< exponent applied to the normalised value
+  bool invert = false;
+  double deadzone = 0;         ///< fraction of the half range about the centre
+  OneEuro one_euro;
+  double slew = 0;             ///< max target speed, units per second (0 = off)
+  bool takeover = true;        ///< soft takeover for absolute controls
+  RelativeMode relative = RelativeMode::Absolute;
+  double step = 1;             ///< units per relative tick
+  bool toggle = false;         ///< buttons: toggle instead of momentary
+  double area[4] = {0, 0, 1, 1};  ///< pointer: target rectangle x0 y0 x1 y1
+};
+
+struct Binding {
+  ControlSpec control;
+  TargetKind target = TargetKind::HandleX;
+  int index = 0;  ///< handle, group, pose or weight index
+  Transform tf;
+  int line = 0;   ///< show-file line (messages)
+  // state
+  bool engaged = false;      ///< soft takeover has picked the target up
+  double last_norm = -1;     ///< previous normalised control value (-1: none yet)
+  bool toggled = false, pressed = false;
+  int msb = 0, lsb = 0;      ///< 14-bit parts
+  int nrpn_hi = 0, nrpn_param = -1;  ///< NRPN parameter selected by CC 99/98
+  double px = 0.5, py = 0.5; ///< pointer position (normalised)
+  bool tip = false;
+};
+
+struct RotationGroup {
+  std::string name;
+  std::vector<int> handles;
+  Vec2 pivot = Vec2::Zero();
+  int pivot_handle = -1;  ///< rotate about this handle's current target instead
+};
+
+struct Pose {
+  std::string name;
+  std::vector<Vec2> positions;  ///< per handle; NaN = leave alone
+};
+
+struct MappingStats {
+  uint64_t events = 0, matched = 0, takeover_waits = 0;
+};
+
+class Mapping {
+ public:
+  void set_handles(std::vector<std::string> names, std::vector<Vec2> rest);
+  const std::vector<std::string>& handle_names() const { return names_; }
+  int handle_index(const std::string& name) const;
+  int add_group(RotationGroup g);
+  int group_index(const std::string& name) const;
+  int add_pose(Pose p);
+  int pose_index(const std::string& name) const;
+  void add_binding(Binding b);
+  std::vector<Binding>& bindings() { return bindings_; }
+  void set_iterations(int it, int lo, int hi) { iterations_ = it; it_lo_ = lo; it_hi_ = hi; }
+  void set_weights(double r, double c, double p) { weights_[0] = r; weights_[1] = c; weights_[2] = p; }
+
+  /// Updates goals from one event. Returns true when some binding used it.
+  bool apply(const Event& e);
+  /// Advances slew-limited targets by `dt_s` and recomputes the final handle targets.
+  void update(double dt_s);
+
+  std::span<const Vec2> targets() const { return targets_; }
+  Vec2 goal(int handle) const { return goal_[size_t(handle)]; }
+  double angle(int group) const { return angle_[size_t(group)]; }
+  int iterations() const { return iterations_; }
+  const double* weights() const { return weights_; }
+  bool weights_changed() { bool c = weights_changed_; weights_changed_ = false; return c; }
+  /// Grab-and-drag: a pointer with its tip down (position in character units).
+  bool grab_active() const { return grab_active_; }
+  Vec2 grab_point() const { return grab_point_; }
+  const MappingStats& stats() const { return stats_; }
+
+ private:
+  void absolute(Binding& b, double norm, int64_t t);
+  void relative(Binding& b, double delta);
+  void button(Binding& b, bool down);
+  void set_target(Binding& b, double value);
+  double current_norm(const Binding& b) const;
+  void written_by(const Binding* b, TargetKind k, int index);
+
+  std::vector<std::string> names_;
+  std::vector<Vec2> rest_, goal_, current_, targets_;
+  std::vector<double> angle_goal_, angle_;
+  std::vector<RotationGroup> groups_;
+  std::vector<Pose> poses_;
+  std::vector<Binding> bindings_;
+  int iterations_ = 8, it_lo_ = 1, it_hi_ = 64;
+  double weights_[3] = {1, 1, 100};
+  bool weights_changed_ = false;
+  bool grab_active_ = false;
+  Vec2 grab_point_ = Vec2::Zero();
+  MappingStats stats_;
+};
+
+}  // namespace mar
