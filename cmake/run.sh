@@ -41,7 +41,7 @@ case "$cmd" in
   demo)
     install_deps
     build "$ROOT/build" -DMARIONETTE_BUILD_TESTS=OFF -DMARIONETTE_BUILD_BENCH=OFF
-    exec "$ROOT/build/marionette" view "$ROOT"/config/characters/*.svg --out-dir "$ROOT/build/demo"
+    cd "$ROOT/build" && exec ./marionette run "$ROOT/config/shows/demo.toml"
     ;;
   test)
     install_deps

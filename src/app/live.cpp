@@ -125,6 +125,13 @@ bool LiveShow::open_output(std::string* err) {
     else if (!opt_.quiet) std::cerr << "warning: no window (" << w.error << "); running headless\n";
   }
   if (!canvas_) {
+    if (!opt_.headless && opt_.dump_dir.empty() && opt_.replay_path.empty()) {
+      // Asked for a window but there is no display: run headless and keep every 10th
+      // frame so the performance can still be seen.
+      opt_.dump_dir = "marionette-frames";
+      opt_.every = 10;
+      if (!opt_.quiet) std::cout << "no display found (DISPLAY/WAYLAND_DISPLAY unset): running headless" << std::endl;
+    }
     opt_.headless = true;
     auto c = Canvas::offscreen(sh.width, sh.height);
     if (!c.ok()) {
