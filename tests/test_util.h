@@ -9,6 +9,8 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
+#include <cstdint>
 
 namespace mar::test {
 
@@ -27,6 +29,15 @@ inline std::string write_temp(const std::string& name, const std::string& text) 
   const auto p = temp_dir("files") / name;
   std::ofstream(p, std::ios::binary) << text;
   return p.string();
+}
+
+/// Bytes from whitespace-separated hex ("9b 0c 22").
+inline std::vector<uint8_t> hex_bytes(const std::string& s) {
+  std::vector<uint8_t> out;
+  std::istringstream in(s);
+  std::string tok;
+  while (in >> tok) out.push_back(uint8_t(std::stoul(tok, nullptr, 16)));
+  return out;
 }
 
 struct RunResult {

@@ -14,6 +14,8 @@
 namespace mar {
 namespace {
 
+using test::hex_bytes;
+
 using nlohmann::json;
 namespace fs = std::filesystem;
 
@@ -164,14 +166,6 @@ TEST(Hid, EveryCorpusDescriptorMatchesTheOracleFieldByField) {
   }
   EXPECT_EQ(matched, 247);
   EXPECT_GT(fields_compared, 4000);
-}
-
-std::vector<uint8_t> hex_bytes(const std::string& s) {
-  std::vector<uint8_t> out;
-  std::istringstream in(s);
-  std::string tok;
-  while (in >> tok) out.push_back(uint8_t(std::stoul(tok, nullptr, 16)));
-  return out;
 }
 
 TEST(Hid, PenPartnerRecordingDecodesToTheOracleValues) {

@@ -13,15 +13,9 @@
 namespace mar {
 namespace {
 
-using nlohmann::json;
+using test::hex_bytes;
 
-std::vector<uint8_t> hex_bytes(const std::string& s) {
-  std::vector<uint8_t> out;
-  std::istringstream in(s);
-  std::string tok;
-  while (in >> tok) out.push_back(uint8_t(std::stoul(tok, nullptr, 16)));
-  return out;
-}
+using nlohmann::json;
 
 struct Got {
   std::string type;

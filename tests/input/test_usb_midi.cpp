@@ -11,13 +11,7 @@
 namespace mar {
 namespace {
 
-std::vector<uint8_t> hex_bytes(const std::string& s) {
-  std::vector<uint8_t> out;
-  std::istringstream in(s);
-  std::string tok;
-  while (in >> tok) out.push_back(uint8_t(std::stoul(tok, nullptr, 16)));
-  return out;
-}
+using test::hex_bytes;
 
 TEST(UsbMidi, CorpusPacketVectors) {
   const auto path = test::corpus_dir() / "midi/parser-vectors/usb_midi_packet_vectors.json";
