@@ -282,3 +282,34 @@ script = """
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// Window mode runs the same frame code: a show played in an Xvfb window, recorded, replays
+// headless to the same run_hash.
+TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const auto dir = test::temp_dir("window_run");
+  const std::string show = (test::source_dir() / "config/shows/nanokontrol2.toml").string();
+  // Leak checking off for this child only: SDL's X11/dbus modules (see test_cli).
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+                          std::string(MARIONETTE_BINARY) + "' run '" + show + "' --frames 40 --record '" +
+                          (dir / "w.rec").string() + "' --stats '" + (dir / "w.json").string() + "' > '" +
+                          (dir / "out.txt").string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream out(dir / "out.txt");
+  const std::string text((std::istreambuf_iterator<char>(out)), {});
+  EXPECT_NE(text.find("in a window"), std::string::npos) << text;
+  auto rep = test::run_cli("replay '" + (dir / "w.rec").string() + "' --show '" + show + "' --stats '" +
+                           (dir / "r.json").string() + "'");
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  std::ifstream a(dir / "w.json"), b(dir / "r.json");
+  const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  EXPECT_EQ(ja["frames"], 40);
+  EXPECT_EQ(jb["frames"], 40);
+  EXPECT_EQ(ja["run_hash"], jb["run_hash"]);
+}
+
+}  // namespace
+}  // namespace mar
