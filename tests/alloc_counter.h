@@ -1,5 +1,5 @@
-// Counting replacement of global operator new for "allocates nothing" tests. Link
-// alloc_counter.cpp into the test executable (only those tests: it replaces new/delete).
+// Allocation count for "allocates nothing" tests: link alloc_counter.cpp and
+// src/app/alloc_count.cpp (the program's counting operator new) into the test executable.
 #pragma once
 
 namespace mar::test {

@@ -89,7 +89,15 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   }
 
   for (size_t i = 0; i < sh.devices.size(); ++i) {
-    const ShowDevice& d = sh.devices[i];
+    ShowDevice& d = sh.devices[i];
+    if (d.descriptor_in_corpus && !std::filesystem::exists(d.descriptor)) {
+      // The shared corpus is test material that may not be on this machine: the show still
+      // runs, with the simulator's built-in descriptor.
+      if (!o.quiet)
+        std::cerr << "warning: " << sh.path << ":" << d.line << ": device '" << d.name << "': " << d.descriptor
+                  << " not found (set MARIONETTE_CORPUS_DIR); using the built-in descriptor\n";
+      d.descriptor.clear();
+    }
     auto dev = make_sim_device(d.sim, d.descriptor, d.bounce_ms, d.seed);
     if (!dev.ok()) return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "': " + dev.error);
     if (auto ok = (*dev.value)->load_script(d.script); !ok.ok())

@@ -1,11 +1,14 @@
 // marionette — live 2D puppeteering controller. Command-line entry point.
+#include "app/alloc_count.h"
 #include "app/commands.h"
+#include "app/live.h"
 
 #include <CLI/CLI.hpp>
 
 #include <iostream>
 
 int main(int argc, char** argv) {
+  mar::set_allocation_counter(&mar::heap_allocation_count);
   CLI::App app{"marionette — live 2D puppeteering controller"};
   app.require_subcommand(1);
 

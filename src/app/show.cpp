@@ -285,7 +285,11 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
         d.sim = text(path, *sim, "sim");
         if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad")
           throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
-        if (auto* n = t.get("descriptor")) d.descriptor = resolve(path, text(path, *n, "descriptor"));
+        if (auto* n = t.get("descriptor")) {
+          const std::string desc = text(path, *n, "descriptor");
+          d.descriptor = resolve(path, desc);
+          d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
+        }
         if (auto* n = t.get("script")) d.script = text(path, *n, "script");
         if (auto* n = t.get("script_file")) {
           const std::string f = resolve(path, text(path, *n, "script_file"));

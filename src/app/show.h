@@ -15,6 +15,7 @@ struct ShowDevice {
   std::string type = "sim";     ///< "sim" (in-process firmware_sim device)
   std::string sim;              ///< nanokontrol2 | knob_box | pen_tablet | gamepad
   std::string descriptor;       ///< HID report descriptor file (resolved), empty = built-in
+  bool descriptor_in_corpus = false;  ///< named with "corpus:" (optional: the corpus may be absent)
   std::string script;           ///< timeline script text
   double bounce_ms = 0, debounce_ms = 0;
   uint32_t seed = 1;

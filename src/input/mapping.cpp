@@ -71,13 +71,7 @@ bool Mapping::apply(const Event& e) {
       case ControlSpec::CC14:
         if (e.kind == ControlKind::MidiCC && chan && (e.number == c.number || e.number == c.number + 32)) {
           hit = true;
-          if (e.number == c.number) {
-            b.msb = e.value;
-            b.lsb = 0;
-          } else {
-            b.lsb = e.value;
-          }
-          absolute(b, ((b.msb << 7) | b.lsb) / 16383.0, e.t_ns);
+          fourteen_bit(b, e.number == c.number, e.value, e.t_ns);
         }
         break;
       case ControlSpec::NRPN:
@@ -89,13 +83,7 @@ bool Mapping::apply(const Event& e) {
             b.nrpn_param = (b.nrpn_hi << 7) | e.value;
           } else if ((e.number == 6 || e.number == 38) && b.nrpn_param == int(c.number)) {
             hit = true;
-            if (e.number == 6) {
-              b.msb = e.value;
-              b.lsb = 0;
-            } else {
-              b.lsb = e.value;
-            }
-            absolute(b, ((b.msb << 7) | b.lsb) / 16383.0, e.t_ns);
+            fourteen_bit(b, e.number == 6, e.value, e.t_ns);
           }
         }
         break;
@@ -170,6 +158,17 @@ bool Mapping::apply(const Event& e) {
     }
   }
   return used;
+}
+
+void Mapping::fourteen_bit(Binding& b, bool msb, int value, int64_t t) {
+  // An MSB alone is a 14-bit value with LSB 0; the LSB that follows refines it.
+  if (msb) {
+    b.msb = value;
+    b.lsb = 0;
+  } else {
+    b.lsb = value;
+  }
+  absolute(b, ((b.msb << 7) | b.lsb) / 16383.0, t);
 }
 
 void Mapping::absolute(Binding& b, double n, int64_t t) {

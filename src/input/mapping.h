@@ -112,6 +112,7 @@ class Mapping {
 
  private:
   void absolute(Binding& b, double norm, int64_t t);
+  void fourteen_bit(Binding& b, bool msb, int value, int64_t t);
   void relative(Binding& b, double delta);
   void button(Binding& b, bool down);
   void set_target(Binding& b, double value);

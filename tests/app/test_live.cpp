@@ -313,3 +313,19 @@ TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// A show naming a corpus descriptor still runs where the corpus is absent.
+TEST(Live, MissingCorpusDescriptorFallsBackToTheBuiltInOne) {
+  ::setenv("MARIONETTE_CORPUS_DIR", "/nonexistent-corpus", 1);
+  auto r = test::run_cli("run " + (test::source_dir() / "config/shows/demo.toml").string() + " --headless --frames 30");
+  ::unsetenv("MARIONETTE_CORPUS_DIR");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("demo.toml:34: device 'pen'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("using the built-in descriptor"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace mar

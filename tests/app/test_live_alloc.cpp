@@ -1,6 +1,7 @@
 // After warm-up a live frame allocates nothing — with every simulated device feeding the
 // decoders, mapping with filters, soft takeover and rotation, solving and rendering.
 #include "alloc_counter.h"
+#include "app/alloc_count.h"
 #include "app/live.h"
 #include "test_util.h"
 
@@ -9,10 +10,8 @@
 namespace mar {
 namespace {
 
-uint64_t count() { return uint64_t(test::allocation_count()); }
-
 TEST(LiveAlloc, SteadyFramesAllocateNothing) {
-  set_allocation_counter(&count);
+  set_allocation_counter(&heap_allocation_count);
   const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
   const std::string path = test::write_temp("alloc.toml", "[show]\nrig = \"" + rig + R"("
 rate = 120

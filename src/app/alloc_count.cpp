@@ -1,7 +1,4 @@
-// Counts heap allocations in the marionette program for the stats JSON. Replacing global
-// operator new is the only reliable way to see every allocation; the count is one relaxed
-// atomic increment (lock-free).
-#include "app/live.h"
+#include "app/alloc_count.h"
 
 #include <atomic>
 #include <cstdlib>
@@ -9,11 +6,9 @@
 
 namespace {
 std::atomic<uint64_t> g_allocs{0};
-uint64_t count() { return g_allocs.load(std::memory_order_relaxed); }
-struct Install {
-  Install() { mar::set_allocation_counter(&count); }
-} install;
-}  // namespace
+}
+
+uint64_t mar::heap_allocation_count() { return g_allocs.load(std::memory_order_relaxed); }
 
 void* operator new(std::size_t n) {
   g_allocs.fetch_add(1, std::memory_order_relaxed);
