@@ -6,6 +6,9 @@
 #include <cstdint>
 #include <cstring>
 #include <span>
+#include <type_traits>
+
+#include "input/event.h"
 
 namespace mar {
 
@@ -14,6 +17,7 @@ enum class WireKind : uint8_t {
   MidiBytes = 2,  ///< a MIDI 1.0 byte stream chunk (serial, ALSA raw)
   HidReport = 3,  ///< one HID input report (report-ID byte first when numbered)
   GpioEdge = 4,   ///< data[0] = line index in the device, data[1] = level after the edge
+  Event = 5,      ///< an Event decoded by a hardware backend (data = the Event's bytes)
 };
 
 struct WireRecord {
@@ -31,6 +35,17 @@ struct WireRecord {
     r.source = source;
     r.size = uint8_t(b.size() < kMax ? b.size() : kMax);
     std::memcpy(r.data, b.data(), r.size);
+    return r;
+  }
+  /// Wraps an Event decoded by a backend, so recording and replay see it like wire data.
+  static WireRecord of(const Event& e) {
+    static_assert(std::is_trivially_copyable_v<Event> && sizeof(Event) <= kMax);
+    WireRecord r;
+    r.t_ns = e.t_ns;
+    r.kind = WireKind::Event;
+    r.source = e.source;
+    r.size = sizeof(Event);
+    std::memcpy(r.data, &e, sizeof(Event));
     return r;
   }
 };

@@ -1,6 +1,7 @@
 #include "input/wire_decoder.h"
 
 #include <climits>
+#include <cstring>
 
 namespace mar {
 
@@ -41,6 +42,13 @@ std::unique_ptr<WireDecoder> WireDecoder::gpio(GpioLayout layout, uint16_t sourc
   for (size_t b = 0; b < d->gpio_.buttons.size(); ++b) d->line_role_[size_t(d->gpio_.buttons[b] & 0xFF)] = -int(b) - 1;
   d->button_level_.assign(d->gpio_.buttons.size(), 1);
   d->button_t_.assign(d->gpio_.buttons.size(), INT64_MIN / 2);
+  return d;
+}
+
+std::unique_ptr<WireDecoder> WireDecoder::events(uint16_t source) {
+  auto d = std::unique_ptr<WireDecoder>(new WireDecoder());
+  d->kind_ = WireKind::Event;
+  d->source_ = source;
   return d;
 }
 
@@ -110,6 +118,17 @@ void WireDecoder::decode(const WireRecord& r) {
       }
       std::copy(r.data, r.data + rep->size_bytes(), last_[ri].begin());
       seen_[ri] = 1;
+      break;
+    }
+    case WireKind::Event: {
+      if (r.size != sizeof(Event)) {
+        ++stats_.malformed;
+        return;
+      }
+      Event e;
+      std::memcpy(&e, r.data, sizeof e);
+      e.source = source_;
+      push(e);
       break;
     }
     case WireKind::GpioEdge: {

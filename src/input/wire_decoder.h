@@ -30,6 +30,8 @@ class WireDecoder {
   static std::unique_ptr<WireDecoder> midi(WireKind k, uint16_t source);
   static std::unique_ptr<WireDecoder> hid(HidDescriptor d, uint16_t source);
   static std::unique_ptr<WireDecoder> gpio(GpioLayout layout, uint16_t source);
+  /// Events already decoded by a hardware backend (WireKind::Event records).
+  static std::unique_ptr<WireDecoder> events(uint16_t source);
 
   /// Decodes one record; calls `on(const Event&)` per event. Allocates nothing.
   template <class F>

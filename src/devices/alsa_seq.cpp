@@ -1,0 +1,104 @@
+// MIDI input from the ALSA sequencer: a "marionette" client with one writable port, so
+// software MIDI sources and virtual ports can feed a show (and hardware the kernel's
+// driver already owns). Sequencer events are turned back into MIDI bytes with
+// snd_midi_event and run through the same stream decoder as any MIDI wire.
+#include "devices/alsa_seq.h"
+#include "devices/backends.h"
+#include "devices/util.h"
+
+#include <alsa/asoundlib.h>
+
+#include <cerrno>
+
+namespace mar {
+
+size_t alsa_event_bytes(snd_midi_event_t* codec, const snd_seq_event_t& ev, uint8_t* out, size_t cap) {
+  const long n = snd_midi_event_decode(codec, out, long(cap), const_cast<snd_seq_event_t*>(&ev));
+  return n > 0 ? size_t(n) : 0;
+}
+
+namespace {
+
+class AlsaSeqBackend final : public Backend {
+ public:
+  using Backend::Backend;
+  ~AlsaSeqBackend() override { close(); }
+  DeviceState open() override;
+  void close() override {
+    if (codec_) snd_midi_event_free(codec_);
+    if (seq_) snd_seq_close(seq_);
+    codec_ = nullptr;
+    seq_ = nullptr;
+  }
+  bool present() const override { return devutil::exists("/dev/snd/seq"); }
+  bool poll(int64_t now_ns, EventSink& out) override;
+
+ private:
+  snd_seq_t* seq_ = nullptr;
+  snd_midi_event_t* codec_ = nullptr;
+  std::unique_ptr<WireDecoder> dec_;
+};
+
+DeviceState AlsaSeqBackend::open() {
+  const int rc = snd_seq_open(&seq_, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK);
+  if (rc < 0) {
+    seq_ = nullptr;
+    if (rc == -EACCES || rc == -EPERM) {
+      problem_ = "permission denied on /dev/snd/seq: add yourself to the 'audio' group";
+      return DeviceState::Denied;
+    }
+    problem_ = "no ALSA sequencer (/dev/snd/seq: " + std::string(snd_strerror(rc)) + "; is snd-seq loaded?)";
+    return DeviceState::Unavailable;
+  }
+  snd_seq_set_client_name(seq_, "marionette");
+  const int port = snd_seq_create_simple_port(seq_, spec_.name.c_str(), SND_SEQ_PORT_CAP_WRITE | SND_SEQ_PORT_CAP_SUBS_WRITE,
+                                              SND_SEQ_PORT_TYPE_MIDI_GENERIC | SND_SEQ_PORT_TYPE_APPLICATION);
+  if (port < 0) {
+    problem_ = std::string("ALSA sequencer: cannot create a port (") + snd_strerror(port) + ")";
+    close();
+    return DeviceState::Unavailable;
+  }
+  identity_ = "ALSA client " + std::to_string(snd_seq_client_id(seq_)) + ":" + std::to_string(port);
+  node_ = "/dev/snd/seq";
+  if (!spec_.alsa_source.empty()) {
+    snd_seq_addr_t src{};
+    if (snd_seq_parse_address(seq_, &src, spec_.alsa_source.c_str()) < 0 ||
+        snd_seq_connect_from(seq_, port, src.client, src.port) < 0) {
+      problem_ = "ALSA source '" + spec_.alsa_source + "' not found";
+      close();
+      return DeviceState::Waiting;
+    }
+    identity_ += " <- " + spec_.alsa_source;
+  }
+  snd_midi_event_new(256, &codec_);
+  snd_midi_event_no_status(codec_, 1);  // full status bytes: the stream decoder owns running status
+  dec_ = WireDecoder::midi(WireKind::MidiBytes, source_);
+  problem_.clear();
+  return DeviceState::Connected;
+}
+
+bool AlsaSeqBackend::poll(int64_t now_ns, EventSink& out) {
+  for (int k = 0; k < 1024; ++k) {
+    snd_seq_event_t* ev = nullptr;
+    const int rc = snd_seq_event_input(seq_, &ev);
+    if (rc == -EAGAIN) return true;
+    if (rc == -ENOSPC) {  // input overrun: events were lost
+      count_malformed();
+      continue;
+    }
+    if (rc < 0 || !ev) return rc == -EINTR;
+    if (ev->type == SND_SEQ_EVENT_CLIENT_EXIT || ev->type == SND_SEQ_EVENT_PORT_EXIT) continue;
+    uint8_t buf[WireRecord::kMax];
+    if (const size_t n = alsa_event_bytes(codec_, *ev, buf, sizeof buf))
+      decode(*dec_, WireRecord::make(now_ns, WireKind::MidiBytes, {buf, n}, source_), out);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::unique_ptr<Backend> make_alsa_backend(const DeviceSpec& s, uint16_t source) {
+  return std::make_unique<AlsaSeqBackend>(s, source);
+}
+
+}  // namespace mar

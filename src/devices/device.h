@@ -1,0 +1,186 @@
+// Hardware backends: each reads one real device through its library (libusb, hidapi,
+// libgpiod, libevdev, ALSA, liblo, SDL) and hands the frame decoded Events.
+//
+// Threads: a backend is opened, closed and looked for on the DeviceSet's reconnect thread
+// (enumeration, descriptors, allocation, blocking calls all live there); the frame thread
+// only polls an open device, without blocking or allocating. Ownership passes between the
+// two through one atomic phase per device, never a lock.
+#pragma once
+
+#include "input/event.h"
+#include "input/wire_decoder.h"
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace mar {
+
+enum class DeviceState : uint8_t {
+  Waiting,      ///< not found yet (absent at start): looked for every 100 ms
+  Connected,
+  Unplugged,    ///< was connected, went away: looked for again
+  Denied,       ///< found but not accessible (permissions)
+  Unavailable,  ///< the backend cannot work here (no ALSA sequencer, no window for the mouse)
+};
+const char* device_state_name(DeviceState s);
+
+/// One frame's decoded events: fixed capacity, never allocates.
+struct EventSink {
+  Event* data = nullptr;
+  size_t cap = 0, n = 0;
+  uint64_t dropped = 0;
+  void push(const Event& e) {
+    if (n < cap) data[n++] = e;
+    else ++dropped;
+  }
+};
+
+/// What the show (or `marionette devices`) asks a backend to find.
+struct DeviceSpec {
+  std::string name;             ///< the show's device name
+  std::string type;             ///< usb_midi | hid | gpio | tablet | alsa | osc | sdl
+  int vid = -1, pid = -1;       ///< -1: any
+  std::vector<int> pids;        ///< alternatives (profiles list several product IDs)
+  std::string serial;           ///< empty: any
+  std::string product;          ///< substring of the product/device name; empty: any
+  int usage_page = -1, usage = -1;  ///< HID top-level collection
+  std::string profile;          ///< matched profile name (informational)
+  // GPIO
+  std::string chip;             ///< gpiochip name, label or path
+  struct Encoder {
+    std::string a, b;           ///< line names (or offsets as text)
+    int steps_per_detent = 4;
+  };
+  std::vector<Encoder> encoders;
+  std::vector<std::string> buttons;
+  double debounce_ms = 0;
+  // OSC
+  std::string host = "127.0.0.1";
+  int port = 9000;
+  std::vector<std::string> osc_addresses;  ///< bound address patterns, control number = 0xFF000000 | index
+  // ALSA sequencer: connect from this client:port ("nanoKONTROL2", "20:0"); empty: wait for others
+  std::string alsa_source;
+  // SDL
+  std::string sdl = "gamepad";  ///< mouse | touch | gamepad
+  bool feedback = false;        ///< echo note/CC input back to the device (LEDs)
+  bool detach_kernel_driver = true;
+};
+
+/// The udev rule file shipped in config/udev/ (named in permission hints).
+inline constexpr const char* kUdevRule = "config/udev/70-marionette.rules";
+
+class Backend {
+ public:
+  Backend(DeviceSpec spec, uint16_t source) : spec_(std::move(spec)), source_(source) {}
+  virtual ~Backend() = default;
+  Backend(const Backend&) = delete;
+  Backend& operator=(const Backend&) = delete;
+
+  // ---- reconnect thread ----
+  /// Looks for the device and opens it: Connected, Waiting (not there), Denied, or
+  /// Unavailable. Sets problem() to a one-line explanation when not Connected.
+  virtual DeviceState open() = 0;
+  virtual void close() = 0;
+  /// Whether the open device is still there (its node exists). Called while Connected.
+  virtual bool present() const { return true; }
+
+  // ---- frame thread ----
+  /// Reads everything pending without blocking and appends Events (times on the show
+  /// clock). Returns false when the device has gone.
+  virtual bool poll(int64_t now_ns, EventSink& out) = 0;
+  /// Sends MIDI bytes to the device (controller feedback); false when not supported.
+  virtual bool send_midi(std::span<const uint8_t>) { return false; }
+
+  const DeviceSpec& spec() const { return spec_; }
+  uint16_t source() const { return source_; }
+  /// CLOCK_MONOTONIC time of show time 0, for device timestamps.
+  void set_epoch(int64_t mono_ns) { epoch_ns_ = mono_ns; }
+  const std::string& identity() const { return identity_; }
+  const std::string& node() const { return node_; }
+  const std::string& problem() const { return problem_; }
+  /// Reports or bytes dropped as malformed since start.
+  uint64_t malformed() const { return malformed_.load(std::memory_order_relaxed); }
+  uint64_t events() const { return events_.load(std::memory_order_relaxed); }
+
+ protected:
+  void count_malformed(uint64_t n = 1) { malformed_.fetch_add(n, std::memory_order_relaxed); }
+  void count_events(uint64_t n) { events_.fetch_add(n, std::memory_order_relaxed); }
+  /// Feeds one wire record through `dec` into `out`, counting events and malformed input.
+  void decode(WireDecoder& dec, const WireRecord& r, EventSink& out);
+  /// A one-line permission hint for `path`.
+  static std::string denied_hint(const std::string& path);
+
+  DeviceSpec spec_;
+  uint16_t source_ = 0;
+  int64_t epoch_ns_ = 0;
+  std::string identity_, node_, problem_;
+
+ private:
+  std::atomic<uint64_t> malformed_{0}, events_{0};
+};
+
+/// Monotonic clock (CLOCK_MONOTONIC, the clock kernel input timestamps use) in ns.
+int64_t monotonic_ns();
+
+/// Makes the backend for `spec.type`; nullptr with `error` set for an unknown type.
+std::unique_ptr<Backend> make_backend(const DeviceSpec& spec, uint16_t source, std::string* error);
+
+/// The show's hardware devices: polled by the frame, reopened by a background thread.
+class DeviceSet {
+ public:
+  struct Status {
+    DeviceState state = DeviceState::Waiting;
+    uint64_t unplugs = 0, reconnects = 0, malformed = 0, events = 0;
+    double last_outage_ms = 0, max_outage_ms = 0;  ///< unplug detected -> reopened
+  };
+
+  explicit DeviceSet(int64_t epoch_mono_ns);
+  ~DeviceSet();
+  DeviceSet(const DeviceSet&) = delete;
+  DeviceSet& operator=(const DeviceSet&) = delete;
+
+  void add(std::unique_ptr<Backend> b);
+  /// Tries every device once (so devices present at start are ready for frame 0), then
+  /// starts the reconnect thread. `interval_ms`: how often absent devices are looked for.
+  void start(int interval_ms = 100);
+  /// Frame thread: polls every connected device. Never blocks or allocates.
+  void poll(int64_t now_ns, EventSink& out);
+  size_t size() const { return ports_.size(); }
+  Backend& backend(size_t i) { return *ports_[i]->b; }
+  const Backend& backend(size_t i) const { return *ports_[i]->b; }
+  DeviceState state(size_t i) const { return DeviceState(ports_[i]->shown.load(std::memory_order_acquire)); }
+  Status status(size_t i) const;
+  /// A copy of the last problem text (taken on the reconnect thread's side).
+  std::string problem(size_t i) const;
+
+ private:
+  enum Phase : uint8_t { Closed, Open, Lost };
+  struct Port {
+    std::unique_ptr<Backend> b;
+    std::atomic<uint8_t> phase{Closed};
+    std::atomic<uint8_t> shown{uint8_t(DeviceState::Waiting)};
+    std::atomic<bool> gone{false};
+    std::atomic<uint64_t> unplugs{0}, reconnects{0};
+    std::atomic<int64_t> lost_at{0};
+    std::atomic<double> last_outage_ms{0}, max_outage_ms{0};
+    std::atomic<bool> was_connected{false};
+    mutable std::mutex problem_mutex;  ///< problem text: reconnect thread and reports, never a frame
+    std::string problem;
+  };
+  void attempt(Port& p);
+  void loop();
+
+  int64_t epoch_ns_ = 0;
+  int interval_ms_ = 100;
+  std::vector<std::unique_ptr<Port>> ports_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace mar

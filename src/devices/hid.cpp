@@ -1,0 +1,117 @@
+// HID devices through hidapi's hidraw backend. hidapi 0.13 has no report-descriptor call:
+// the descriptor is read from sysfs (/sys/class/hidraw/<node>/device/report_descriptor)
+// and decoded by our parser; reports are read without blocking each frame.
+#include "devices/backends.h"
+#include "devices/util.h"
+#include "input/hid.h"
+
+#include <hidapi/hidapi.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+
+namespace mar {
+namespace {
+
+class HidBackend final : public Backend {
+ public:
+  using Backend::Backend;
+  ~HidBackend() override { close(); }
+  DeviceState open() override;
+  void close() override {
+    if (dev_) hid_close(dev_);
+    dev_ = nullptr;
+  }
+  bool present() const override { return devutil::exists(sys_); }
+  bool poll(int64_t now_ns, EventSink& out) override;
+
+ private:
+  hid_device* dev_ = nullptr;
+  std::string sys_;
+  std::unique_ptr<WireDecoder> dec_;
+};
+
+bool matches(const DeviceSpec& s, const hid_device_info& d) {
+  if (s.vid >= 0 && d.vendor_id != s.vid) return false;
+  if (s.pid >= 0 || !s.pids.empty()) {
+    bool any = s.pid >= 0 && d.product_id == s.pid;
+    for (int p : s.pids) any = any || d.product_id == p;
+    if (!any) return false;
+  }
+  if (!s.serial.empty() && devutil::narrow(d.serial_number) != s.serial) return false;
+  if (!s.product.empty() && devutil::narrow(d.product_string).find(s.product) == std::string::npos) return false;
+  if (s.usage_page >= 0 && d.usage_page != s.usage_page) return false;
+  if (s.usage >= 0 && d.usage != s.usage) return false;
+  return true;
+}
+
+DeviceState HidBackend::open() {
+  static const int init = hid_init();
+  if (init != 0) {
+    problem_ = "hidapi could not start";
+    return DeviceState::Unavailable;
+  }
+  hid_device_info* list = hid_enumerate(0, 0);
+  const hid_device_info* found = nullptr;
+  for (const hid_device_info* d = list; d; d = d->next)
+    if (matches(spec_, *d)) {
+      found = d;
+      break;
+    }
+  if (!found) {
+    hid_free_enumeration(list);
+    problem_ = "no HID device matches " + (spec_.vid >= 0 ? devutil::vid_pid(spec_.vid, spec_.pid) : std::string("the show"));
+    return DeviceState::Waiting;
+  }
+  node_ = found->path;
+  identity_ = devutil::vid_pid(found->vendor_id, found->product_id) + " '" + devutil::narrow(found->product_string) +
+              "'" + (found->serial_number && *found->serial_number ? " serial " + devutil::narrow(found->serial_number) : "");
+  hid_free_enumeration(list);
+  const std::string base = node_.substr(node_.rfind('/') + 1);
+  sys_ = "/sys/class/hidraw/" + base;
+  errno = 0;
+  dev_ = hid_open_path(node_.c_str());
+  if (!dev_) {
+    if (errno == EACCES || errno == EPERM) {
+      problem_ = denied_hint(node_);
+      return DeviceState::Denied;
+    }
+    problem_ = node_ + ": cannot open (" + std::string(std::strerror(errno ? errno : EIO)) + ")";
+    return DeviceState::Waiting;
+  }
+  hid_set_nonblocking(dev_, 1);
+  auto bytes = devutil::read_file(sys_ + "/device/report_descriptor");
+  if (bytes.empty()) {  // no "device" link: the HID device is two levels up (<hid>/hidraw/<node>)
+    char real[4096];
+    if (realpath(sys_.c_str(), real)) bytes = devutil::read_file(std::string(real) + "/../../report_descriptor");
+  }
+  auto desc = parse_hid_descriptor(bytes);
+  if (bytes.empty() || !desc.ok()) {
+    problem_ = node_ + ": unusable report descriptor (" + (bytes.empty() ? std::string("not readable in sysfs") : desc.error) + ")";
+    close();
+    return DeviceState::Unavailable;
+  }
+  dec_ = WireDecoder::hid(std::move(*desc.value), source_);
+  problem_.clear();
+  return DeviceState::Connected;
+}
+
+bool HidBackend::poll(int64_t now_ns, EventSink& out) {
+  uint8_t buf[WireRecord::kMax];
+  for (int k = 0; k < 256; ++k) {  // bounded: a flooding device cannot stall the frame
+    const int n = hid_read(dev_, buf, sizeof buf);
+    if (n == 0) return true;
+    if (n < 0) return false;
+    decode(*dec_, WireRecord::make(now_ns, WireKind::HidReport, {buf, size_t(n)}, source_), out);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::unique_ptr<Backend> make_hid_backend(const DeviceSpec& s, uint16_t source) {
+  return std::make_unique<HidBackend>(s, source);
+}
+
+}  // namespace mar

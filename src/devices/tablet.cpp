@@ -1,0 +1,164 @@
+// Pen tablets through libevdev: /dev/input/event* nodes with pressure, tilt, proximity
+// and stylus buttons, selected by name or USB ID. Axes become HidValue events with the
+// HID digitizer usages, so pen bindings are the same for evdev and hidraw tablets; the
+// kernel's event timestamps (CLOCK_MONOTONIC) are kept.
+#include "devices/backends.h"
+#include "devices/util.h"
+
+#include <fcntl.h>
+#include <libevdev/libevdev.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <ctime>
+
+namespace mar {
+namespace {
+
+// evdev code -> HID usage (page << 16 | id).
+uint32_t abs_usage(unsigned code) {
+  switch (code) {
+    case ABS_X: return 0x010030;
+    case ABS_Y: return 0x010031;
+    case ABS_Z: return 0x010032;
+    case ABS_WHEEL: return 0x010038;
+    case ABS_PRESSURE: return 0x0D0030;
+    case ABS_TILT_X: return 0x0D003D;
+    case ABS_TILT_Y: return 0x0D003E;
+    default: return 0;
+  }
+}
+uint32_t key_usage(unsigned code) {
+  switch (code) {
+    case BTN_TOUCH: return 0x0D0042;      // tip switch
+    case BTN_TOOL_PEN: return 0x0D0032;   // in range (proximity)
+    case BTN_TOOL_RUBBER: return 0x0D0045;  // eraser
+    case BTN_STYLUS: return 0x0D0044;     // barrel switch
+    case BTN_STYLUS2: return 0x0D005A;    // secondary barrel switch
+    default: return code >= BTN_0 && code <= BTN_9 ? 0x090001 + (code - BTN_0) : 0;
+  }
+}
+
+class TabletBackend final : public Backend {
+ public:
+  using Backend::Backend;
+  ~TabletBackend() override { close(); }
+  DeviceState open() override;
+  void close() override {
+    if (dev_) libevdev_free(dev_);
+    if (fd_ >= 0) ::close(fd_);
+    dev_ = nullptr;
+    fd_ = -1;
+  }
+  bool present() const override { return devutil::exists(sys_); }
+  bool poll(int64_t now_ns, EventSink& out) override;
+
+ private:
+  void emit(const input_event& ev, EventSink& out);
+  libevdev* dev_ = nullptr;
+  int fd_ = -1;
+  std::string sys_;
+};
+
+bool is_pen(libevdev* d) {
+  return libevdev_has_event_code(d, EV_ABS, ABS_X) && libevdev_has_event_code(d, EV_ABS, ABS_Y) &&
+         (libevdev_has_event_code(d, EV_KEY, BTN_TOOL_PEN) || libevdev_has_event_code(d, EV_ABS, ABS_PRESSURE));
+}
+
+DeviceState TabletBackend::open() {
+  bool denied = false;
+  std::string denied_node;
+  for (const std::string& name : devutil::list_dir("/sys/class/input")) {
+    if (name.rfind("event", 0) != 0) continue;
+    const std::string node = "/dev/input/" + name;
+    const int fd = ::open(node.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+      if (errno == EACCES || errno == EPERM) {
+        denied = true;
+        denied_node = node;
+      }
+      continue;
+    }
+    libevdev* d = nullptr;
+    if (libevdev_new_from_fd(fd, &d) != 0) {
+      ::close(fd);
+      continue;
+    }
+    const std::string dname = libevdev_get_name(d) ? libevdev_get_name(d) : "";
+    const bool ok = is_pen(d) && (spec_.product.empty() || dname.find(spec_.product) != std::string::npos) &&
+                    (spec_.vid < 0 || libevdev_get_id_vendor(d) == spec_.vid) &&
+                    (spec_.pid < 0 || libevdev_get_id_product(d) == spec_.pid);
+    if (!ok) {
+      libevdev_free(d);
+      ::close(fd);
+      continue;
+    }
+    libevdev_set_clock_id(d, CLOCK_MONOTONIC);  // older kernels stamp with REALTIME by default
+    dev_ = d;
+    fd_ = fd;
+    node_ = node;
+    sys_ = "/sys/class/input/" + name;
+    identity_ = devutil::vid_pid(libevdev_get_id_vendor(d), libevdev_get_id_product(d)) + " '" + dname + "'";
+    problem_.clear();
+    return DeviceState::Connected;
+  }
+  if (denied) {
+    problem_ = denied_hint(denied_node);
+    return DeviceState::Denied;
+  }
+  problem_ = "no pen tablet" + (spec_.product.empty() ? std::string() : " named '" + spec_.product + "'") +
+             " among /dev/input/event*";
+  return DeviceState::Waiting;
+}
+
+void TabletBackend::emit(const input_event& ev, EventSink& out) {
+  Event e;
+  e.t_ns = int64_t(ev.input_event_sec) * 1000000000 + int64_t(ev.input_event_usec) * 1000 - epoch_ns_;
+  e.source = source_;
+  e.kind = ControlKind::HidValue;
+  e.value = ev.value;
+  if (ev.type == EV_ABS) {
+    e.number = abs_usage(ev.code);
+    if (const input_absinfo* a = libevdev_get_abs_info(dev_, ev.code)) {
+      e.lo = a->minimum;
+      e.hi = a->maximum;
+    }
+  } else if (ev.type == EV_KEY) {
+    e.number = key_usage(ev.code);
+    e.lo = 0;
+    e.hi = 1;
+    e.value = ev.value != 0;
+  }
+  if (e.number == 0) return;
+  out.push(e);
+  count_events(1);
+}
+
+bool TabletBackend::poll(int64_t, EventSink& out) {
+  input_event ev;
+  for (int k = 0; k < 4096; ++k) {
+    int rc = libevdev_next_event(dev_, LIBEVDEV_READ_FLAG_NORMAL, &ev);
+    if (rc == LIBEVDEV_READ_STATUS_SYNC) {
+      // The kernel dropped events: catch up with the device's current state.
+      count_malformed();
+      while (rc == LIBEVDEV_READ_STATUS_SYNC) {
+        if (ev.type == EV_ABS || ev.type == EV_KEY) emit(ev, out);
+        rc = libevdev_next_event(dev_, LIBEVDEV_READ_FLAG_SYNC, &ev);
+      }
+      continue;
+    }
+    if (rc == -EAGAIN) return true;
+    if (rc < 0) return false;  // -ENODEV: unplugged
+    if (ev.type == EV_ABS || ev.type == EV_KEY) emit(ev, out);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::unique_ptr<Backend> make_tablet_backend(const DeviceSpec& s, uint16_t source) {
+  return std::make_unique<TabletBackend>(s, source);
+}
+
+}  // namespace mar
