@@ -14,6 +14,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <chrono>
@@ -84,7 +85,9 @@ struct Dev {
   std::vector<uint32_t> line_flags;
   // evdev
   VirtualBench::Evdev ev;
-  std::string name;
+  VirtualBench::UsbMidi usb;
+  VirtualBench::Hid hid;
+  std::vector<std::string> old_nodes;  // before replugs: programs may still hold them open
 };
 
 struct VirtualBench::Impl {
@@ -95,9 +98,12 @@ struct VirtualBench::Impl {
   std::vector<std::thread> players;
   std::atomic<bool> stop{false};
   std::atomic<int> playing{0};
+  std::mutex devs_m;  // devs and their node names (the ioctl thread looks them up)
   Dev* by_node(const char* node) {
+    std::lock_guard lock(devs_m);
     for (auto& d : devs)
-      if (d->node == node) return d.get();
+      if (d->node == node || std::find(d->old_nodes.begin(), d->old_nodes.end(), node) != d->old_nodes.end())
+        return d.get();
     return nullptr;
   }
   void add(Dev& d) {
@@ -119,6 +125,8 @@ struct VirtualBench::Impl {
     }
     umockdev_testbed_uevent(tb, d.syspath.c_str(), "add");
   }
+  void describe(Dev& d);
+  int plug_new(std::unique_ptr<Dev> d);
   static gboolean on_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self);
   bool usb_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
   bool gpio_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
@@ -406,88 +414,102 @@ VirtualBench::~VirtualBench() {
   g_object_unref(p_->handler);
 }
 
+// Gives the device a fresh node (a replugged device gets a new number, as in the kernel)
+// and its umockdev description.
+void VirtualBench::Impl::describe(Dev& d) {
+  std::lock_guard lock(devs_m);
+  if (!d.node.empty()) d.old_nodes.push_back(d.node);
+  switch (d.kind) {
+    case Kind::Usb: {
+      const int n = ++usb_n + 1;
+      char node[32], vp[64];
+      std::snprintf(node, sizeof node, "bus/usb/001/%03d", n);
+      std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", d.usb.vid, d.usb.pid);
+      d.node = std::string("/dev/") + node;
+      d.syspath = "/sys/devices/usbmidi" + std::to_string(n);
+      d.record = "P: /devices/usbmidi" + std::to_string(n) + "\nN: " + node + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" +
+                 "E: DRIVER=usb\nE: BUSNUM=001\nE: DEVNUM=" + std::to_string(n) + "\nE: DEVNAME=/dev/" + node + "\n" +
+                 "A: busnum=1\\n\nA: devnum=" + std::to_string(n) + "\\n\nA: speed=12\\n\nA: bConfigurationValue=1\\n\n" +
+                 vp + "A: dev=189:" + std::to_string(n) + "\\n\nH: descriptors=" + hex(midi_descriptors(d.usb.vid, d.usb.pid)) + "\n";
+      break;
+    }
+    case Kind::Hid: {
+      const int n = hid_n++;
+      const Hid& h = d.hid;
+      char id[64], vp[128], hid_id[64];
+      std::snprintf(id, sizeof id, "0003:%04X:%04X.%04X", h.vid, h.pid, n + 1);
+      std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", h.vid, h.pid);
+      std::snprintf(hid_id, sizeof hid_id, "0003:%08X:%08X", h.vid, h.pid);
+      const std::string usb = "/devices/hidusb" + std::to_string(n), hid = usb + "/1-1:1.0/" + id, num = std::to_string(n);
+      d.node = "/dev/hidraw" + num;
+      d.syspath = "/sys" + usb;  // unplugging removes the whole USB device
+      d.record = "P: " + usb + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" + vp + "A: manufacturer=marionette bench\\n\n" +
+                 "A: product=" + h.name + "\\n\nA: serial=" + h.uniq + "\\n\n\n" + "P: " + usb +
+                 "/1-1:1.0\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_interface\nA: bInterfaceNumber=00\\n\n\n" + "P: " + hid +
+                 "\nE: SUBSYSTEM=hid\nE: HID_ID=" + hid_id + "\nE: HID_NAME=" + h.name + "\nE: HID_UNIQ=" + h.uniq +
+                 "\nH: report_descriptor=" + hex(h.descriptor) + "\n\n" + "P: " + hid + "/hidraw/hidraw" + num +
+                 "\nN: hidraw" + num + "\nE: SUBSYSTEM=hidraw\nE: DEVNAME=/dev/hidraw" + num + "\nA: dev=240:" + num + "\\n\n";
+      break;
+    }
+    case Kind::Gpio: {
+      const std::string num = std::to_string(gpio_n++);
+      d.node = "/dev/gpiochip" + num;
+      d.syspath = "/sys/devices/platform/gpio" + num + "/gpiochip" + num;
+      d.record = "P: /devices/platform/gpio" + num + "/gpiochip" + num + "\nN: gpiochip" + num +
+                 "\nE: SUBSYSTEM=gpio\nE: DEVNAME=/dev/gpiochip" + num + "\nA: dev=254:" + num + "\\n\n";
+      break;
+    }
+    case Kind::Evdev: {
+      const std::string num = std::to_string(ev_n++);
+      const std::string dev = "/devices/evusb" + num + "/input/input" + num;
+      d.node = "/dev/input/event" + num;
+      d.syspath = "/sys" + dev;
+      d.record = "P: " + dev + "\nE: SUBSYSTEM=input\nE: NAME=\"" + d.ev.name + "\"\nA: name=" + d.ev.name + "\\n\n\n" +
+                 "P: " + dev + "/event" + num + "\nN: input/event" + num + "\nE: SUBSYSTEM=input\nE: DEVNAME=/dev/input/event" +
+                 num + "\nA: dev=13:" + std::to_string(64 + std::stoi(num)) + "\\n\n";
+      break;
+    }
+  }
+  umockdev_testbed_attach_ioctl(tb, d.node.c_str(), handler, nullptr);
+}
+
+int VirtualBench::Impl::plug_new(std::unique_ptr<Dev> d) {
+  describe(*d);
+  add(*d);
+  std::lock_guard lock(devs_m);
+  devs.push_back(std::move(d));
+  return int(devs.size()) - 1;
+}
+
 int VirtualBench::add_usb_midi(const UsbMidi& u) {
   auto d = std::make_unique<Dev>();
   d->kind = Kind::Usb;
-  const int n = ++p_->usb_n + 1;
-  char node[32];
-  std::snprintf(node, sizeof node, "bus/usb/001/%03d", n);
-  d->node = std::string("/dev/") + node;
-  d->syspath = "/sys/devices/usbmidi" + std::to_string(n);
+  d->usb = u;
   d->driver = u.kernel_driver;
-  char vp[64];
-  std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", u.vid, u.pid);
-  d->record = "P: /devices/usbmidi" + std::to_string(n) + "\nN: " + node + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" +
-              "E: DRIVER=usb\nE: BUSNUM=001\nE: DEVNUM=" + std::to_string(n) + "\nE: DEVNAME=/dev/" + node + "\n" +
-              "A: busnum=1\\n\nA: devnum=" + std::to_string(n) + "\\n\nA: speed=12\\n\nA: bConfigurationValue=1\\n\n" +
-              vp + "A: dev=189:" + std::to_string(n) + "\\n\nH: descriptors=" + hex(midi_descriptors(u.vid, u.pid)) + "\n";
-  umockdev_testbed_attach_ioctl(p_->tb, d->node.c_str(), p_->handler, nullptr);
-  p_->add(*d);
-  p_->devs.push_back(std::move(d));
-  return int(p_->devs.size()) - 1;
+  return p_->plug_new(std::move(d));
 }
 
 int VirtualBench::add_hid(const Hid& h) {
   auto d = std::make_unique<Dev>();
   d->kind = Kind::Hid;
-  const int n = p_->hid_n++;
-  char id[64];
-  std::snprintf(id, sizeof id, "0003:%04X:%04X.%04X", h.vid, h.pid, n + 1);
-  const std::string usb = "/devices/hidusb" + std::to_string(n);
-  const std::string hid = usb + "/1-1:1.0/" + id;
-  d->node = "/dev/hidraw" + std::to_string(n);
-  d->syspath = "/sys" + hid + "/hidraw/hidraw" + std::to_string(n);
-  char vp[128];
-  std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", h.vid, h.pid);
-  char hid_id[64];
-  std::snprintf(hid_id, sizeof hid_id, "0003:%08X:%08X", h.vid, h.pid);
-  d->record = "P: " + usb + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" + vp + "A: manufacturer=marionette bench\\n\n" +
-              "A: product=" + h.name + "\\n\nA: serial=" + h.uniq + "\\n\n\n" +
-              "P: " + usb + "/1-1:1.0\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_interface\nA: bInterfaceNumber=00\\n\n\n" +
-              "P: " + hid + "\nE: SUBSYSTEM=hid\nE: HID_ID=" + hid_id + "\nE: HID_NAME=" + h.name + "\nE: HID_UNIQ=" + h.uniq +
-              "\nH: report_descriptor=" + hex(h.descriptor) + "\n\n" +
-              "P: " + hid + "/hidraw/hidraw" + std::to_string(n) + "\nN: hidraw" + std::to_string(n) +
-              "\nE: SUBSYSTEM=hidraw\nE: DEVNAME=/dev/hidraw" + std::to_string(n) + "\nA: dev=240:" + std::to_string(n) + "\\n\n";
-  umockdev_testbed_attach_ioctl(p_->tb, d->node.c_str(), p_->handler, nullptr);
-  p_->add(*d);
-  d->syspath = "/sys" + usb;  // unplugging removes the whole USB device
-  p_->devs.push_back(std::move(d));
-  return int(p_->devs.size()) - 1;
+  d->hid = h;
+  return p_->plug_new(std::move(d));
 }
 
 int VirtualBench::add_gpio(const Gpio& g) {
   auto d = std::make_unique<Dev>();
   d->kind = Kind::Gpio;
-  const int n = p_->gpio_n++;
   d->gpio = g;
   d->line_fd.assign(g.lines.size(), -1);
   d->line_flags.assign(g.lines.size(), 0);
-  d->node = "/dev/gpiochip" + std::to_string(n);
-  d->syspath = "/sys/devices/platform/gpio" + std::to_string(n) + "/gpiochip" + std::to_string(n);
-  d->record = "P: /devices/platform/gpio" + std::to_string(n) + "/gpiochip" + std::to_string(n) + "\nN: gpiochip" +
-              std::to_string(n) + "\nE: SUBSYSTEM=gpio\nE: DEVNAME=/dev/gpiochip" + std::to_string(n) +
-              "\nA: dev=254:" + std::to_string(n) + "\\n\n";
-  umockdev_testbed_attach_ioctl(p_->tb, d->node.c_str(), p_->handler, nullptr);
-  p_->add(*d);
-  p_->devs.push_back(std::move(d));
-  return int(p_->devs.size()) - 1;
+  return p_->plug_new(std::move(d));
 }
 
 int VirtualBench::add_evdev(const Evdev& e) {
   auto d = std::make_unique<Dev>();
   d->kind = Kind::Evdev;
-  const int n = p_->ev_n++;
   d->ev = e;
-  d->node = "/dev/input/event" + std::to_string(n);
-  const std::string dev = "/devices/evusb" + std::to_string(n) + "/input/input" + std::to_string(n);
-  d->syspath = "/sys/devices/evusb" + std::to_string(n);
-  d->record = "P: " + dev + "\nE: SUBSYSTEM=input\nE: NAME=\"" + e.name + "\"\nA: name=" + e.name + "\\n\n\n" + "P: " + dev +
-              "/event" + std::to_string(n) + "\nN: input/event" + std::to_string(n) + "\nE: SUBSYSTEM=input\nE: DEVNAME=/dev/input/event" +
-              std::to_string(n) + "\nA: dev=13:" + std::to_string(64 + n) + "\\n\n";
-  umockdev_testbed_attach_ioctl(p_->tb, d->node.c_str(), p_->handler, nullptr);
-  p_->add(*d);
-  p_->devs.push_back(std::move(d));
-  return int(p_->devs.size()) - 1;
+  return p_->plug_new(std::move(d));
 }
 
 void VirtualBench::usb_in(int dev, std::span<const uint8_t> packets) {
@@ -595,6 +617,7 @@ void VirtualBench::replug(int dev) {
   Dev& d = *p_->devs[size_t(dev)];
   std::lock_guard lock(d.m);
   if (d.plugged) return;
+  p_->describe(d);
   p_->add(d);
 }
 

@@ -67,9 +67,26 @@ gpiod_line* find_line(gpiod_chip* chip, const std::string& name) {
   return nullptr;
 }
 
+// By name, path or number (libgpiod), else by label: the chips listed in sysfs are opened
+// and asked (libgpiod's own label search scans /dev, which not every setup lists).
+gpiod_chip* open_chip(const std::string& want) {
+  if (gpiod_chip* c = gpiod_chip_open_lookup(want.c_str())) return c;
+  const int e = errno;
+  for (const char* dir : {"/sys/bus/gpio/devices", "/sys/class/gpio"})
+    for (const std::string& n : devutil::list_dir(dir)) {
+      if (n.rfind("gpiochip", 0) != 0) continue;
+      if (gpiod_chip* c = gpiod_chip_open(("/dev/" + n).c_str())) {
+        if (want == gpiod_chip_label(c)) return c;
+        gpiod_chip_close(c);
+      }
+    }
+  errno = e;
+  return nullptr;
+}
+
 DeviceState GpioBackend::open() {
   errno = 0;
-  chip_ = gpiod_chip_open_lookup(spec_.chip.c_str());
+  chip_ = open_chip(spec_.chip);
   if (!chip_) {
     const int e = errno;
     const std::string what = spec_.chip.find('/') == std::string::npos ? "/dev/" + spec_.chip : spec_.chip;

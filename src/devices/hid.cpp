@@ -97,13 +97,14 @@ DeviceState HidBackend::open() {
   return DeviceState::Connected;
 }
 
-bool HidBackend::poll(int64_t now_ns, EventSink& out) {
+bool HidBackend::poll(int64_t, EventSink& out) {
   uint8_t buf[WireRecord::kMax];
   for (int k = 0; k < 256; ++k) {  // bounded: a flooding device cannot stall the frame
     const int n = hid_read(dev_, buf, sizeof buf);
     if (n == 0) return true;
     if (n < 0) return false;
-    decode(*dec_, WireRecord::make(now_ns, WireKind::HidReport, {buf, size_t(n)}, source_), out);
+    // hidraw has no timestamps: a report is stamped when read.
+    decode(*dec_, WireRecord::make(monotonic_ns() - epoch_ns_, WireKind::HidReport, {buf, size_t(n)}, source_), out);
   }
   return true;
 }

@@ -47,7 +47,6 @@ class UsbMidiBackend final : public Backend {
   bool out_busy_ = false;
   int in_flight_ = 0;
   bool failed_ = false;
-  int64_t now_ = 0;
   pollfd fds_[16];
   nfds_t nfds_ = 0;
   WireRecord ring_[kRing];
@@ -178,7 +177,7 @@ void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {
     for (int off = 0; off < t->actual_length; off += int(WireRecord::kMax)) {
       const size_t len = size_t(std::min<int>(t->actual_length - off, int(WireRecord::kMax)));
       if (self->ring_n_ < kRing)
-        self->ring_[self->ring_n_++] = WireRecord::make(self->now_, WireKind::UsbMidi, {t->buffer + off, len}, self->source_);
+        self->ring_[self->ring_n_++] = WireRecord::make(monotonic_ns() - self->epoch_ns_, WireKind::UsbMidi, {t->buffer + off, len}, self->source_);
       else
         self->count_malformed();
     }
@@ -216,8 +215,7 @@ bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
   return true;
 }
 
-bool UsbMidiBackend::poll(int64_t now_ns, EventSink& out) {
-  now_ = now_ns;
+bool UsbMidiBackend::poll(int64_t, EventSink& out) {
   for (nfds_t i = 0; i < nfds_; ++i) fds_[i].revents = 0;
   if (nfds_ == 0 || ::poll(fds_, nfds_, 0) > 0) {
     timeval zero{0, 0};
