@@ -7,7 +7,8 @@
 
 namespace mar {
 
-/// operator new calls in this process so far (one relaxed atomic: lock-free).
+/// operator new calls made by the calling thread so far (a thread-local counter: the frame
+/// thread's count is the frame's, whatever device threads do).
 uint64_t heap_allocation_count();
 
 }  // namespace mar

@@ -66,9 +66,16 @@ struct RunArgs {
   double rate = 0;
   std::string stats, record, dump_frames, learn, replay;
   int every = 1;
+  bool simulate = false;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);
+
+struct DevicesArgs {
+  bool json = false;
+};
+/// `devices`: what every backend finds here, its status and any problem.
+int cmd_devices(const DevicesArgs& a);
 
 /// The inspect report of a character, as JSON or as the text table (shared by inspect
 /// with and without a rig).

@@ -43,6 +43,10 @@ void put(const void* p, size_t n, std::FILE* f) { fwrite_unlocked(p, 1, n, f); }
 void set_allocation_counter(AllocationCounter f) { g_counter = f; }
 
 LiveShow::~LiveShow() {
+  bench_stop_ = true;
+  if (bench_thread_.joinable()) bench_thread_.join();
+  if (bench_) bench_->stop_playing();
+  devices_.reset();
   if (record_) std::fclose(record_);
   if (replay_) std::fclose(replay_);
 }
@@ -90,6 +94,11 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
 
   for (size_t i = 0; i < sh.devices.size(); ++i) {
     ShowDevice& d = sh.devices[i];
+    const uint16_t src = uint16_t(i);
+    const bool hardware = d.type != "sim";
+    s->sim_index_.push_back(-1);
+    if (hardware) s->decoders_.push_back(WireDecoder::events(src));  // backends decode themselves
+    if (d.sim.empty() || (hardware && !o.simulate)) continue;
     if (d.descriptor_in_corpus && !std::filesystem::exists(d.descriptor)) {
       // The shared corpus is test material that may not be on this machine: the show still
       // runs, with the simulator's built-in descriptor.
@@ -102,7 +111,11 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     if (!dev.ok()) return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "': " + dev.error);
     if (auto ok = (*dev.value)->load_script(d.script); !ok.ok())
       return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "' script " + ok.error);
-    const uint16_t src = uint16_t(i);
+    if (hardware) {  // --simulate: presented at the kernel interface, read by the real backend
+      s->bench_sims_.resize(sh.devices.size());
+      s->bench_sims_[i] = std::move(*dev.value);
+      continue;
+    }
     if (d.sim == "nanokontrol2") {
       s->decoders_.push_back(WireDecoder::midi(WireKind::UsbMidi, src));
     } else if (d.sim == "knob_box") {
@@ -116,7 +129,11 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     } else {
       s->decoders_.push_back(WireDecoder::hid(static_cast<HidDeviceSim&>(**dev.value).descriptor(), src));
     }
+    s->sim_index_[i] = int(s->sims_.size());
     s->sims_.push_back(std::move(*dev.value));
+  }
+  if (o.replay_path.empty()) {
+    if (std::string err = s->open_hardware(); !err.empty()) return R::failure(err);
   }
   s->events_.resize(4096);
   s->handle_params_ = p.bindings;
@@ -218,12 +235,20 @@ void LiveShow::drain(int64_t t_ns) {
   if (replay_) {
     for (const WireRecord& r : replay_pending_) on_record(r);
   } else {
-    for (size_t i = 0; i < sims_.size(); ++i)
-      sims_[i]->drain(t_ns, [&](const WireRecord& rec) {
-        WireRecord r = rec;
-        r.source = uint16_t(i);
-        on_record(r);
-      });
+    for (size_t i = 0; i < sim_index_.size(); ++i)
+      if (sim_index_[i] >= 0)
+        sims_[size_t(sim_index_[i])]->drain(t_ns, [&](const WireRecord& rec) {
+          WireRecord r = rec;
+          r.source = uint16_t(i);
+          on_record(r);
+        });
+    if (devices_) {
+      EventSink sink{hw_events_.data(), hw_events_.size()};
+      devices_->poll(t_ns, sink);
+      dropped_events_ += sink.dropped;
+      for (size_t k = 0; k < sink.n; ++k) on_record(WireRecord::of(hw_events_[k]));
+      feedback();
+    }
   }
   for (auto& d : decoders_)
     d->settle(t_ns, [&](const Event& e) {
@@ -358,8 +383,15 @@ void LiveShow::draw_hud() {
   SDL_SetRenderDrawColor(r, share < 0.5 ? 60 : 230, share < 0.8 ? 180 : 60, 60, 220);
   SDL_Rect bar{10, 10, int(w * share), 14};
   SDL_RenderFillRect(r, &bar);
-  for (size_t i = 0; i < sims_.size(); ++i) {  // device status: green = present
-    SDL_SetRenderDrawColor(r, 60, 180, 60, 230);
+  for (size_t i = 0; i < show_.devices.size(); ++i) {
+    // Device status: green connected (or simulated), amber waiting, red unplugged or
+    // denied, grey unavailable.
+    const DeviceState st = hw_index_.size() > i && hw_index_[i] >= 0 ? devices_->state(size_t(hw_index_[i])) : DeviceState::Connected;
+    const uint8_t* c = st == DeviceState::Connected ? (const uint8_t*)"\x3c\xb4\x3c"
+                       : st == DeviceState::Waiting ? (const uint8_t*)"\xe6\xaa\x28"
+                       : st == DeviceState::Unavailable ? (const uint8_t*)"\x8c\x8c\x8c"
+                                                         : (const uint8_t*)"\xdc\x32\x32";
+    SDL_SetRenderDrawColor(r, c[0], c[1], c[2], 230);
     SDL_Rect box{10 + int(i) * 18, 30, 14, 14};
     SDL_RenderFillRect(r, &box);
   }
@@ -368,22 +400,33 @@ void LiveShow::draw_hud() {
 int LiveShow::run() {
   const bool learn = !opt_.learn.empty();
   int64_t end_ns = 0;
+  bool scripted = !sims_.empty();
   for (const auto& s : sims_) end_ns = std::max(end_ns, s->end_ns());
+  for (const auto& s : bench_sims_)
+    if (s) {
+      end_ns = std::max(end_ns, s->end_ns());
+      scripted = true;
+    }
   long limit = opt_.frames;
-  if (limit < 0 && opt_.headless && !replay_) limit = long(std::ceil(double(end_ns) * 1e-9 / period_s_)) + 1;
+  // Headless: until the scripts end (+ half a second for the last events to arrive from
+  // the bench); a headless show of real hardware alone runs until interrupted.
+  if (limit < 0 && opt_.headless && !replay_ && scripted)
+    limit = long(std::ceil((double(end_ns) * 1e-9 + (devices_ ? 0.5 : 0)) / period_s_)) + 1;
   if (!opt_.quiet)
     std::cout << (replay_ ? "replaying " : "running ") << show_.path << (opt_.headless ? " headless" : " in a window")
               << " at " << std::lround(1.0 / period_s_) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
               << std::endl;
   const auto start = std::chrono::steady_clock::now();
-  while (!quit_ && (limit < 0 || frames_ < limit)) {
+  if (!devices_) epoch_ns_ = monotonic_ns();  // with hardware: set when the devices opened
+  install_quit_handler();
+  while (!quit_ && !quit_requested() && (limit < 0 || frames_ < limit)) {
     int64_t t = int64_t(std::llround(double(frames_) * period_s_ * 1e9));
     if (replay_) {
       int it = iterations_;
       if (!replay_next(t, it)) break;
       iterations_ = it;
-    } else if (!opt_.headless) {
-      t = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - start).count();
+    } else if (realtime()) {
+      t = monotonic_ns() - epoch_ns_;  // the clock device timestamps are on
     }
     if (canvas_->is_window()) {
       SDL_Event ev;
@@ -430,7 +473,7 @@ int LiveShow::run() {
       }
       if (learned_) break;
     }
-    if (!opt_.headless && !replay_) {
+    if (realtime() && !replay_) {
       const auto next = start + std::chrono::nanoseconds(int64_t(double(frames_) * period_s_ * 1e9));
       std::this_thread::sleep_until(next);  // frame pacing, outside the frame
     }

@@ -6,12 +6,16 @@
 #include "app/puppet.h"
 #include "app/show.h"
 #include "app/stats.h"
+#include "devices/device.h"
+#include "firmware_sim/vbench.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
 
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <thread>
+#include <atomic>
 
 namespace mar {
 
@@ -20,10 +24,15 @@ struct RunOptions {
   long frames = -1;          ///< -1: until the scripts end (headless) or the window closes
   double rate = 0;           ///< Hz; 0 = the show's rate
   std::string stats_path, record_path, dump_dir, learn, replay_path;
+  bool simulate = false;     ///< present hardware devices' simulators at the kernel interface (umockdev)
   int every = 1;
   bool quiet = false;
   int warmup = 30;           ///< frames before allocations are counted
 };
+
+/// SIGINT/SIGTERM end the show cleanly (stats are still written).
+void install_quit_handler();
+bool quit_requested();
 
 /// Counts heap allocations in the program (set by main; tests install their own).
 using AllocationCounter = uint64_t (*)();
@@ -49,6 +58,14 @@ class LiveShow {
   /// Heap allocations counted after warm-up (needs an allocation counter).
   uint64_t allocations_after_warmup() const { return allocs_; }
   bool learned() const { return learned_; }
+  /// Hardware devices (nullptr when the show has none); index = show device index.
+  DeviceSet* devices() { return devices_.get(); }
+  /// Show device index -> DeviceSet index (-1: simulated in-process).
+  int hardware_index(size_t device) const { return device < hw_index_.size() ? hw_index_[device] : -1; }
+  /// The virtual bench of --simulate (nullptr otherwise).
+  VirtualBench* bench() { return bench_.get(); }
+  /// Whether frames follow the wall clock (a window, or hardware devices).
+  bool realtime() const { return !opt_.headless || devices_ != nullptr; }
 
  private:
   LiveShow() = default;
@@ -58,12 +75,23 @@ class LiveShow {
   void regrab(bool down);
   void draw_hud();
   bool replay_next(int64_t& t_ns, int& iterations);
+  std::string open_hardware();
+  void feedback();
 
   RunOptions opt_;
   ShowConfig show_;
   std::unique_ptr<Puppet> puppet_;
   Mapping mapping_;
-  std::vector<std::unique_ptr<SimDevice>> sims_;
+  std::vector<std::unique_ptr<SimDevice>> sims_;   ///< in-process sims (index = show device)
+  std::vector<int> sim_index_;                     ///< show device -> sims_ index (-1: hardware)
+  std::unique_ptr<VirtualBench> bench_;            ///< --simulate: hardware sims at the kernel interface
+  std::vector<std::unique_ptr<SimDevice>> bench_sims_;
+  std::unique_ptr<DeviceSet> devices_;
+  std::vector<int> hw_index_;
+  std::vector<Event> hw_events_;
+  int64_t epoch_ns_ = 0;                           ///< CLOCK_MONOTONIC at show time 0
+  std::thread bench_thread_;
+  std::atomic<bool> bench_stop_{false};
   std::vector<std::unique_ptr<WireDecoder>> decoders_;
   std::vector<Event> events_;   ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;

@@ -2,6 +2,7 @@
 #include "app/alloc_count.h"
 #include "app/commands.h"
 #include "app/live.h"
+#include "firmware_sim/vbench.h"
 
 #include <CLI/CLI.hpp>
 
@@ -63,6 +64,12 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--dump-frames", run.dump_frames, "Write frames as PNG into this folder");
   run_cmd->add_option("--every", run.every, "With --dump-frames: every Kth frame");
   run_cmd->add_option("--learn", run.learn, "Bind the next control that moves to TARGET and write it into the show");
+  run_cmd->add_flag("--simulate", run.simulate,
+                    "Present the hardware devices' simulators at the kernel interface (umockdev): no hardware needed");
+
+  mar::DevicesArgs devs;
+  CLI::App* devices_cmd = app.add_subcommand("devices", "List the input devices every backend finds, their status and problems");
+  devices_cmd->add_flag("--json", devs.json, "Machine-readable output");
 
   mar::RunArgs replay;
   CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");
@@ -87,7 +94,11 @@ int main(int argc, char** argv) {
   if (i->parsed()) return mar::cmd_inspect(inspect);
   if (p->parsed()) return mar::cmd_pose(pose);
   if (v->parsed()) return mar::cmd_view(view);
-  if (run_cmd->parsed()) return mar::cmd_run(run);
+  if (run_cmd->parsed()) {
+    if (run.simulate) mar::VirtualBench::ensure_preload(argv);  // re-executes under umockdev's preload
+    return mar::cmd_run(run);
+  }
+  if (devices_cmd->parsed()) return mar::cmd_devices(devs);
   if (replay_cmd->parsed()) return mar::cmd_run(replay);
   return mar::kExitBadInput;
 }

@@ -16,8 +16,21 @@ std::string LiveShow::stats_json() const {
   json devices = json::array();
   for (size_t i = 0; i < decoders_.size(); ++i) {
     const WireStats& w = decoders_[i]->stats();
-    devices.push_back({{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim},
-                       {"status", "present"}, {"records", w.records}, {"events", w.events}, {"malformed", w.malformed}});
+    json d = {{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim},
+              {"status", "present"}, {"records", w.records}, {"events", w.events}, {"malformed", w.malformed}};
+    if (const int h = hardware_index(i); h >= 0) {
+      const DeviceSet& set = *devices_;
+      const DeviceSet::Status st = set.status(size_t(h));
+      d["status"] = device_state_name(st.state);
+      d["identity"] = set.backend(size_t(h)).identity();
+      d["node"] = set.backend(size_t(h)).node();
+      d["problem"] = set.problem(size_t(h));
+      d["unplugs"] = st.unplugs;
+      d["reconnects"] = st.reconnects;
+      d["max_outage_ms"] = st.max_outage_ms;
+      d["malformed"] = st.malformed + w.malformed;
+    }
+    devices.push_back(d);
   }
   json j = {
       {"show", show_.path},
@@ -66,6 +79,7 @@ int cmd_run(const RunArgs& a) {
   o.every = a.every;
   o.learn = a.learn;
   o.replay_path = a.replay;
+  o.simulate = a.simulate;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

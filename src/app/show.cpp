@@ -1,4 +1,5 @@
 #include "app/show.h"
+#include "app/show_toml.h"
 
 #include <toml++/toml.h>
 
@@ -10,50 +11,7 @@
 namespace mar {
 namespace {
 
-namespace fs = std::filesystem;
-
-struct ShowError {
-  std::string message;
-};
-
-std::string at(const std::string& path, const toml::node& n) {
-  return path + ":" + std::to_string(n.source().begin.line);
-}
-
-double number(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be a finite number"};
-}
-
-std::string text(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<std::string>()) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be a string"};
-}
-
-bool boolean(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<bool>()) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be true or false"};
-}
-
-void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
-                const char* where) {
-  for (const auto& [k, v] : t) {
-    bool ok = false;
-    for (std::string_view n : known) ok = ok || k.str() == n;
-    if (!ok) throw ShowError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
-  }
-}
-
-std::string resolve(const std::string& show_path, const std::string& p) {
-  if (p.empty() || fs::path(p).is_absolute()) return p;
-  // "corpus:" paths name files in the shared test corpus (MARIONETTE_CORPUS_DIR or the
-  // build's default), so shows can use real devices' descriptors without copying them.
-  if (p.rfind("corpus:", 0) == 0) {
-    const char* env = std::getenv("MARIONETTE_CORPUS_DIR");
-    return (fs::path(env && *env ? env : MARIONETTE_DEFAULT_CORPUS_DIR) / p.substr(7)).string();
-  }
-  return (fs::path(show_path).parent_path() / p).lexically_normal().string();
-}
+using namespace showtoml;
 
 toml::table parse_file(const std::string& path) {
   std::ifstream in(path);
@@ -268,8 +226,7 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
     if (const toml::array* devs = array_of_tables(path, root, "device")) {
       for (const toml::node& dn : *devs) {
         const toml::table& t = *dn.as_table();
-        check_keys(path, t, {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed"},
-                   "[[device]]");
+        check_device_keys(path, t);
         ShowDevice d;
         d.line = int(dn.source().begin.line);
         const toml::node* name = t.get("name");
@@ -278,13 +235,14 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
         for (const auto& other : s.devices)
           if (other.name == d.name) throw ShowError{at(path, *name) + ": device '" + d.name + "' is named twice"};
         if (auto* n = t.get("type")) d.type = text(path, *n, "type");
-        if (d.type != "sim")
-          throw ShowError{at(path, dn) + ": device type '" + d.type + "' is not available in this build (sim)"};
-        const toml::node* sim = t.get("sim");
-        if (!sim) throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad"};
-        d.sim = text(path, *sim, "sim");
-        if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad")
-          throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
+        read_hardware(path, t, d);  // type, identity, profile (show_devices.cpp)
+        if (const toml::node* sim = t.get("sim")) {
+          d.sim = text(path, *sim, "sim");
+          if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad")
+            throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
+        } else if (d.type == "sim") {
+          throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad"};
+        }
         if (auto* n = t.get("descriptor")) {
           const std::string desc = text(path, *n, "descriptor");
           d.descriptor = resolve(path, desc);
@@ -371,7 +329,7 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
           if (s.devices[i].name == dname) di = int(i);
         if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
         b.control.device = uint16_t(di);
-        if (auto r = parse_control(text(path, *ctl, "control"), b.control); !r.ok())
+        if (auto r = parse_control(device_control(s.devices[size_t(di)], text(path, *ctl, "control")), b.control); !r.ok())
           throw ShowError{at(path, *ctl) + ": " + r.error};
         if (auto r = parse_target(text(path, *tgt, "target"), s, b.target, b.index); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};

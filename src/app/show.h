@@ -2,6 +2,8 @@
 // bind to targets, display and frame rate. See README "Show files" for every key.
 #pragma once
 
+#include "devices/device.h"
+#include "devices/discover.h"
 #include "input/mapping.h"
 #include "input/wire_decoder.h"
 
@@ -12,8 +14,11 @@ namespace mar {
 
 struct ShowDevice {
   std::string name;
-  std::string type = "sim";     ///< "sim" (in-process firmware_sim device)
-  std::string sim;              ///< nanokontrol2 | knob_box | pen_tablet | gamepad
+  std::string type = "sim";     ///< "sim" (in-process firmware_sim device) or a hardware backend
+  std::string sim;              ///< nanokontrol2 | knob_box | pen_tablet | gamepad (hardware: what --simulate presents)
+  DeviceSpec hw;                ///< hardware devices: what to look for (type, IDs, lines, port...)
+  /// Control names of the device's profile (config/devices/NAME.toml): name -> control text.
+  std::vector<std::pair<std::string, std::string>> controls;
   std::string descriptor;       ///< HID report descriptor file (resolved), empty = built-in
   bool descriptor_in_corpus = false;  ///< named with "corpus:" (optional: the corpus may be absent)
   std::string script;           ///< timeline script text
@@ -52,6 +57,15 @@ Result<bool> parse_control(const std::string& text, ControlSpec& out);
 /// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME", "grab",
 /// "solver.iterations", "solver.rigidity|coupling|position").
 Result<bool> parse_target(const std::string& text, const ShowConfig& show, TargetKind& kind, int& index);
+
+/// A binding's control text with the device profile's names replaced ("left-x" -> "usage x");
+/// OSC controls ("osc /fader/1") are numbered per device here.
+std::string device_control(ShowDevice& d, const std::string& control);
+/// Finds config/devices/NAME.toml (next to the show's config folder, then the source tree).
+std::string find_profile(const std::string& show_path, const std::string& name);
+
+/// VID/PIDs of every profile in config/devices/ (for `marionette devices`).
+std::vector<ProfileId> load_profile_ids();
 
 /// Appends a learned binding to the show file (text appended; the rest is untouched).
 std::string append_binding(const std::string& path, const std::string& device, const std::string& control,

@@ -12,6 +12,11 @@
 
 namespace mar {
 
+namespace {
+// ALSA prints its own errors to stderr; ours are in the device status.
+void quiet_alsa(const char*, int, const char*, int, const char*, ...) {}
+}  // namespace
+
 size_t alsa_event_bytes(snd_midi_event_t* codec, const snd_seq_event_t& ev, uint8_t* out, size_t cap) {
   const long n = snd_midi_event_decode(codec, out, long(cap), const_cast<snd_seq_event_t*>(&ev));
   return n > 0 ? size_t(n) : 0;
@@ -40,7 +45,7 @@ class AlsaSeqBackend final : public Backend {
 };
 
 DeviceState AlsaSeqBackend::open() {
-  const int rc = snd_seq_open(&seq_, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK);
+  const int rc = (snd_lib_error_set_handler(&quiet_alsa), snd_seq_open(&seq_, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK));
   if (rc < 0) {
     seq_ = nullptr;
     if (rc == -EACCES || rc == -EPERM) {

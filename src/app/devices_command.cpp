@@ -1,0 +1,47 @@
+// `marionette devices [--json]`: every backend, what it finds, status and problems.
+#include "app/commands.h"
+#include "app/show.h"
+
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+namespace mar {
+
+int cmd_devices(const DevicesArgs& a) {
+  const auto reports = discover_devices(load_profile_ids());
+  size_t total = 0;
+  for (const auto& r : reports) total += r.found.size();
+  if (a.json) {
+    nlohmann::ordered_json j = nlohmann::ordered_json::array();
+    for (const auto& r : reports) {
+      nlohmann::ordered_json found = nlohmann::ordered_json::array();
+      for (const auto& f : r.found)
+        found.push_back({{"identity", f.identity}, {"node", f.node}, {"profile", f.profile}, {"status", f.status},
+                         {"problem", f.problem}});
+      j.push_back({{"backend", r.backend}, {"status", r.status}, {"found", found}});
+    }
+    std::cout << nlohmann::ordered_json{{"devices_found", total}, {"backends", j}}.dump(2) << "\n";
+    return 0;
+  }
+  if (total == 0)
+    std::cout << "No input devices found: no USB-MIDI controller, HID device, GPIO chip, pen tablet, ALSA MIDI "
+                 "port or game controller is connected (or visible to this user).\n"
+                 "Shows still run with simulated devices: marionette run SHOW.toml --simulate\n\n";
+  for (const auto& r : reports) {
+    std::cout << r.backend << ": ";
+    if (r.status != "ok") std::cout << r.status;
+    else if (r.found.empty()) std::cout << "nothing found";
+    else std::cout << r.found.size() << " found";
+    std::cout << "\n";
+    for (const auto& f : r.found) {
+      std::cout << "  " << f.identity << "  " << f.node << "  [" << f.status << "]";
+      if (!f.profile.empty()) std::cout << "  profile " << f.profile;
+      if (!f.problem.empty()) std::cout << "  -- " << f.problem;
+      std::cout << "\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace mar

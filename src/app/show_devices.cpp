@@ -1,0 +1,172 @@
+// [[device]] tables for hardware (usb_midi, hid, gpio, tablet, alsa, osc, sdl) and the
+// device profiles in config/devices/.
+#include "app/show.h"
+#include "app/show_toml.h"
+
+namespace mar {
+
+using namespace showtoml;
+
+namespace {
+
+constexpr const char* kTypes[] = {"sim", "usb_midi", "hid", "gpio", "tablet", "alsa", "osc", "sdl"};
+
+int integer(const std::string& path, const toml::node& n, const char* what, int lo, int hi) {
+  if (auto v = n.value<int64_t>(); v && *v >= lo && *v <= hi) return int(*v);
+  throw ShowError{at(path, n) + ": " + what + " must be an integer " + std::to_string(lo) + ".." + std::to_string(hi)};
+}
+
+std::vector<std::string> strings(const std::string& path, const toml::node& n, const char* what) {
+  std::vector<std::string> out;
+  const toml::array* a = n.as_array();
+  if (!a) throw ShowError{at(path, n) + ": " + what + " must be a list of strings"};
+  for (const toml::node& e : *a) out.push_back(text(path, e, what));
+  return out;
+}
+
+// vid/pid/usage: an integer, or pid a list of them.
+void ids(const std::string& path, const toml::table& t, DeviceSpec& hw) {
+  if (auto* n = t.get("vid")) hw.vid = integer(path, *n, "vid", 0, 0xFFFF);
+  if (auto* n = t.get("pid")) {
+    if (n->is_array()) {
+      hw.pids.clear();
+      for (const toml::node& e : *n->as_array()) hw.pids.push_back(integer(path, e, "pid", 0, 0xFFFF));
+      hw.pid = -1;
+    } else {
+      hw.pid = integer(path, *n, "pid", 0, 0xFFFF);
+    }
+  }
+  if (auto* n = t.get("usage_page")) hw.usage_page = integer(path, *n, "usage_page", 0, 0xFFFF);
+  if (auto* n = t.get("usage")) hw.usage = integer(path, *n, "usage", 0, 0xFFFF);
+  if (auto* n = t.get("product")) hw.product = text(path, *n, "product");
+  if (auto* n = t.get("serial")) hw.serial = text(path, *n, "serial");
+}
+
+void read_profile(const std::string& show_path, const toml::node& where, const std::string& name, ShowDevice& d) {
+  const std::string file = find_profile(show_path, name);
+  if (file.empty()) throw ShowError{at(show_path, where) + ": no device profile '" + name + "' in config/devices/"};
+  toml::table root;
+  try {
+    root = toml::parse_file(file);
+  } catch (const toml::parse_error& e) {
+    throw ShowError{file + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
+  }
+  check_keys(file, root, {"device", "controls"}, "a device profile");
+  if (const toml::table* t = root["device"].as_table()) {
+    check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor"}, "[device]");
+    if (auto* n = t->get("type")) d.hw.type = text(file, *n, "type");
+    ids(file, *t, d.hw);
+    if (auto* n = t->get("sim")) d.sim = text(file, *n, "sim");
+    if (auto* n = t->get("descriptor")) {
+      const std::string desc = text(file, *n, "descriptor");
+      d.descriptor = resolve(file, desc);
+      d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
+    }
+  }
+  if (const toml::table* c = root["controls"].as_table())
+    for (const auto& [k, v] : *c) d.controls.emplace_back(std::string(k.str()), text(file, v, "a control"));
+  d.hw.profile = name;
+}
+
+}  // namespace
+
+std::string find_profile(const std::string& show_path, const std::string& name) {
+  for (const fs::path& dir : {fs::path(show_path).parent_path() / ".." / "devices", fs::path(MARIONETTE_SOURCE_CONFIG) / "devices"})
+    if (fs::exists(dir / (name + ".toml"))) return (dir / (name + ".toml")).lexically_normal().string();
+  return {};
+}
+
+void check_device_keys(const std::string& path, const toml::table& t) {
+  check_keys(path, t,
+             {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed", "profile",
+              "vid", "pid", "serial", "product", "usage_page", "usage", "chip", "encoders", "buttons",
+              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver"},
+             "[[device]]");
+}
+
+void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d) {
+  bool known = false;
+  for (const char* k : kTypes) known = known || d.type == k;
+  if (!known) {
+    std::string list;
+    for (const char* k : kTypes) list += std::string(list.empty() ? "" : ", ") + k;
+    throw ShowError{at(path, *t.get("type")) + ": unknown device type '" + d.type + "' (" + list + ")"};
+  }
+  DeviceSpec& hw = d.hw;
+  hw.name = d.name;
+  hw.type = d.type;
+  if (auto* n = t.get("profile")) {
+    read_profile(path, *n, text(path, *n, "profile"), d);
+    if (!t.get("type")) d.type = hw.type;
+  }
+  if (d.type == "sim") return;
+  ids(path, t, hw);
+  if (auto* n = t.get("chip")) hw.chip = text(path, *n, "chip");
+  const int steps = t.get("steps_per_detent") ? integer(path, *t.get("steps_per_detent"), "steps_per_detent", 1, 4) : 4;
+  if (auto* n = t.get("encoders")) {
+    const toml::array* a = n->as_array();
+    if (!a) throw ShowError{at(path, *n) + ": encoders = [[\"A line\", \"B line\"], ...]"};
+    for (const toml::node& e : *a) {
+      const auto ab = strings(path, e, "an encoder's lines");
+      if (ab.size() != 2) throw ShowError{at(path, e) + ": an encoder is [\"A line\", \"B line\"]"};
+      hw.encoders.push_back({ab[0], ab[1], steps});
+    }
+  }
+  if (auto* n = t.get("buttons")) hw.buttons = strings(path, *n, "buttons");
+  if (auto* n = t.get("debounce_ms")) hw.debounce_ms = number(path, *n, "debounce_ms");
+  if (auto* n = t.get("host")) hw.host = text(path, *n, "host");
+  if (auto* n = t.get("port")) hw.port = integer(path, *n, "port", 1, 65535);
+  if (auto* n = t.get("source")) hw.alsa_source = text(path, *n, "source");
+  if (auto* n = t.get("sdl")) hw.sdl = text(path, *n, "sdl");
+  if (auto* n = t.get("feedback")) hw.feedback = boolean(path, *n, "feedback");
+  if (auto* n = t.get("detach_kernel_driver")) hw.detach_kernel_driver = boolean(path, *n, "detach_kernel_driver");
+  if (d.type == "gpio" && (hw.chip.empty() || (hw.encoders.empty() && hw.buttons.empty())))
+    throw ShowError{at(path, t) + ": a gpio device needs chip and encoders and/or buttons (line names)"};
+  if (d.type == "sdl" && hw.sdl != "mouse" && hw.sdl != "touch" && hw.sdl != "gamepad")
+    throw ShowError{at(path, *t.get("sdl")) + ": sdl = mouse, touch or gamepad"};
+}
+
+std::string device_control(ShowDevice& d, const std::string& control) {
+  for (const auto& [name, text] : d.controls)
+    if (control == name) return text;
+  if (control.rfind("osc ", 0) == 0) {
+    const std::string addr = control.substr(4);
+    size_t i = 0;
+    while (i < d.hw.osc_addresses.size() && d.hw.osc_addresses[i] != addr) ++i;
+    if (i == d.hw.osc_addresses.size()) d.hw.osc_addresses.push_back(addr);
+    char t[32];
+    std::snprintf(t, sizeof t, "usage 0x%08zx", size_t(0xFF000000u) | i);
+    return t;
+  }
+  return control;
+}
+
+}  // namespace mar
+
+namespace mar {
+
+std::vector<ProfileId> load_profile_ids() {
+  std::vector<ProfileId> out;
+  const fs::path dir = fs::path(MARIONETTE_SOURCE_CONFIG) / "devices";
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    if (e.path().extension() != ".toml") continue;
+    try {
+      const toml::table t = toml::parse_file(e.path().string());
+      ProfileId p;
+      p.name = e.path().stem().string();
+      p.vid = int(t["device"]["vid"].value_or(int64_t(-1)));
+      if (const toml::array* a = t["device"]["pid"].as_array()) {
+        for (const toml::node& n : *a) p.pids.push_back(int(n.value_or(int64_t(-1))));
+      } else {
+        p.pids.push_back(int(t["device"]["pid"].value_or(int64_t(-1))));
+      }
+      out.push_back(p);
+    } catch (const toml::parse_error&) {
+      // A broken profile is reported when a show uses it; here it just names nothing.
+    }
+  }
+  return out;
+}
+
+}  // namespace mar
