@@ -440,12 +440,13 @@ void VirtualBench::Impl::describe(Dev& d) {
       std::snprintf(id, sizeof id, "0003:%04X:%04X.%04X", h.vid, h.pid, n + 1);
       std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", h.vid, h.pid);
       std::snprintf(hid_id, sizeof hid_id, "0003:%08X:%08X", h.vid, h.pid);
-      const std::string usb = "/devices/hidusb" + std::to_string(n), hid = usb + "/1-1:1.0/" + id, num = std::to_string(n);
+      const std::string num = std::to_string(n), ifc = num + "-1:1.0";  // unique: bus links outlive removal
+      const std::string usb = "/devices/hidusb" + num, hid = usb + "/" + ifc + "/" + id;
       d.node = "/dev/hidraw" + num;
       d.syspath = "/sys" + usb;  // unplugging removes the whole USB device
       d.record = "P: " + usb + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" + vp + "A: manufacturer=marionette bench\\n\n" +
                  "A: product=" + h.name + "\\n\nA: serial=" + h.uniq + "\\n\n\n" + "P: " + usb +
-                 "/1-1:1.0\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_interface\nA: bInterfaceNumber=00\\n\n\n" + "P: " + hid +
+                 "/" + ifc + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_interface\nA: bInterfaceNumber=00\\n\n\n" + "P: " + hid +
                  "\nE: SUBSYSTEM=hid\nE: HID_ID=" + hid_id + "\nE: HID_NAME=" + h.name + "\nE: HID_UNIQ=" + h.uniq +
                  "\nH: report_descriptor=" + hex(h.descriptor) + "\n\n" + "P: " + hid + "/hidraw/hidraw" + num +
                  "\nN: hidraw" + num + "\nE: SUBSYSTEM=hidraw\nE: DEVNAME=/dev/hidraw" + num + "\nA: dev=240:" + num + "\\n\n";

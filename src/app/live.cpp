@@ -419,7 +419,7 @@ int LiveShow::run() {
   const auto start = std::chrono::steady_clock::now();
   if (!devices_) epoch_ns_ = monotonic_ns();  // with hardware: set when the devices opened
   install_quit_handler();
-  while (!quit_ && !quit_requested() && (limit < 0 || frames_ < limit)) {
+  while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || frames_ < limit)) {
     int64_t t = int64_t(std::llround(double(frames_) * period_s_ * 1e9));
     if (replay_) {
       int it = iterations_;

@@ -64,6 +64,8 @@ class LiveShow {
   int hardware_index(size_t device) const { return device < hw_index_.size() ? hw_index_[device] : -1; }
   /// The virtual bench of --simulate (nullptr otherwise).
   VirtualBench* bench() { return bench_.get(); }
+  /// Ends run() after the current frame (any thread).
+  void stop() { stop_ = true; }
   /// Whether frames follow the wall clock (a window, or hardware devices).
   bool realtime() const { return !opt_.headless || devices_ != nullptr; }
 
@@ -91,6 +93,7 @@ class LiveShow {
   std::vector<Event> hw_events_;
   int64_t epoch_ns_ = 0;                           ///< CLOCK_MONOTONIC at show time 0
   std::thread bench_thread_;
+  std::atomic<bool> stop_{false};
   std::atomic<bool> bench_stop_{false};
   std::vector<std::unique_ptr<WireDecoder>> decoders_;
   std::vector<Event> events_;   ///< this frame's events (capacity fixed)
