@@ -79,8 +79,8 @@ BackendReport hid(const std::vector<ProfileId>& profiles) {
   for (const hid_device_info* d = list; d; d = d->next) {
     FoundDevice f;
     f.backend = "hid";
-    char usage[32];
-    std::snprintf(usage, sizeof usage, " usage %04x:%04x", d->usage_page, d->usage);
+    char usage[32] = "";
+    if (d->usage_page) std::snprintf(usage, sizeof usage, " usage %04x:%04x", d->usage_page, d->usage);
     f.identity = devutil::vid_pid(d->vendor_id, d->product_id) + " '" + devutil::narrow(d->product_string) + "'" +
                  (d->serial_number && *d->serial_number ? " serial " + devutil::narrow(d->serial_number) : "") + usage;
     f.node = d->path;

@@ -1,0 +1,73 @@
+// `marionette devices` and `marionette run --simulate`, as a user runs them. The child
+// process inherits umockdev's preload and this test's testbed, so it sees exactly the
+// devices the bench presents (and none of the machine's).
+#include "firmware_sim/hid_device.h"
+#include "firmware_sim/vbench.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace mar {
+namespace {
+
+TEST(DevicesCommand, NothingConnectedIsSaidPlainly) {
+  VirtualBench bench;  // empty
+  const auto r = test::run_cli("devices");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("No input devices found"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("hid: nothing found"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("alsa: no ALSA sequencer"), std::string::npos) << r.out;
+  EXPECT_EQ(r.err.find("ALSA lib"), std::string::npos) << r.err;  // no library noise
+  const auto j = nlohmann::json::parse(test::run_cli("devices --json").out);
+  EXPECT_EQ(j["devices_found"], 0);
+  EXPECT_EQ(j["backends"].size(), 7u);
+}
+
+TEST(DevicesCommand, ListsWhatEachBackendFindsWithProfileAndPermission) {
+  VirtualBench bench;
+  auto sim = make_sim_device("gamepad", "", 0, 1);
+  ASSERT_TRUE(sim.ok());
+  bench.add_hid({0x054c, 0x09cc, "Wireless Controller", "", static_cast<HidDeviceSim&>(**sim.value).descriptor_bytes()});
+  bench.add_usb_midi({});
+  bench.add_gpio({"pinctrl-bcm2711", {"GPIO17", "GPIO27"}});
+  VirtualBench::Evdev pen;
+  bench.add_evdev(pen);
+  const auto j = nlohmann::json::parse(test::run_cli("devices --json").out);
+  // SDL's own HID drivers recognise the pad too: it is listed by both backends.
+  EXPECT_EQ(j["devices_found"], 5) << j.dump(1);
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& b : j["backends"]) by[b["backend"]] = b;
+  ASSERT_EQ(by["hid"]["found"].size(), 1u);
+  EXPECT_EQ(by["hid"]["found"][0]["profile"], "ps4");
+  EXPECT_EQ(by["hid"]["found"][0]["node"], "/dev/hidraw0");
+  EXPECT_EQ(by["hid"]["found"][0]["status"], "available");
+  EXPECT_NE(std::string(by["usb_midi"]["found"][0]["identity"]).find("0944:0117"), std::string::npos);
+  EXPECT_NE(std::string(by["gpio"]["found"][0]["identity"]).find("'pinctrl-bcm2711' 2 lines"), std::string::npos);
+  EXPECT_NE(std::string(by["tablet"]["found"][0]["identity"]).find("Virtual Pen Tablet"), std::string::npos);
+  EXPECT_NE(std::string(by["sdl"]["found"][0]["identity"]).find("054c:09cc game controller"), std::string::npos);
+
+}
+
+TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
+  const auto dir = test::temp_dir("simulate");
+  const auto stats = dir / "stats.json";
+  const auto r = test::run_cli("run '" + (test::source_dir() / "config/shows/hardware.toml").string() +
+                               "' --headless --simulate --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(stats);
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_EQ(j["devices"].size(), 4u);
+  for (const auto& d : j["devices"]) {
+    EXPECT_EQ(d["status"], "connected") << d.dump();
+    EXPECT_GT(d["events"], 0) << d.dump();
+    EXPECT_EQ(d["malformed"], 0) << d.dump();
+  }
+  EXPECT_EQ(j["devices"][0]["node"], "/dev/bus/usb/001/002");
+  EXPECT_EQ(j["devices"][2]["events"], 40);  // two encoders, 20 detents each
+  EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
+  EXPECT_GE(j["refactorizations"]["count"], 2);  // the pen grabbed and let go
+}
+
+}  // namespace
+}  // namespace mar
