@@ -72,7 +72,7 @@ struct Dev {
   std::string node;       // /dev/...
   bool plugged = false;
   int master = -1;        // pty master (hidraw, evdev)
-  int slave_probe = -1;   // our own slave fd: FIONREAD tells what the program has not read yet
+  std::deque<std::vector<uint8_t>> reports;  // hidraw: one per read
   std::mutex m;
   // USB
   std::deque<UMockdevIoctlData*> in_urbs, done_urbs, discarded;
@@ -120,14 +120,15 @@ struct VirtualBench::Impl {
       tcgetattr(d.master, &t);
       cfmakeraw(&t);  // binary reports: no ^C, ^S/^Q or CR handling on the line
       tcsetattr(d.master, TCSANOW, &t);
-      if (d.slave_probe >= 0) ::close(d.slave_probe);
-      d.slave_probe = ::open(ptsname(d.master), O_RDONLY | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
+      // hidraw reads are served by the handler; one byte on the tty keeps poll() ready.
+      if (d.kind == Kind::Hid && ::write(d.master, "r", 1) != 1) std::perror("vbench: hidraw node");
     }
     umockdev_testbed_uevent(tb, d.syspath.c_str(), "add");
   }
   void describe(Dev& d);
   int plug_new(std::unique_ptr<Dev> d);
   static gboolean on_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self);
+  static gboolean on_read(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self);
   bool usb_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
   bool gpio_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
   bool evdev_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
@@ -169,6 +170,29 @@ gboolean VirtualBench::Impl::on_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* c
       return FALSE;
   }
   return FALSE;
+}
+
+gboolean VirtualBench::Impl::on_read(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self) {
+  auto* impl = static_cast<Impl*>(self);
+  const char* node = umockdev_ioctl_client_get_devnode(c);
+  Dev* d = impl->by_node(node);
+  if (!d || d->kind != Kind::Hid) return FALSE;
+  std::lock_guard lock(d->m);
+  if (!d->plugged || d->node != node) {  // the program still holds a removed device's node
+    complete(c, -1, ENODEV);
+    return TRUE;
+  }
+  if (d->reports.empty()) {
+    complete(c, -1, EAGAIN);
+    return TRUE;
+  }
+  UMockdevIoctlData* arg = umockdev_ioctl_client_get_arg(c);
+  std::vector<uint8_t>& r = d->reports.front();
+  const size_t n = std::min(r.size(), size_t(arg->data_len));
+  umockdev_ioctl_data_update(arg, 0, r.data(), int(n));
+  d->reports.pop_front();
+  complete(c, long(n), 0);
+  return TRUE;
 }
 
 bool VirtualBench::Impl::usb_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg) {
@@ -399,6 +423,7 @@ VirtualBench::VirtualBench() : p_(std::make_unique<Impl>()) {
   p_->tb = umockdev_testbed_new();
   p_->handler = umockdev_ioctl_base_new();
   g_signal_connect(p_->handler, "handle-ioctl", G_CALLBACK(&Impl::on_ioctl), p_.get());
+  g_signal_connect(p_->handler, "handle-read", G_CALLBACK(&Impl::on_read), p_.get());
 }
 
 VirtualBench::~VirtualBench() {
@@ -406,7 +431,6 @@ VirtualBench::~VirtualBench() {
   for (auto& d : p_->devs) {
     for (int fd : d->line_fd)
       if (fd >= 0) ::close(fd);
-    if (d->slave_probe >= 0) ::close(d->slave_probe);
     for (auto* q : {&d->in_urbs, &d->done_urbs, &d->discarded})
       for (auto* u : *q) umockdev_ioctl_data_unref(u);
   }
@@ -519,29 +543,12 @@ void VirtualBench::usb_in(int dev, std::span<const uint8_t> packets) {
   if (d.plugged) d.in_packets.emplace_back(packets.begin(), packets.end());
 }
 
-namespace {
-// Waits (bounded) until the program has read what was written to a pty-backed node.
-void wait_drained(Dev& d) {
-  for (int k = 0; k < 2000 && d.slave_probe >= 0; ++k) {
-    int pending = 0;
-    if (ioctl(d.slave_probe, FIONREAD, &pending) != 0 || pending == 0) return;
-    std::this_thread::sleep_for(std::chrono::microseconds(250));
-  }
-}
-}  // namespace
-
 void VirtualBench::hid_report(int dev, std::span<const uint8_t> report) {
+  // Reads of the node are answered from this queue (handle-read), one report per read as
+  // hidraw does; the node's tty only makes poll() report it readable.
   Dev& d = *p_->devs[size_t(dev)];
-  if (!d.plugged) return;
-  wait_drained(d);
-  if (::write(d.master, report.data(), report.size()) < 0) std::perror("vbench: hid write");
-  // The tty moves written bytes to the reader's queue asynchronously: wait (briefly) until
-  // they are there, so the next wait_drained() sees them unless the program read them.
-  for (int k = 0; k < 40; ++k) {
-    int pending = 0;
-    if (ioctl(d.slave_probe, FIONREAD, &pending) != 0 || pending > 0) break;
-    std::this_thread::sleep_for(std::chrono::microseconds(50));
-  }
+  std::lock_guard lock(d.m);
+  if (d.plugged) d.reports.emplace_back(report.begin(), report.end());
 }
 
 void VirtualBench::gpio_edge(int dev, unsigned line, int level, int64_t mono_ns) {
@@ -611,6 +618,7 @@ void VirtualBench::unplug(int dev) {
       q->pop_front();
     }
   d.in_packets.clear();
+  d.reports.clear();
   d.detached = false;
 }
 

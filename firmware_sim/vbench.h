@@ -1,7 +1,7 @@
 // The virtual bench: presents devices at the kernel interface with umockdev, so the real
 // backends (libusb, hidapi, libgpiod, libevdev) run unchanged against them. USB-MIDI is an
 // emulated usbdevfs node answering URB ioctls, HID a hidraw node (sysfs descriptor +
-// HIDIOCGRDESCSIZE, reports written to the node), GPIO a gpiochip answering the v1 line
+// HIDIOCGRDESCSIZE, each read answered with one queued report), GPIO a gpiochip answering the v1 line
 // ioctls (edges with our own timestamps through a pipe per line), a pen tablet an evdev
 // node answering EVIOCG* (input_events written to the node).
 //
@@ -55,9 +55,9 @@ class VirtualBench {
   int add_gpio(const Gpio& d);
   int add_evdev(const Evdev& d);
 
-  /// Device output. USB: queued for the next bulk IN URB. HID: one report (waits until the
-  /// previous one has been read: hidraw keeps report boundaries). GPIO/evdev: with the
-  /// device timestamp (CLOCK_MONOTONIC ns).
+  /// Device output. USB: queued for the next bulk IN URB. HID: queued, one report per read
+  /// (hidraw keeps report boundaries). GPIO/evdev: with the device timestamp
+  /// (CLOCK_MONOTONIC ns).
   void usb_in(int dev, std::span<const uint8_t> packets);
   void hid_report(int dev, std::span<const uint8_t> report);
   void gpio_edge(int dev, unsigned line, int level, int64_t mono_ns);

@@ -55,7 +55,8 @@ TEST(HidBackend, ScriptedStickAndButtonArriveAsTheDecodedEvents) {
   bench.play(dev, *sim, epoch);
   std::vector<Event> got;
   // The first report carries every field (nothing seen yet): compare from the last value.
-  ASSERT_TRUE(test::poll_until(set, epoch, got, [&] { return bench.played_all() && got.size() >= want.size(); }));
+  ASSERT_TRUE(test::poll_until(set, epoch, got, [&] { return bench.played_all() && got.size() >= want.size(); }))
+      << got.size() << " of " << want.size() << " events, malformed " << set.status(0).malformed;
   ASSERT_EQ(got.size(), want.size());
   for (size_t i = 0; i < want.size(); ++i) {
     EXPECT_EQ(got[i].kind, want[i].kind) << i;
