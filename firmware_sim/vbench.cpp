@@ -634,7 +634,9 @@ bool VirtualBench::plugged(int dev) const { return p_->devs[size_t(dev)]->plugge
 
 void VirtualBench::deny(int dev, bool denied) {
   const Dev& d = *p_->devs[size_t(dev)];
-  const std::string path = std::string(umockdev_testbed_get_root_dir(p_->tb)) + d.node;
+  gchar* root = umockdev_testbed_get_root_dir(p_->tb);  // a copy to free
+  const std::string path = std::string(root) + d.node;
+  g_free(root);
   chmod(path.c_str(), denied ? 0 : 0666);
 }
 

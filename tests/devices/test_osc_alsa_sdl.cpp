@@ -119,7 +119,8 @@ TEST(SdlBackend, VirtualGameControllerSticksAndButtons) {
   s.sdl = "gamepad";
   s.vid = 0x054c;
   const int64_t epoch = monotonic_ns();
-  DeviceSet set(epoch);
+  auto set_ptr = std::make_unique<DeviceSet>(epoch);  // stopped before SDL quits (its thread calls SDL)
+  DeviceSet& set = *set_ptr;
   set.add(make_sdl_backend(s, 0));
   set.start();
   ASSERT_EQ(set.state(0), DeviceState::Connected) << set.problem(0);
@@ -136,6 +137,7 @@ TEST(SdlBackend, VirtualGameControllerSticksAndButtons) {
   SDL_JoystickClose(j);
   SDL_JoystickDetachVirtual(index);
   EXPECT_TRUE(test::poll_until(set, epoch, got, [&] { return set.state(0) == DeviceState::Unplugged; }, 2000));
+  set_ptr.reset();
   SDL_QuitSubSystem(SDL_INIT_GAMECONTROLLER);
 }
 
