@@ -449,7 +449,8 @@ int LiveShow::run() {
           case ControlKind::MidiNoteOn: control = "note " + std::to_string(e.number); break;
           case ControlKind::MidiPitchBend: control = "pitchbend"; break;
           case ControlKind::EncoderDelta:
-            control = show_.devices[e.source].sim == "knob_box" ? "encoder " + std::to_string(e.number)
+            control = show_.devices[e.source].sim == "knob_box" || show_.devices[e.source].type == "gpio"
+                          ? "encoder " + std::to_string(e.number)
                                                                 : "usage " + std::to_string(e.number);
             break;
           case ControlKind::Button: control = "button " + std::to_string(e.number); break;
