@@ -308,7 +308,7 @@ bool VirtualBench::Impl::gpio_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned lon
         complete(c, -1, EINVAL);
         return true;
       }
-      info->flags = GPIOLINE_FLAG_IS_OUT * 0;
+      info->flags = 0;
       if (d.line_fd[off] >= 0) {
         info->flags |= GPIOLINE_FLAG_KERNEL;
         std::snprintf(info->consumer, sizeof info->consumer, "marionette");
@@ -359,7 +359,7 @@ bool VirtualBench::Impl::evdev_ioctl(Dev& d, UMockdevIoctlClient* c, unsigned lo
   if (_IOC_DIR(req) == _IOC_READ && (nr == 0x07 || nr == 0x08)) return answer_bytes(c, arg, len, "", 1, 1);
   if (_IOC_DIR(req) == _IOC_READ && nr == 0x09) {
     std::vector<uint8_t> p(len, 0);
-    set_bit(p, INPUT_PROP_DIRECT * 0 + INPUT_PROP_POINTER);
+    set_bit(p, INPUT_PROP_POINTER);
     return answer_bytes(c, arg, len, p.data(), p.size(), long(len));
   }
   if (_IOC_DIR(req) == _IOC_READ && nr >= 0x18 && nr <= 0x1b) {  // key/led/snd/sw state: all off

@@ -387,10 +387,12 @@ void LiveShow::draw_hud() {
     // Device status: green connected (or simulated), amber waiting, red unplugged or
     // denied, grey unavailable.
     const DeviceState st = hw_index_.size() > i && hw_index_[i] >= 0 ? devices_->state(size_t(hw_index_[i])) : DeviceState::Connected;
-    const uint8_t* c = st == DeviceState::Connected ? (const uint8_t*)"\x3c\xb4\x3c"
-                       : st == DeviceState::Waiting ? (const uint8_t*)"\xe6\xaa\x28"
-                       : st == DeviceState::Unavailable ? (const uint8_t*)"\x8c\x8c\x8c"
-                                                         : (const uint8_t*)"\xdc\x32\x32";
+    static constexpr uint8_t kColour[][3] = {{230, 170, 40},   // waiting
+                                             {60, 180, 60},    // connected
+                                             {220, 50, 50},    // unplugged
+                                             {220, 50, 50},    // permission denied
+                                             {140, 140, 140}};  // unavailable
+    const uint8_t* c = kColour[size_t(st)];
     SDL_SetRenderDrawColor(r, c[0], c[1], c[2], 230);
     SDL_Rect box{10 + int(i) * 18, 30, 14, 14};
     SDL_RenderFillRect(r, &box);

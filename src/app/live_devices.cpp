@@ -17,8 +17,8 @@ std::atomic<bool> g_quit{false};
 void on_signal(int) { g_quit = true; }
 
 // A pen simulator's HID reports as evdev events (the bench's evdev node).
-void present_pen_as_evdev(VirtualBench& bench, int dev, HidDeviceSim& pen, const WireRecord& r, int64_t epoch,
-                          WireDecoder& dec, const VirtualBench::Evdev& geom) {
+void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int64_t epoch, WireDecoder& dec,
+                          const VirtualBench::Evdev& geom) {
   dec.feed(r, [&](const Event& e) {
     if (e.kind != ControlKind::HidValue) return;
     const double u = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
@@ -34,7 +34,6 @@ void present_pen_as_evdev(VirtualBench& bench, int dev, HidDeviceSim& pen, const
     }
     bench.evdev_event(dev, EV_SYN, SYN_REPORT, 0, t);
   });
-  (void)pen;
 }
 
 }  // namespace
@@ -119,7 +118,7 @@ std::string LiveShow::open_hardware() {
           pen.drain(INT64_MAX, [&](const WireRecord& r) {
             while (!quit_requested() && !bench_stop_ && monotonic_ns() < epoch_ns_ + r.t_ns)
               std::this_thread::sleep_for(std::chrono::microseconds(500));
-            if (!bench_stop_) present_pen_as_evdev(*bench_, dev, pen, r, epoch_ns_, *dec, geom);
+            if (!bench_stop_) present_pen_as_evdev(*bench_, dev, r, epoch_ns_, *dec, geom);
           });
         });
       } else {

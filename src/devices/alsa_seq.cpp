@@ -13,9 +13,10 @@
 namespace mar {
 
 namespace {
-// ALSA prints its own errors to stderr; ours are in the device status.
-void quiet_alsa(const char*, int, const char*, int, const char*, ...) {}
+void ignore_alsa_error(const char*, int, const char*, int, const char*, ...) {}
 }  // namespace
+
+void quiet_alsa_errors() { snd_lib_error_set_handler(&ignore_alsa_error); }
 
 size_t alsa_event_bytes(snd_midi_event_t* codec, const snd_seq_event_t& ev, uint8_t* out, size_t cap) {
   const long n = snd_midi_event_decode(codec, out, long(cap), const_cast<snd_seq_event_t*>(&ev));
@@ -45,7 +46,8 @@ class AlsaSeqBackend final : public Backend {
 };
 
 DeviceState AlsaSeqBackend::open() {
-  const int rc = (snd_lib_error_set_handler(&quiet_alsa), snd_seq_open(&seq_, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK));
+  quiet_alsa_errors();
+  const int rc = snd_seq_open(&seq_, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK);
   if (rc < 0) {
     seq_ = nullptr;
     if (rc == -EACCES || rc == -EPERM) {

@@ -1,5 +1,6 @@
 #include "devices/discover.h"
 
+#include "devices/alsa_seq.h"
 #include "devices/backends.h"
 #include "devices/util.h"
 
@@ -16,11 +17,6 @@
 #include <cstdio>
 
 namespace mar {
-
-namespace {
-// ALSA prints its own errors to stderr; ours are in the device status.
-void quiet_alsa(const char*, int, const char*, int, const char*, ...) {}
-}  // namespace
 namespace {
 
 std::string profile_of(const std::vector<ProfileId>& profiles, int vid, int pid) {
@@ -153,7 +149,8 @@ BackendReport tablets() {
 
 BackendReport alsa() {
   snd_seq_t* seq = nullptr;
-  const int rc = (snd_lib_error_set_handler(&quiet_alsa), snd_seq_open(&seq, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK));
+  quiet_alsa_errors();
+  const int rc = snd_seq_open(&seq, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK);
   if (rc < 0) return {"alsa", std::string("no ALSA sequencer (/dev/snd/seq: ") + snd_strerror(rc) + ")", {}};
   BackendReport r{"alsa", "ok", {}};
   snd_seq_client_info_t* ci = nullptr;
