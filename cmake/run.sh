@@ -30,29 +30,33 @@ install_deps() {
   DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-build() { # dir, extra cmake args...
-  local dir=$1; shift
+build() { # dir, target ('all' for everything), extra cmake args...
+  local dir=$1 target=$2; shift 2
   cmake -S "$ROOT" -B "$dir" -DCMAKE_BUILD_TYPE=Release "$@" >/dev/null
-  cmake --build "$dir" -j "$JOBS"
+  cmake --build "$dir" -j "$JOBS" --target "$target"
 }
 
 cmd=${1:-}
 case "$cmd" in
   demo)
     install_deps
-    build "$ROOT/build" -DMARIONETTE_BUILD_TESTS=OFF -DMARIONETTE_BUILD_BENCH=OFF
+    # Builds only the program; the folder's test and benchmark settings are left as they
+    # are, so demo and test share build/ in either order.
+    build "$ROOT/build" marionette
     cd "$ROOT/build" && exec ./marionette run "$ROOT/config/shows/demo.toml"
     ;;
   test)
     install_deps
-    build "$ROOT/build"
-    (cd "$ROOT/build" && ctest --output-on-failure -j "$JOBS")
-    build "$ROOT/build-asan" -DMARIONETTE_SANITIZE=ON -DMARIONETTE_BUILD_BENCH=OFF
-    (cd "$ROOT/build-asan" && ctest --output-on-failure -j "$JOBS" -LE measure)
+    # Tests are switched on explicitly (a folder configured otherwise is corrected), and a
+    # ctest that finds no test fails.
+    build "$ROOT/build" all -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_BUILD_BENCH=ON
+    (cd "$ROOT/build" && ctest --output-on-failure --no-tests=error -j "$JOBS")
+    build "$ROOT/build-asan" all -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_SANITIZE=ON -DMARIONETTE_BUILD_BENCH=OFF
+    (cd "$ROOT/build-asan" && ctest --output-on-failure --no-tests=error -j "$JOBS" -LE measure)
     ;;
   bench)
     install_deps
-    build "$ROOT/build"
+    build "$ROOT/build" all -DMARIONETTE_BUILD_BENCH=ON
     for b in "$ROOT"/build/tests/bench/bench_*; do "$b"; done
     ;;
   *)
