@@ -68,7 +68,8 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   try {
     Rig r = default_rig();
     r.path = path;
-    check_keys(path, root, {"character", "iterations", "weights", "sampling", "handle", "sewing"}, "the rig");
+    check_keys(path, root, {"character", "iterations", "weights", "sampling", "handle", "sewing", "solver", "joint", "part"},
+               "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
     r.character = ch->value<std::string>().value_or("");
@@ -164,6 +165,79 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         r.sewing.push_back(e);
       }
     }
+    if (const toml::node* sv = root.get("solver")) {
+      const toml::table* t = sv->as_table();
+      if (!t) throw RigError{at(path, *sv) + ": [solver] must be a table"};
+      check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[solver]");
+      if (const toml::node* n = t->get("anderson")) {
+        const auto v = n->value<int64_t>();
+        if (!v || *v < 0 || *v > 16) throw RigError{at(path, *n) + ": anderson must be a whole number 0..16"};
+        r.anderson = static_cast<int>(*v);
+      }
+      auto mode = [&](const char* key, bool& out) {
+        if (const toml::node* n = t->get(key)) {
+          const std::string m = n->value<std::string>().value_or("");
+          if (m != "auto" && m != "none") throw RigError{at(path, *n) + ": " + key + " must be \"auto\" or \"none\""};
+          out = m == "auto";
+        }
+      };
+      mode("joints", r.auto_joints);
+      mode("stiffness", r.auto_stiffness);
+    }
+    if (const toml::node* js = root.get("joint")) {
+      const toml::array* a = js->as_array();
+      if (!a) throw RigError{at(path, *js) + ": use [[joint]] tables"};
+      for (const toml::node& jn : *a) {
+        const toml::table* t = jn.as_table();
+        if (!t) throw RigError{at(path, jn) + ": a joint must be a table"};
+        check_keys(path, *t, {"at", "parts", "stiffness", "kind"}, "[[joint]]");
+        RigJoint j;
+        j.line = static_cast<int>(jn.source().begin.line);
+        if (const toml::node* n = t->get("at")) {
+          j.at = point(path, *n, "at");
+          j.has_at = true;
+        }
+        if (const toml::node* n = t->get("parts")) {
+          const toml::array* pa = n->as_array();
+          if (!pa || pa->size() != 2 || !pa->get(0)->is_string() || !pa->get(1)->is_string()) {
+            throw RigError{at(path, *n) + ": parts must be two sub-shape ids, [\"a\", \"b\"]"};
+          }
+          j.part_a = *pa->get(0)->value<std::string>();
+          j.part_b = *pa->get(1)->value<std::string>();
+        }
+        if (const toml::node* n = t->get("stiffness")) {
+          j.stiffness = number(path, *n, "stiffness");
+          if (j.stiffness < 0) throw RigError{at(path, *n) + ": stiffness must not be negative"};
+        }
+        if (const toml::node* n = t->get("kind")) {
+          const std::string k = n->value<std::string>().value_or("");
+          if (k != "hinge" && k != "weld") throw RigError{at(path, *n) + ": kind must be \"hinge\" or \"weld\""};
+          j.weld = k == "weld";
+        }
+        if (j.weld && j.part_a.empty()) throw RigError{at(path, jn) + ": a weld needs parts = [\"a\", \"b\"]"};
+        if (!j.has_at && j.part_a.empty()) throw RigError{at(path, jn) + ": a joint needs at = [x, y] or parts = [\"a\", \"b\"]"};
+        r.joints.push_back(j);
+      }
+    }
+    if (const toml::node* ps = root.get("part")) {
+      const toml::array* a = ps->as_array();
+      if (!a) throw RigError{at(path, *ps) + ": use [[part]] tables"};
+      for (const toml::node& pn : *a) {
+        const toml::table* t = pn.as_table();
+        if (!t) throw RigError{at(path, pn) + ": a part must be a table"};
+        check_keys(path, *t, {"id", "stiffness"}, "[[part]]");
+        RigPart p;
+        p.line = static_cast<int>(pn.source().begin.line);
+        const toml::node* id = t->get("id");
+        if (!id || !id->is_string() || id->value<std::string>()->empty()) throw RigError{at(path, pn) + ": a part needs id = \"sub-shape id\""};
+        p.id = *id->value<std::string>();
+        const toml::node* k = t->get("stiffness");
+        if (!k) throw RigError{at(path, pn) + ": part '" + p.id + "' needs stiffness = k"};
+        p.stiffness = number(path, *k, "stiffness");
+        if (p.stiffness <= 0) throw RigError{at(path, *k) + ": stiffness must be positive"};
+        r.parts.push_back(p);
+      }
+    }
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
     return Result<Rig>::failure(e.message);
@@ -201,6 +275,20 @@ std::string write_rig(const Rig& r) {
       << (e.action == RigSewing::Add ? "add" : e.action == RigSewing::Delete ? "delete" : "move") << "\"\n";
     o << "from = " << pt(e.from) << "\nto = " << pt(e.to) << "\n";
     if (e.action == RigSewing::Move) o << "new_from = " << pt(e.new_from) << "\nnew_to = " << pt(e.new_to) << "\n";
+  }
+  if (r.anderson != 5 || !r.auto_joints || !r.auto_stiffness) {
+    o << "\n[solver]\nanderson = " << r.anderson << "\njoints = \"" << (r.auto_joints ? "auto" : "none")
+      << "\"\nstiffness = \"" << (r.auto_stiffness ? "auto" : "none") << "\"\n";
+  }
+  for (const RigJoint& j : r.joints) {
+    o << "\n[[joint]]\n";
+    if (j.has_at) o << "at = " << pt(j.at) << "\n";
+    if (!j.part_a.empty()) o << "parts = [" << toml::value<std::string>(j.part_a) << ", " << toml::value<std::string>(j.part_b) << "]\n";
+    if (j.stiffness >= 0) o << "stiffness = " << j.stiffness << "\n";
+    if (j.weld) o << "kind = \"weld\"\n";
+  }
+  for (const RigPart& p : r.parts) {
+    o << "\n[[part]]\nid = " << toml::value<std::string>(p.id) << "\nstiffness = " << p.stiffness << "\n";
   }
   return o.str();
 }

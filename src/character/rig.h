@@ -8,6 +8,10 @@
 //   [[handle]]  name = "head"   rest = [200.0, 135.0]
 //   [[sewing]]  action = "add" | "delete" | "move"   from = [x, y]   to = [x, y]
 //               (move also: new_from = [x, y]   new_to = [x, y])
+//   [solver]    anderson = 5   joints = "auto" | "none"   stiffness = "auto" | "none"
+//   [[joint]]   at = [x, y]   parts = ["arm", "body"]   stiffness = 0.3   kind = "hinge" | "weld"
+//               (a hinge needs `at` or `parts`; a weld needs `parts`)
+//   [[part]]    id = "torso"   stiffness = 4.0
 #pragma once
 
 #include "character/character.h"
@@ -29,6 +33,21 @@ struct RigSewing {
   int line = 0;  ///< line in the rig file (0 when made in code)
 };
 
+struct RigJoint {
+  bool has_at = false;
+  Vec2 at = Vec2::Zero();
+  std::string part_a, part_b;  ///< both empty: the two topmost closed parts at `at`
+  double stiffness = -1;       ///< < 0: the default hinge stiffness
+  bool weld = false;
+  int line = 0;
+};
+
+struct RigPart {
+  std::string id;
+  double stiffness = 1;
+  int line = 0;
+};
+
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
@@ -38,6 +57,11 @@ struct Rig {
   double interval = 0;  ///< uniform sampling interval, character units (0 = automatic)
   std::vector<RigHandle> handles;
   std::vector<RigSewing> sewing;
+  int anderson = 5;           ///< Anderson acceleration history (0: off)
+  bool auto_joints = true;    ///< detect hinges where parts overlap at one end
+  bool auto_stiffness = true; ///< bigger parts stiffer
+  std::vector<RigJoint> joints;
+  std::vector<RigPart> parts;
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;

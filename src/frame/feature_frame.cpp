@@ -1,6 +1,7 @@
 #include "frame/feature_frame.h"
 
 #include "frame/feature_points.h"
+#include "frame/joints.h"
 #include "geom/polygon.h"
 
 #include <algorithm>
@@ -28,6 +29,12 @@ FrameOptions frame_options_from_rig(const Rig& rig) {
     s.where = rig.path + ":" + std::to_string(e.line);
     o.sewing.push_back(s);
   }
+  o.auto_joints = rig.auto_joints;
+  o.auto_stiffness = rig.auto_stiffness;
+  for (const RigJoint& j : rig.joints) {
+    o.joints.push_back({j.has_at, j.at, j.part_a, j.part_b, j.stiffness, j.weld, rig.path + ":" + std::to_string(j.line)});
+  }
+  for (const RigPart& p : rig.parts) o.stiffness.push_back({p.id, p.stiffness, rig.path + ":" + std::to_string(p.line)});
   return o;
 }
 
@@ -403,13 +410,35 @@ FeatureFrame build_feature_frame(const Character& ch, const FrameOptions& o) {
       }
       return bd;
     };
+    // A sub-frame lying wholly inside a closed part of another shape (an eye in a face, a
+    // patch on a body) is sewn to that container: their distance counts as zero.
+    std::vector<int> container(m, -1);
+    for (size_t a = 0; a < m; ++a) {
+      if (f.subframes[a].empty()) continue;
+      const FrameVertexOrigin& oa = f.origin[static_cast<size_t>(f.subframes[a][0])];
+      for (size_t b = 0; b < m; ++b) {
+        if (b == a || f.subframes[b].empty() || !contours[b].closed) continue;
+        if (contours[b].shape == oa.shape) continue;
+        bool all_inside = true;
+        for (const Vec2& p : contours[a].pts) all_inside = all_inside && winding_number(contours[b].pts, p) != 0;
+        // the smallest container wins
+        if (all_inside && (container[a] < 0 || std::abs(signed_area(contours[b].pts)) <
+                                                   std::abs(signed_area(contours[static_cast<size_t>(container[a])].pts)))) {
+          container[a] = static_cast<int>(b);
+        }
+      }
+    }
+    auto distance = [&](size_t a, size_t b, int& va, int& vb) {
+      const double d = closest(a, b, va, vb);
+      return (container[a] == static_cast<int>(b) || container[b] == static_cast<int>(a)) ? 0.0 : d;
+    };
     size_t cur = 0;
     in_tree[0] = 1;
     for (size_t step = 1; step < m; ++step) {
       for (size_t j = 0; j < m; ++j) {
         if (in_tree[j] || f.subframes[j].empty() || f.subframes[cur].empty()) continue;
         int va = -1, vb = -1;
-        const double d = closest(cur, j, va, vb);
+        const double d = distance(cur, j, va, vb);
         if (d < best[j]) {
           best[j] = d;
           link[j] = {va, vb};
@@ -504,6 +533,7 @@ FeatureFrame build_feature_frame(const Character& ch, const FrameOptions& o) {
       for (int i = 0; i < F.front(); ++i) set(i, F[0], F[1]);
     }
   }
+  add_joints_and_stiffness(ch, o, f);
   return f;
 }
 
@@ -516,10 +546,21 @@ void reconstruct_shapes(const FeatureFrame& frame, std::span<const Vec2> v, std:
 }
 
 ShapeParam bind_point(const FeatureFrame& frame, const Character& ch, const Vec2& p) {
-  // Nearest point on any contour segment; its segment's start vertex gives the line.
+  // A point inside a closed part belongs to the topmost such part; else to the nearest
+  // contour. The nearest point of that part's contours gives the feature line.
+  int inside = -1;
+  for (size_t s = 0; s < ch.shapes.size(); ++s) {
+    for (const Contour& c : ch.shapes[s].contours) {
+      if (c.closed && c.count >= 3 &&
+          winding_number(std::span<const Vec2>(ch.shapes[s].points.data() + c.begin, static_cast<size_t>(c.count)), p) != 0) {
+        inside = static_cast<int>(s);
+      }
+    }
+  }
   double bd = std::numeric_limits<double>::infinity();
   size_t bs = 0, bi = 0;
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
+    if (inside >= 0 && static_cast<int>(s) != inside) continue;
     const SubShape& sh = ch.shapes[s];
     for (const Contour& c : sh.contours) {
       for (int k = 0; k < c.count; ++k) {

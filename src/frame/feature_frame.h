@@ -21,6 +21,23 @@ struct SewingEdit {
   std::string where;                                    ///< "file:line" for messages
 };
 
+/// A hinge from the rig (`[[joint]]`): where it is and, optionally, which two parts it joins
+/// (by id; otherwise the two topmost closed parts containing the point).
+struct JointSpec {
+  bool has_at = true;
+  Vec2 at = Vec2::Zero();
+  std::string part_a, part_b;
+  double stiffness = -1;  ///< rotational spring; < 0: FrameOptions::hinge_stiffness
+  bool weld = false;      ///< keep the parts sewn (overrides an automatic hinge)
+  std::string where;      ///< "file:line"
+};
+
+struct PartStiffness {
+  std::string id;
+  double stiffness = 1;
+  std::string where;
+};
+
 struct FrameOptions {
   SamplingMode mode = SamplingMode::Features;
   double interval = 0;                 ///< Uniform: arc-length interval; 0 = diagonal / 24
@@ -30,6 +47,17 @@ struct FrameOptions {
   double inflection_hysteresis_deg = 12;
   double max_spacing = 0;              ///< > 0: extra points so no salient feature is longer (fraction of diagonal)
   std::vector<SewingEdit> sewing;
+  /// Joints (frame/joints.h): two closed parts whose outlines cross near one end of an
+  /// elongated one (an arm over a body) are joined by a pin at the centre of their overlap
+  /// instead of a sewing line at a crossing point, so the limb turns about the joint.
+  bool auto_joints = true;
+  double joint_weight = 8;        ///< pin weight (a feature line's weight is the part's stiffness)
+  double hinge_stiffness = 0.3;   ///< rotational spring of a hinge towards its rest angle
+  std::vector<JointSpec> joints;
+  /// Per-part stiffness scales the rigidity and coupling of a part's lines. Automatic:
+  /// sqrt(area / median closed-part area) clamped to [1, 4] (bigger parts stiffer).
+  bool auto_stiffness = true;
+  std::vector<PartStiffness> stiffness;
 };
 
 FrameOptions default_frame_options();
@@ -44,8 +72,20 @@ struct FrameVertexOrigin {
 };
 
 struct FrameLine {
-  enum Kind { Feature, Sewing, UserSewing } kind = Feature;
+  /// Joint: the zero-length pin between the two ends of a hinge. Spoke: ties a hinge end to
+  /// its part. Spring: a hinge's rotational spring.
+  enum Kind { Feature, Sewing, UserSewing, Joint, Spoke, Spring } kind = Feature;
   int a = 0, b = 0;  ///< frame vertex indices
+  double weight = 1; ///< scales the line's rigidity and coupling terms
+};
+
+/// A hinge between two parts: a frame vertex in each (`va` moves with `shape_a`), pinned.
+struct FrameJoint {
+  Vec2 at = Vec2::Zero();
+  int shape_a = 0, shape_b = 0;
+  int va = 0, vb = 0;
+  double stiffness = 0;
+  bool automatic = true;
 };
 
 /// Shape vertex in the local frame of feature line (a, b): p = v_a + z (v_b - v_a) with
@@ -70,6 +110,8 @@ struct FeatureFrame {
   size_t shape_vertices = 0;
   double mean_edge_length = 0;
   double diagonal = 0;
+  std::vector<FrameJoint> joints;
+  std::vector<double> shape_stiffness;     ///< per shape
   std::vector<std::string> warnings;       ///< sewing edits that matched nothing
 };
 
@@ -87,7 +129,8 @@ FeatureFrame build_feature_frame(const Character& ch, const FrameOptions& option
 /// one Points per shape with the rest sizes (then nothing is allocated).
 void reconstruct_shapes(const FeatureFrame& frame, std::span<const Vec2> v, std::vector<Points>& out);
 
-/// Binds a point to the nearest shape point's feature line, as handles are (Eq. 3).
+/// Binds a point to a feature line, as handles are (Eq. 3): of the topmost closed part
+/// containing it, else of the nearest contour; the nearest point of that part picks the line.
 ShapeParam bind_point(const FeatureFrame& frame, const Character& ch, const Vec2& p);
 
 /// Evaluates a binding for frame vertex positions `v`.

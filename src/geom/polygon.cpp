@@ -110,4 +110,30 @@ void remove_duplicate_points(Points& pts, bool closed, double eps) {
   }
 }
 
+double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to) {
+  const size_t n = std::min(from.size(), to.size());
+  if (n == 0) return 0;
+  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    ca += from[i];
+    cb += to[i];
+  }
+  ca /= static_cast<double>(n);
+  cb /= static_cast<double>(n);
+  double re = 0, im = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 p = from[i] - ca, q = to[i] - cb;
+    re += q.x() * p.x() + q.y() * p.y();
+    im += q.y() * p.x() - q.x() * p.y();
+  }
+  const double len = std::hypot(re, im);
+  const double c = len > 0 ? re / len : 1, s = len > 0 ? im / len : 0;
+  double sum = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 p = from[i] - ca;
+    sum += (cb + Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y()) - to[i]).squaredNorm();
+  }
+  return std::sqrt(sum / static_cast<double>(n));
+}
+
 }  // namespace mar

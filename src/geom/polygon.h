@@ -14,6 +14,10 @@ double signed_area(std::span<const Vec2> ring);
 /// Winding number of `p` with respect to the closed ring.
 int winding_number(std::span<const Vec2> ring, const Vec2& p);
 
+/// RMS residual of the best rigid fit (rotation + translation, 2D Procrustes) of `from`
+/// onto `to` (same sizes): how much a part's shape changed, wherever it went. Allocates nothing.
+double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to);
+
 /// Distance from p to segment ab.
 double point_segment_distance(const Vec2& p, const Vec2& a, const Vec2& b);
 

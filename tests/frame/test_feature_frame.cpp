@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <numeric>
+
 namespace mar {
 namespace {
 
@@ -83,22 +86,42 @@ TEST(build_feature_frame, ClosedContoursGetAtLeastThreePoints) {
   EXPECT_EQ(f.feature_lines, 3);
 }
 
-TEST(build_feature_frame, IntersectionsGiveBothShapesAFeaturePointAndAPinJoint) {
+TEST(build_feature_frame, IntersectionsGiveBothShapesAFeaturePointAndAWeld) {
   Character ch = svg(R"svg(<path d="M0 100 C50 100 150 100 200 100" stroke="black" fill="none"/>
                                  <path d="M100 0 C100 50 100 150 100 200" stroke="black" fill="none"/>)svg");
   EXPECT_EQ(refine_for_frame(ch, default_frame_options()), 2u);  // the crossing, on both strokes
   const FeatureFrame f = build_feature_frame(ch, default_frame_options());
-  ASSERT_EQ(f.sewing_lines, 1);
-  const FrameLine& sl = f.lines.back();
-  EXPECT_LT((f.rest[static_cast<size_t>(sl.a)] - f.rest[static_cast<size_t>(sl.b)]).norm(), 1.0);
-  EXPECT_NEAR(f.rest[static_cast<size_t>(sl.a)].x(), 100, 1.0);
+  // Open strokes crossing are welded: the zero-length line at the crossing (a pin) plus a
+  // second line that keeps their relative orientation.
+  ASSERT_EQ(f.sewing_lines, 2);
+  EXPECT_TRUE(f.joints.empty());
+  int pins = 0, welds = 0;
+  for (int li = f.feature_lines; li < static_cast<int>(f.lines.size()); ++li) {
+    const FrameLine& sl = f.lines[static_cast<size_t>(li)];
+    const double len = (f.rest[static_cast<size_t>(sl.a)] - f.rest[static_cast<size_t>(sl.b)]).norm();
+    if (len < 1.0) {
+      ++pins;
+      EXPECT_NEAR(f.rest[static_cast<size_t>(sl.a)].x(), 100, 1.0);
+    } else {
+      ++welds;
+      EXPECT_NE(f.origin[static_cast<size_t>(sl.a)].shape, f.origin[static_cast<size_t>(sl.b)].shape);
+    }
+  }
+  EXPECT_EQ(pins, 1);
+  EXPECT_EQ(welds, 1);
 }
 
 TEST(build_feature_frame, SewingSpansEverySubFrameOfTheExamples) {
   for (const char* name : {"butterfly", "figure", "koi"}) {
     const Character ch = example(name);
     const FeatureFrame f = build_feature_frame(ch, default_frame_options());
-    EXPECT_EQ(static_cast<size_t>(f.sewing_lines), f.subframes.size() - 1) << name;
+    // One connected frame: the spanning tree's lines, some of them replaced by hinges.
+    std::vector<int> comp(f.rest.size());
+    std::iota(comp.begin(), comp.end(), 0);
+    std::function<int(int)> find = [&](int x) { return comp[static_cast<size_t>(x)] == x ? x : comp[static_cast<size_t>(x)] = find(comp[static_cast<size_t>(x)]); };
+    for (const FrameLine& l : f.lines) comp[static_cast<size_t>(find(l.a))] = find(l.b);
+    for (size_t i = 0; i < f.rest.size(); ++i) EXPECT_EQ(find(static_cast<int>(i)), find(0)) << name;
+    EXPECT_GE(static_cast<size_t>(f.sewing_lines) + f.joints.size(), f.subframes.size() - 1) << name;
     EXPECT_LT(f.rest.size(), f.shape_vertices / 2) << name;  // the frame is much smaller than the shape
   }
 }
