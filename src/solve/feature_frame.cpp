@@ -1,6 +1,10 @@
 #include "solve/feature_frame.h"
 
+#include <Eigen/Dense>
+
+#include <algorithm>
 #include <cassert>
+#include <limits>
 #include <cmath>
 #include <numeric>
 
@@ -51,22 +55,28 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
     }
   }
   // Adjacency over all lines (feature + sewing), CSR.
-  std::vector<std::vector<std::pair<int, int>>> nb(q);  // (neighbour, feature line or -1)
+  struct Nb {
+    int n, line;  // neighbour, feature line or -1
+    double w;
+  };
+  std::vector<std::vector<Nb>> nb(q);
   for (int li = 0; li < static_cast<int>(frame.lines.size()); ++li) {
     const FrameLine& l = frame.lines[static_cast<size_t>(li)];
-    if (l.a == l.b) continue;
+    if (l.a == l.b || !(l.weight > 0) || !std::isfinite(l.weight)) continue;
     const int line = li < frame.feature_lines ? li : -1;
-    nb[static_cast<size_t>(l.a)].push_back({l.b, line});
-    nb[static_cast<size_t>(l.b)].push_back({l.a, line});
+    nb[static_cast<size_t>(l.a)].push_back({l.b, line, l.weight});
+    nb[static_cast<size_t>(l.b)].push_back({l.a, line, l.weight});
   }
   adj_begin_.assign(q + 1, 0);
   adj_.clear();
   adj_line_.clear();
+  adj_w_.clear();
   for (size_t i = 0; i < q; ++i) {
     adj_begin_[i] = static_cast<int>(adj_.size());
-    for (const auto& [n, line] : nb[i]) {
-      adj_.push_back(n);
-      adj_line_.push_back(line);
+    for (const Nb& e : nb[i]) {
+      adj_.push_back(e.n);
+      adj_line_.push_back(e.line);
+      adj_w_.push_back(e.w);
     }
   }
   adj_begin_[q] = static_cast<int>(adj_.size());
@@ -103,8 +113,8 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
   };
   for (int li = 0; li < static_cast<int>(frame.lines.size()); ++li) {
     const FrameLine& l = frame.lines[static_cast<size_t>(li)];
-    if (l.a == l.b) continue;
-    const double c = (li < frame.feature_lines ? cr : 0.0) + 2.0 * cc;
+    if (l.a == l.b || !(l.weight > 0) || !std::isfinite(l.weight)) continue;
+    const double c = l.weight * ((li < frame.feature_lines ? cr : 0.0) + 2.0 * cc);
     add_block_diag(l.a, l.a, c);
     add_block_diag(l.b, l.b, c);
     add_block_diag(l.a, l.b, -c);
@@ -159,6 +169,17 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
   anchor_.resize(q);
   scratch_line_.assign(frame.lines.size(), 0.0);
   scratch_vert_.assign(q, 0.0);
+  const Eigen::Index n2 = static_cast<Eigen::Index>(2 * q);
+  const int m = std::clamp(w.anderson, 0, 16);
+  aa_dF_.setZero(n2, m);
+  aa_dG_.setZero(n2, m);
+  for (Eigen::VectorXd* vec : {&aa_x_, &aa_g_, &aa_f_, &aa_prev_g_, &aa_prev_f_, &aa_accept_g_}) vec->setZero(n2);
+  aa_count_ = aa_head_ = 0;
+  aa_accepted_ = aa_rejected_ = 0;
+  extra_active_ = false;
+  extra_z0_.setZero(n2);
+  extra_z1_.setZero(n2);
+  build_bodies();
   reset_to_rest();
   return true;
 }
@@ -194,9 +215,10 @@ void FeatureFrameSolver::optimal_rotations(std::span<const Vec2> v, std::span<do
     double re = 0, im = 0;
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
       const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
+      const double w = adj_w_[static_cast<size_t>(k)];
       const Vec2 d = v[n] - v[i], db = f.rest[n] - f.rest[i];
-      re += d.x() * db.x() + d.y() * db.y();
-      im += d.y() * db.x() - d.x() * db.y();
+      re += w * (d.x() * db.x() + d.y() * db.y());
+      im += w * (d.y() * db.x() - d.x() * db.y());
     }
     vertex_angle[i] = (re == 0 && im == 0) ? 0.0 : std::atan2(im, re);
   }
@@ -212,18 +234,19 @@ double FeatureFrameSolver::energy_with_rotations(std::span<const Vec2> v, std::s
     const Vec2 e = v[static_cast<size_t>(l.b)] - v[static_cast<size_t>(l.a)];
     const Vec2 eb = f.rest[static_cast<size_t>(l.b)] - f.rest[static_cast<size_t>(l.a)];
     const double a = line_angle[static_cast<size_t>(j)];
-    e_rig += (e - rot(std::cos(a), std::sin(a), eb)).squaredNorm() / 12.0;
+    e_rig += l.weight * (e - rot(std::cos(a), std::sin(a), eb)).squaredNorm() / 12.0;
   }
   for (size_t i = 0; i < v.size(); ++i) {
     const double a = vertex_angle[i], c = std::cos(a), s = std::sin(a);
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
       const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
-      e_cou += ((v[n] - v[i]) - rot(c, s, f.rest[n] - f.rest[i])).squaredNorm() / 3.0;
+      e_cou += adj_w_[static_cast<size_t>(k)] * ((v[n] - v[i]) - rot(c, s, f.rest[n] - f.rest[i])).squaredNorm() / 3.0;
     }
   }
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
     e_pos += (eval_param(handles_[h], v) - targets[h]).squaredNorm();
   }
+  if (extra_active_ && targets.size() > handles_.size()) e_pos += (eval_param(extra_, v) - targets[handles_.size()]).squaredNorm();
   for (size_t i = 0; i < v.size(); ++i) {
     if (free_[i]) e_reg += (v[i] - anchor_[i]).squaredNorm();
   }
@@ -253,19 +276,19 @@ void FeatureFrameSolver::local_step() {
   }
 }
 
-void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
-  const double cr = w_.rigidity / 12.0, cc = w_.coupling / 3.0;
+void FeatureFrameSolver::vertex_rotations() {
   const size_t q = v_.size();
-  // Vertex rotations Rhat_i: angle of sum_k (v_k - v_i) conj(vbar_k - vbar_i); a vanishing
-  // sum keeps the previous rotation.
+  // Vertex rotations Rhat_i: angle of sum_k w_k (v_k - v_i) conj(vbar_k - vbar_i); a
+  // vanishing sum keeps the previous rotation.
   for (size_t i = 0; i < q; ++i) {
     double re = 0, im = 0;
     const Vec2 vi = v_[i];
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
       const Vec2 d = v_[static_cast<size_t>(adj_[static_cast<size_t>(k)])] - vi;
       const Vec2& db = adj_rest_[static_cast<size_t>(k)];
-      re += d.x() * db.x() + d.y() * db.y();
-      im += d.y() * db.x() - d.x() * db.y();
+      const double w = adj_w_[static_cast<size_t>(k)];
+      re += w * (d.x() * db.x() + d.y() * db.y());
+      im += w * (d.y() * db.x() - d.x() * db.y());
     }
     const double len2 = re * re + im * im;
     if (len2 > 1e-280 && std::isfinite(len2)) {
@@ -274,6 +297,11 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
       vert_s_[i] = im * inv;
     }
   }
+}
+
+void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
+  const double cr = w_.rigidity / 12.0, cc = w_.coupling / 3.0;
+  const size_t q = v_.size();
   // Right-hand side, gathered per vertex, written in the factor's permuted order:
   //   b_i = -sum_{k in N(i)} [ c_c (Rhat_i + Rhat_k) + c_r R_j ] (vbar_k - vbar_i)
   // (R_j only when (i, k) is feature line j), plus handle and regulariser terms.
@@ -284,11 +312,12 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
     const double ci = vert_c_[i], si = vert_s_[i];
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
       const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
-      double c = cc * (ci + vert_c_[n]), sn = cc * (si + vert_s_[n]);
+      const double w = adj_w_[static_cast<size_t>(k)];
+      double c = cc * w * (ci + vert_c_[n]), sn = cc * w * (si + vert_s_[n]);
       const int line = adj_line_[static_cast<size_t>(k)];
       if (line >= 0) {
-        c += cr * line_c_[static_cast<size_t>(line)];
-        sn += cr * line_s_[static_cast<size_t>(line)];
+        c += cr * w * line_c_[static_cast<size_t>(line)];
+        sn += cr * w * line_s_[static_cast<size_t>(line)];
       }
       const Vec2& db = adj_rest_[static_cast<size_t>(k)];
       gx -= c * db.x() - sn * db.y();
@@ -310,9 +339,33 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
     y[perm[2 * k.b]] += w_.position * (k.br * t.x() + k.bi * t.y());
     y[perm[2 * k.b + 1]] += w_.position * (k.br * t.y() - k.bi * t.x());
   }
-  // Solve L D L^T y = P b in place on the factor's raw arrays (L unit lower, column-major,
-  // diagonal not stored): the factor is very sparse, so Eigen's generic per-column
-  // iterator overhead would dominate.
+  if (extra_active_ && handles_.size() < targets.size()) {
+    const HandleCoeff k = coeff(extra_);
+    const Vec2 t = targets[handles_.size()] - k.offset;
+    y[perm[2 * k.a]] += w_.position * (k.ar * t.x() + k.ai * t.y());
+    y[perm[2 * k.a + 1]] += w_.position * (k.ar * t.y() - k.ai * t.x());
+    y[perm[2 * k.b]] += w_.position * (k.br * t.x() + k.bi * t.y());
+    y[perm[2 * k.b + 1]] += w_.position * (k.br * t.y() - k.bi * t.x());
+  }
+  factor_solve(y);
+  if (extra_active_) {
+    // Woodbury: x = y - Z K^-1 (M y).
+    const Vec2 my = extra_eval(y);
+    const double c0 = extra_k_[0] * my.x() + extra_k_[1] * my.y(), c1 = extra_k_[2] * my.x() + extra_k_[3] * my.y();
+    const double* z0 = extra_z0_.data();
+    const double* z1 = extra_z1_.data();
+    for (Eigen::Index j = 0; j < work_.size(); ++j) y[j] -= z0[j] * c0 + z1[j] * c1;
+  }
+  for (size_t i = 0; i < q; ++i) {
+    const Vec2 p(y[perm[2 * i]], y[perm[2 * i + 1]]);
+    if (p.allFinite()) v_[i] = p;  // never let a NaN through: keep the previous position
+  }
+}
+
+// Solve L D L^T y = b in place on the factor's raw arrays (L unit lower, column-major,
+// diagonal not stored): the factor is very sparse, so Eigen's generic per-column iterator
+// overhead would dominate.
+void FeatureFrameSolver::factor_solve(double* y) const {
   const auto& L = ldlt_.matrixL().nestedExpression();
   const int* col = L.outerIndexPtr();
   const int* row = L.innerIndexPtr();
@@ -329,10 +382,45 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
     for (int p = col[j]; p < col[j + 1]; ++p) sum -= val[p] * y[row[p]];
     y[j] = sum;
   }
-  for (size_t i = 0; i < q; ++i) {
-    const Vec2 p(y[perm[2 * i]], y[perm[2 * i + 1]]);
-    if (p.allFinite()) v_[i] = p;  // never let a NaN through: keep the previous position
+}
+
+Vec2 FeatureFrameSolver::extra_eval(const double* y) const {
+  const HandleCoeff k = coeff(extra_);
+  const int* perm = perm_.data();
+  const Vec2 a(y[perm[2 * k.a]], y[perm[2 * k.a + 1]]), b(y[perm[2 * k.b]], y[perm[2 * k.b + 1]]);
+  return rot(k.ar, k.ai, a) + rot(k.br, k.bi, b);
+}
+
+void FeatureFrameSolver::set_extra_handle(const ShapeParam& h) {
+  const size_t q = v_.size();
+  if (!frame_ || q == 0 || h.a < 0 || h.b < 0 || static_cast<size_t>(h.a) >= q || static_cast<size_t>(h.b) >= q) return;
+  extra_ = h;
+  const HandleCoeff k = coeff(h);
+  const int* perm = perm_.data();
+  // Column j of M^T: the gradient of component j of the handle's position.
+  for (int j = 0; j < 2; ++j) {
+    Eigen::VectorXd& z = j == 0 ? extra_z0_ : extra_z1_;
+    z.setZero();
+    // d(alpha v)_x / dv = (Re alpha, -Im alpha); d(alpha v)_y / dv = (Im alpha, Re alpha)
+    const double ax = j == 0 ? k.ar : k.ai, ay = j == 0 ? -k.ai : k.ar;
+    const double bx = j == 0 ? k.br : k.bi, by = j == 0 ? -k.bi : k.br;
+    z[perm[2 * k.a]] += ax;
+    z[perm[2 * k.a + 1]] += ay;
+    z[perm[2 * k.b]] += bx;
+    z[perm[2 * k.b + 1]] += by;
+    factor_solve(z.data());
   }
+  const Vec2 m0 = extra_eval(extra_z0_.data()), m1 = extra_eval(extra_z1_.data());
+  // K = I / w_p + M Z (columns m0, m1)
+  const double inv_w = 1.0 / std::max(w_.position, 1e-300);
+  const double k00 = inv_w + m0.x(), k01 = m1.x(), k10 = m0.y(), k11 = inv_w + m1.y();
+  const double det = k00 * k11 - k01 * k10;
+  if (!(std::abs(det) > 1e-300) || !std::isfinite(det)) return;
+  extra_k_[0] = k11 / det;
+  extra_k_[1] = -k01 / det;
+  extra_k_[2] = -k10 / det;
+  extra_k_[3] = k00 / det;
+  extra_active_ = true;
 }
 
 void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
@@ -372,16 +460,109 @@ void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
   }
 }
 
+double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
+  const FeatureFrame& f = *frame_;
+  const double cr = w_.rigidity / 12.0, cc = w_.coupling / 3.0;
+  double e = 0;
+  for (int j = 0; j < f.feature_lines; ++j) {
+    const FrameLine& l = f.lines[static_cast<size_t>(j)];
+    if (l.a == l.b || !(l.weight > 0)) continue;
+    const Vec2 d = v_[static_cast<size_t>(l.b)] - v_[static_cast<size_t>(l.a)];
+    e += cr * l.weight * (d - rot(line_c_[static_cast<size_t>(j)], line_s_[static_cast<size_t>(j)], line_rest_[static_cast<size_t>(j)])).squaredNorm();
+  }
+  for (size_t i = 0; i < v_.size(); ++i) {
+    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+      const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
+      e += cc * adj_w_[static_cast<size_t>(k)] *
+           ((v_[n] - v_[i]) - rot(vert_c_[i], vert_s_[i], adj_rest_[static_cast<size_t>(k)])).squaredNorm();
+    }
+  }
+  for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
+    e += w_.position * (eval_param(handles_[h], v_) - targets[h]).squaredNorm();
+  }
+  if (extra_active_ && targets.size() > handles_.size()) {
+    e += w_.position * (eval_param(extra_, v_) - targets[handles_.size()]).squaredNorm();
+  }
+  for (size_t i = 0; i < v_.size(); ++i) {
+    if (free_[i]) e += eps_ * (v_[i] - anchor_[i]).squaredNorm();
+  }
+  return e;
+}
+
+// Type-II Anderson acceleration on x -> G(x): with residuals f = G(x) - x and the history
+// of differences dF, dG, theta = argmin |f - dF theta| and x+ = G(x) - dG theta.
+void FeatureFrameSolver::anderson_mix() {
+  const Eigen::Index n2 = aa_x_.size();
+  const int m = static_cast<int>(aa_dF_.cols());
+  Eigen::Map<Eigen::VectorXd> v(v_.data()->data(), n2);
+  aa_g_ = v;
+  aa_f_ = aa_g_ - aa_x_;
+  if (aa_count_ > 0) {
+    const int col = aa_head_;
+    aa_dF_.col(col) = aa_f_ - aa_prev_f_;
+    aa_dG_.col(col) = aa_g_ - aa_prev_g_;
+    aa_head_ = (aa_head_ + 1) % m;
+  }
+  aa_prev_f_ = aa_f_;
+  aa_prev_g_ = aa_g_;
+  const int k = std::min(aa_count_, m);
+  ++aa_count_;
+  if (k == 0) return;  // v_ = G(x)
+  // Normal equations (k <= 16), Tikhonov-regularised, solved on the stack.
+  using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 16, 16>;  // no heap
+  using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 16, 1>;
+  Small A(k, k);
+  SmallVec b(k);
+  double scale = 0;
+  for (int i = 0; i < k; ++i) {
+    b(i) = aa_dF_.col(i).dot(aa_f_);
+    for (int j = 0; j <= i; ++j) A(i, j) = A(j, i) = aa_dF_.col(i).dot(aa_dF_.col(j));
+    scale = std::max(scale, A(i, i));
+  }
+  if (!(scale > 0) || !std::isfinite(scale)) return;
+  for (int i = 0; i < k; ++i) A(i, i) += 1e-10 * scale;
+  const Eigen::LDLT<Small> ldlt(A);
+  const SmallVec theta = ldlt.solve(b);
+  if (!theta.allFinite()) return;
+  for (int i = 0; i < k; ++i) v -= theta(i) * aa_dG_.col(i);
+}
+
 void FeatureFrameSolver::solve(std::span<const Vec2> targets, int iterations, std::span<double> energies) {
   if (!frame_ || v_.empty()) return;
   std::copy(v_.begin(), v_.end(), anchor_.begin());
   const bool record = energies.size() >= static_cast<size_t>(iterations) + 1;
-  if (record) energies[0] = energy(targets);
+  const bool aa = aa_dF_.cols() > 0 && iterations > 1;
+  const Eigen::Index n2 = static_cast<Eigen::Index>(2 * v_.size());
+  Eigen::Map<Eigen::VectorXd> v(v_.data()->data(), n2);
+  aa_count_ = aa_head_ = 0;
+  double accepted = std::numeric_limits<double>::infinity();
   for (int it = 0; it < iterations; ++it) {
     local_step();
+    vertex_rotations();
+    if (aa || (record && it == 0)) {
+      double e = current_energy(targets);
+      if (aa && it > 0 && !(e < accepted)) {
+        // The accelerated iterate did not lower the energy: take the plain step instead.
+        v = aa_accept_g_;
+        ++aa_rejected_;
+        aa_count_ = aa_head_ = 0;
+        local_step();
+        vertex_rotations();
+        e = current_energy(targets);
+      } else if (aa && it > 0) {
+        ++aa_accepted_;
+      }
+      if (record) energies[static_cast<size_t>(it)] = std::isfinite(accepted) ? std::min(e, accepted) : e;
+      accepted = std::min(accepted, e);
+    }
+    if (aa) aa_x_ = v;
     global_step(targets);
-    if (record) energies[static_cast<size_t>(it) + 1] = energy(targets);
+    if (aa && it + 1 < iterations) {
+      aa_accept_g_ = v;  // G(x): the fallback
+      anderson_mix();
+    }
   }
+  if (record) energies[static_cast<size_t>(iterations)] = energy(targets);
 }
 
 }  // namespace mar

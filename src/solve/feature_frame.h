@@ -1,9 +1,10 @@
 // Feature-frame manipulation solver (seed 000 §4, ALGORITHMS.md §2).
 //
 // Unknowns: the q deformed frame vertices v (stored interleaved, x0 y0 x1 y1 ...).
-// Energy, with e_j = v_b - v_a on line j = (a, b) and bars for rest positions:
-//   E = w_r * sum_{feature lines j} 1/12 |e_j - R_j ebar_j|^2                     (Eq. 1)
-//     + w_c * sum_i sum_{lines (i,k) at i} 1/3 |(v_k - v_i) - Rhat_i (vbar_k - vbar_i)|^2  (Eq. 2)
+// Energy, with e_j = v_b - v_a on line j = (a, b), bars for rest positions and k_j the
+// line's weight (its parts' stiffness, a joint's pin or spring weight; FrameLine::weight):
+//   E = w_r * sum_{feature lines j} k_j/12 |e_j - R_j ebar_j|^2                   (Eq. 1)
+//     + w_c * sum_i sum_{lines (i,k) at i} k_ik/3 |(v_k - v_i) - Rhat_i (vbar_k - vbar_i)|^2  (Eq. 2)
 //     + w_p * sum_h |(1 - z_h) v_a + z_h v_b - c_h|^2    (complex z_h, Eqs. 3-4)
 //     + eps * sum_{i in frame components without a handle} |v_i - v_i^start|^2
 // Local step: every R_j, Rhat_i in closed form (2D Procrustes). Global step: one linear
@@ -26,6 +27,11 @@ struct SolverWeights {
   double rigidity = 1;   ///< w_r
   double coupling = 1;   ///< w_c
   double position = 100; ///< w_p
+  /// Anderson acceleration of the local/global map (Peng et al. 2018): history of this
+  /// many iterates, 0 = the plain alternation. An accelerated iterate is kept only when the
+  /// energy fell below the last accepted one; otherwise the plain step is taken and the
+  /// history restarts, so the accepted energies never increase.
+  int anderson = 5;
 };
 
 class FeatureFrameSolver {
@@ -37,8 +43,17 @@ class FeatureFrameSolver {
 
   /// Runs `iterations` local/global steps from the current pose toward handle `targets`
   /// (#handles). When `energies` is given (size >= iterations + 1), writes E before the
-  /// first and after every iteration. Allocates nothing.
+  /// first iteration, then the energy of each accepted iterate (never increasing), the last
+  /// being E of the returned pose. The last iteration is always a plain step. Allocates nothing.
   void solve(std::span<const Vec2> targets, int iterations, std::span<double> energies = {});
+
+  /// A temporary extra handle (a pen grab) without re-factorising: its rank-2 term is added
+  /// to the factorised system by the Woodbury identity (two triangular solves here, a 2x2
+  /// correction per iteration). While set, solve() takes #handles + 1 targets, the last for
+  /// this handle. Allocates nothing.
+  void set_extra_handle(const ShapeParam& h);
+  void clear_extra_handle() { extra_active_ = false; }
+  bool has_extra_handle() const { return extra_active_; }
 
   /// Moves the whole pose by the rigid motion (rotation + translation, least squares,
   /// 2D Procrustes) that best takes the handles' current positions to `targets`. The
@@ -46,6 +61,18 @@ class FeatureFrameSolver {
   /// rest handles, and it saves the alternation from slowly unwinding a large rotation.
   /// One handle (or coincident handles) gives a translation. Allocates nothing.
   void align_to(std::span<const Vec2> targets);
+
+  /// Articulated initial guess for a jump (a pose recall, a solve from rest): the frame's
+  /// rigid bodies (parts joined by anything but hinges) are placed one by one — bodies with
+  /// two or more handles by their best rigid fit, then across each hinge a body turns about
+  /// the joint towards its handles (or follows its parent when it has none). Exact for
+  /// targets that are a rigid motion of the whole, or of limbs about their joints.
+  /// Replaces the pose and the rotations. Allocates nothing.
+  void align_parts(std::span<const Vec2> targets);
+
+  /// The start for a jump: of the current pose, align_to and align_parts, the one with the
+  /// lowest energy for `targets`. Allocates nothing.
+  void initial_guess(std::span<const Vec2> targets);
 
   /// Current frame vertex positions (#q).
   std::span<const Vec2> vertices() const { return v_; }
@@ -62,6 +89,9 @@ class FeatureFrameSolver {
   void optimal_rotations(std::span<const Vec2> v, std::span<double> line_angle, std::span<double> vertex_angle) const;
 
   size_t vertex_count() const { return v_.size(); }
+  /// Anderson steps accepted and rejected since prepare() (diagnostics).
+  long anderson_accepted() const { return aa_accepted_; }
+  long anderson_rejected() const { return aa_rejected_; }
   /// Non-zeros of the factor L (diagnostics, benchmarks).
   long factor_nonzeros() const { return ldlt_.matrixL().nestedExpression().nonZeros(); }
   size_t handle_count() const { return handles_.size(); }
@@ -69,14 +99,44 @@ class FeatureFrameSolver {
 
  private:
   void local_step();
+  void vertex_rotations();
+  /// Solves L D L^T y = b in place on a right-hand side in the factor's permuted order.
+  void factor_solve(double* y) const;
+  /// (2x2 operator) the extra handle's evaluation M y of a permuted-order vector.
+  Vec2 extra_eval(const double* y) const;
   void global_step(std::span<const Vec2> targets);
+  /// E(v_, current rotations): equals energy() right after local_step() + vertex_rotations().
+  double current_energy(std::span<const Vec2> targets) const;
+  /// Anderson mixing: takes x (the iterate) and g = G(x) in v_, writes the next iterate to v_.
+  void anderson_mix();
+
+  void build_bodies();
 
   const FeatureFrame* frame_ = nullptr;
+  // Rigid bodies for align_parts (built in prepare).
+  struct Hinge {
+    int other, v_here, v_there;
+  };
+  std::vector<int> body_of_;                       ///< #q
+  std::vector<std::vector<int>> body_handles_;     ///< per body
+  std::vector<std::vector<Hinge>> body_hinges_;    ///< per body
+  std::vector<double> body_c_, body_s_;            ///< per body: rotation
+  std::vector<Vec2> body_t_;                       ///< per body: x -> R x + t
+  std::vector<char> body_placed_;
+  std::vector<int> body_queue_;
+  std::vector<Vec2> guess_v_;                      ///< 2 x #q: initial_guess candidates
+  // Extra handle (Woodbury): Z = A^-1 M^T in permuted order (two columns) and
+  // K^-1 = (I / w_p + M Z)^-1.
+  bool extra_active_ = false;
+  ShapeParam extra_;
+  Eigen::VectorXd extra_z0_, extra_z1_;
+  double extra_k_[4] = {0, 0, 0, 0};
   SolverWeights w_;
   std::vector<ShapeParam> handles_;
   std::vector<int> adj_begin_, adj_;  ///< CSR: neighbours of each vertex over all lines
   std::vector<Vec2> adj_rest_;        ///< vbar_k - vbar_i per CSR entry
   std::vector<int> adj_line_;         ///< feature line of each CSR entry, -1 for sewing lines
+  std::vector<double> adj_w_;         ///< weight of each CSR entry's line
   std::vector<Vec2> line_rest_;       ///< vbar_b - vbar_a per feature line
   std::vector<char> free_;            ///< vertex is in a component without a handle
   double eps_ = 0;
@@ -87,6 +147,11 @@ class FeatureFrameSolver {
   std::vector<double> line_c_, line_s_;  ///< R_j as cos/sin (feature lines)
   std::vector<double> vert_c_, vert_s_;  ///< Rhat_i as cos/sin
   mutable std::vector<double> scratch_line_, scratch_vert_;  ///< energy() work space
+  // Anderson history (columns of 2q), preallocated in prepare().
+  Eigen::MatrixXd aa_dF_, aa_dG_;
+  Eigen::VectorXd aa_x_, aa_g_, aa_f_, aa_prev_g_, aa_prev_f_, aa_accept_g_;
+  int aa_count_ = 0, aa_head_ = 0;
+  long aa_accepted_ = 0, aa_rejected_ = 0;
 };
 
 }  // namespace mar

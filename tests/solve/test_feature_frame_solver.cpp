@@ -81,7 +81,8 @@ TEST(FeatureFrameSolver, EnergyNeverIncreases) {
   }
 }
 
-// (c) The closed-form energy equals a numerical quadrature of seed 000 Eqs. 1-2.
+// (c) The closed-form energy equals a numerical quadrature of seed 000 Eqs. 1-2 (each line
+// weighted by its parts' stiffness).
 TEST(FeatureFrameSolver, ClosedFormEnergyMatchesQuadrature) {
   Rig r = make_rig("butterfly", {{200, 135}, {60, 100}, {340, 280}});
   SolverWeights w{1.3, 0.7, 100};
@@ -107,7 +108,7 @@ TEST(FeatureFrameSolver, ClosedFormEnergyMatchesQuadrature) {
     for (int k = 0; k < 5; ++k) {
       const double t = 0.5 * (gx[k] + 1);
       const Vec2 vt = (1 - t) * a + t * b, vbt = (1 - t) * ab + t * bb;
-      e_rig += 0.5 * gw[k] * (vt - 0.5 * (a + b) - rotate(la[static_cast<size_t>(j)], vbt - 0.5 * (ab + bb))).squaredNorm();
+      e_rig += l.weight * 0.5 * gw[k] * (vt - 0.5 * (a + b) - rotate(la[static_cast<size_t>(j)], vbt - 0.5 * (ab + bb))).squaredNorm();
     }
   }
   double e_cou = 0;  // Eq. 2: every line incident to vertex i rotates about i
@@ -118,7 +119,7 @@ TEST(FeatureFrameSolver, ClosedFormEnergyMatchesQuadrature) {
       for (int k = 0; k < 5; ++k) {
         const double t = 0.5 * (gx[k] + 1);
         const Vec2 vt = (1 - t) * v[i] + t * v[n], vbt = (1 - t) * r.frame.rest[i] + t * r.frame.rest[n];
-        e_cou += 0.5 * gw[k] * (vt - v[i] - rotate(va[i], vbt - r.frame.rest[i])).squaredNorm();
+        e_cou += l.weight * 0.5 * gw[k] * (vt - v[i] - rotate(va[i], vbt - r.frame.rest[i])).squaredNorm();
       }
     }
   }
