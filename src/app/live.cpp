@@ -1,5 +1,7 @@
 #include "app/live.h"
 
+#include "geom/polygon.h"
+
 #include "character/color.h"
 #include "firmware_sim/hid_device.h"
 #include "render/image.h"
@@ -137,9 +139,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   }
   s->events_.resize(4096);
   s->handle_params_ = p.bindings;
-  s->handle_params_.reserve(p.bindings.size() + 1);
   s->targets_ = rest;
-  s->targets_.reserve(rest.size() + 1);
+  s->targets_.push_back(Vec2::Zero());  // the grab handle's target (used while grabbing)
   s->replay_pending_.reserve(1 << 16);
   std::string err;
   if (!s->open_output(&err)) return R::failure(err);
@@ -257,14 +258,10 @@ void LiveShow::drain(int64_t t_ns) {
 }
 
 void LiveShow::regrab(bool down) {
-  // Grab-and-drag: the character point nearest the pen becomes a temporary handle. The
-  // handle set changes, so the system is factorised again (measured: refactor_us).
+  // Grab-and-drag: the character point nearest the pen becomes a temporary handle, added to
+  // the factorised system by a rank-2 update (no re-factorisation, no allocation).
   Puppet& p = *puppet_;
   const double t0 = now_us();
-  const uint64_t a0 = allocations();
-  const std::vector<Vec2> pose(p.solver.vertices().begin(), p.solver.vertices().end());
-  handle_params_.resize(p.bindings.size());
-  targets_.resize(p.bindings.size());
   if (down) {
     const Vec2 g = mapping_.grab_point();
     double best = INFINITY;
@@ -275,19 +272,33 @@ void LiveShow::regrab(bool down) {
           best = d;
           rest = p.character.shapes[s].points[k];
         }
-    handle_params_.push_back(bind_point(p.frame, p.character, rest));
-    targets_.push_back(g);
+    p.solver.set_extra_handle(bind_point(p.frame, p.character, rest));
+    targets_.back() = g;
+  } else {
+    p.solver.clear_extra_handle();
   }
+  grab_us_.add(now_us() - t0);
+  ++grabs_;
+  grabbing_ = down;
+}
+
+void LiveShow::refactor() {
+  // New solver weights from a control: the system matrix changes, so it is factorised
+  // again (measured: refactor_us; Eigen's factorisation allocates, counted on its own).
+  Puppet& p = *puppet_;
+  const double t0 = now_us();
+  const uint64_t a0 = allocations();
+  const std::vector<Vec2> pose(p.solver.vertices().begin(), p.solver.vertices().end());
   const double* w = mapping_.weights();
-  p.solver.prepare(p.frame, handle_params_, SolverWeights{w[0], w[1], w[2]});
+  const bool grabbing = p.solver.has_extra_handle();
+  p.solver.prepare(p.frame, handle_params_, SolverWeights{w[0], w[1], w[2], p.rig.anderson});
   p.solver.set_vertices(pose);
+  grabbing_ = false;
+  if (grabbing) regrab(true);
   refactor_us_.add(now_us() - t0);
   ++refactorizations_;
-  // Factorising a new handle set allocates (Eigen's symbolic and numeric factor); it
-  // happens on pen down/up, not in steady frames, and is counted on its own.
   refactor_allocs_ += allocations() - a0;
   alloc_base_ += allocations() - a0;
-  grabbing_ = down;
 }
 
 void LiveShow::frame(int64_t t_ns) {
@@ -313,14 +324,22 @@ void LiveShow::frame(int64_t t_ns) {
       ++iterations_;
     }
   }
-  if (mapping_.grab_active() != grabbing_ || mapping_.weights_changed()) regrab(mapping_.grab_active());
+  if (mapping_.weights_changed()) refactor();
+  if (mapping_.grab_active() != grabbing_) regrab(mapping_.grab_active());
   const auto mt = mapping_.targets();
   for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];
   if (grabbing_) targets_.back() = mapping_.grab_point();
   const double a2 = now_us();
-  p.solver.solve(targets_, iterations_);
+  p.solver.solve(std::span<const Vec2>(targets_.data(), grabbing_ ? targets_.size() : targets_.size() - 1), iterations_);
   const double a3 = now_us();
   p.reconstruct();
+  // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its
+  // rest shape), in thousandths of a percent of the character's height.
+  double worst = 0;
+  for (size_t k = 0; k < p.shapes.size(); ++k) {
+    worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
+  }
+  quality_.add(worst * 100.0 / std::max(1e-9, p.character.height) * 1000.0);
   canvas_->clear(background_);
   list_.clear();
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_);

@@ -75,6 +75,7 @@ class LiveShow {
   void drain(int64_t t_ns);
   void on_record(const WireRecord& r);
   void regrab(bool down);
+  void refactor();
   void draw_hud();
   bool replay_next(int64_t& t_ns, int& iterations);
   std::string open_hardware();
@@ -99,7 +100,7 @@ class LiveShow {
   std::vector<Event> events_;   ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0;
-  std::vector<Vec2> targets_;   ///< handles (+ the grab handle)
+  std::vector<Vec2> targets_;   ///< handles, then the grab handle's target
   std::vector<ShapeParam> handle_params_;
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
@@ -119,6 +120,9 @@ class LiveShow {
   long refactorizations_ = 0;
   uint64_t refactor_allocs_ = 0;
   Histogram refactor_us_;
+  Histogram quality_;           ///< worst-part distortion per frame, 0.001 % of the height
+  long grabs_ = 0;              ///< pen downs and ups (rank-2 updates, no re-factorisation)
+  Histogram grab_us_;
   bool hud_ = true, quit_ = false, learned_ = false;
   std::FILE* record_ = nullptr;
   std::FILE* replay_ = nullptr;

@@ -145,7 +145,7 @@ int cmd_pose(const PoseArgs& a) {
   }
   const int iterations = a.iterations > 0 ? a.iterations : p.rig.iterations;
   std::vector<double> energies(static_cast<size_t>(iterations) + 1);
-  p.solver.align_to(targets);
+  p.solver.initial_guess(targets);
   p.solver.solve(targets, iterations, energies);
   p.reconstruct();
   if (!a.dump.empty()) {

@@ -31,7 +31,7 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, c
   const auto t0 = std::chrono::steady_clock::now();
   std::string err;
   const bool ok = p->solver.prepare(p->frame, p->bindings,
-                                    SolverWeights{p->rig.w_rigidity, p->rig.w_coupling, p->rig.w_position}, &err);
+                                    SolverWeights{p->rig.w_rigidity, p->rig.w_coupling, p->rig.w_position, p->rig.anderson}, &err);
   p->prefactor_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!ok) return R::failure(path + ": " + err);
   p->mesh = prepare_mesh(p->character);
