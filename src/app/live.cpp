@@ -262,7 +262,25 @@ void LiveShow::regrab(bool down) {
   // the factorised system by a rank-2 update (no re-factorisation, no allocation).
   Puppet& p = *puppet_;
   const double t0 = now_us();
+  grab_handle_ = -1;
   if (down) {
+    const Vec2 g = mapping_.grab_point();
+    // Near an existing handle, the pen takes that handle over (two handles side by side
+    // would pull against each other); elsewhere the nearest point becomes a new handle.
+    double nearest = INFINITY;
+    for (size_t h = 0; h < p.bindings.size(); ++h) {
+      const Vec2 at = eval_param(p.bindings[h], p.solver.vertices());
+      if (double d = (at - g).norm(); d < nearest) {
+        nearest = d;
+        grab_handle_ = int(h);
+        grab_offset_ = at - g;
+      }
+    }
+    if (nearest > 0.05 * p.frame.diagonal) grab_handle_ = -1;
+  }
+  if (down && grab_handle_ >= 0) {
+    p.solver.clear_extra_handle();
+  } else if (down) {
     const Vec2 g = mapping_.grab_point();
     double best = INFINITY;
     Vec2 rest = Vec2::Zero();
@@ -290,7 +308,7 @@ void LiveShow::refactor() {
   const uint64_t a0 = allocations();
   const std::vector<Vec2> pose(p.solver.vertices().begin(), p.solver.vertices().end());
   const double* w = mapping_.weights();
-  const bool grabbing = p.solver.has_extra_handle();
+  const bool grabbing = grabbing_;
   p.solver.prepare(p.frame, handle_params_, SolverWeights{w[0], w[1], w[2], p.rig.anderson});
   p.solver.set_vertices(pose);
   grabbing_ = false;
@@ -328,9 +346,11 @@ void LiveShow::frame(int64_t t_ns) {
   if (mapping_.grab_active() != grabbing_) regrab(mapping_.grab_active());
   const auto mt = mapping_.targets();
   for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];
-  if (grabbing_) targets_.back() = mapping_.grab_point();
+  const bool extra = grabbing_ && grab_handle_ < 0;
+  if (extra) targets_.back() = mapping_.grab_point();
+  if (grabbing_ && grab_handle_ >= 0) targets_[size_t(grab_handle_)] = mapping_.grab_point() + grab_offset_;
   const double a2 = now_us();
-  p.solver.solve(std::span<const Vec2>(targets_.data(), grabbing_ ? targets_.size() : targets_.size() - 1), iterations_);
+  p.solver.solve(std::span<const Vec2>(targets_.data(), extra ? targets_.size() : targets_.size() - 1), iterations_);
   const double a3 = now_us();
   p.reconstruct();
   // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its

@@ -121,6 +121,8 @@ class LiveShow {
   uint64_t refactor_allocs_ = 0;
   Histogram refactor_us_;
   Histogram quality_;           ///< worst-part distortion per frame, 0.001 % of the height
+  int grab_handle_ = -1;        ///< the rig handle a pen grab took over (-1: an extra handle)
+  Vec2 grab_offset_ = Vec2::Zero();
   long grabs_ = 0;              ///< pen downs and ups (rank-2 updates, no re-factorisation)
   Histogram grab_us_;
   bool hud_ = true, quit_ = false, learned_ = false;

@@ -44,6 +44,88 @@ void FeatureFrameSolver::build_bodies() {
   body_placed_.assign(nb, 0);
   body_queue_.assign(nb, 0);
   guess_v_.assign(2 * q, Vec2::Zero());
+  // Reach chains: from a handle's body (its only handle, one hinge) through handle-less
+  // links with two hinges to the anchoring body.
+  reach_anchor_.assign(handles_.size(), -1);
+  reach_min_.assign(handles_.size(), 0.0);
+  reach_max_.assign(handles_.size(), 0.0);
+  reach_targets_.assign(handles_.size() + 1, Vec2::Zero());
+  reach_used_ = 0;
+  jump_prev_.assign(handles_.size() + 1, Vec2::Zero());
+  jump_prev_n_ = 0;
+  jumps_ = 0;
+  for (size_t h = 0; h < handles_.size() && w_.reach_stretch >= 0; ++h) {
+    const int b0 = body_of_[static_cast<size_t>(handles_[h].a)];
+    if (body_handles_[static_cast<size_t>(b0)].size() != 1 || body_hinges_[static_cast<size_t>(b0)].size() != 1) continue;
+    Vec2 p = eval_param(handles_[h], f.rest);
+    int cur = b0, from = -1, anchor = -1;
+    double sum = 0, longest = 0;
+    for (size_t step = 0; step < nb; ++step) {
+      const auto& hs = body_hinges_[static_cast<size_t>(cur)];
+      if (cur != b0 && (!body_handles_[static_cast<size_t>(cur)].empty() || hs.size() != 2)) break;  // anchor reached
+      const Hinge* next = nullptr;
+      for (const Hinge& hg : hs) {
+        if (hg.other != from) next = &hg;
+      }
+      if (!next) {
+        anchor = -1;
+        break;
+      }
+      const double len = (p - f.rest[static_cast<size_t>(next->v_here)]).norm();
+      sum += len;
+      longest = std::max(longest, len);
+      p = f.rest[static_cast<size_t>(next->v_here)];
+      anchor = next->v_there;
+      from = cur;
+      cur = next->other;
+    }
+    if (anchor < 0 || !(sum > 0)) continue;
+    reach_anchor_[h] = anchor;
+    reach_max_[h] = sum;
+    reach_min_[h] = std::max(0.0, longest - (sum - longest));
+  }
+}
+
+void FeatureFrameSolver::apply_reach(std::span<const Vec2> targets) {
+  const size_t n = std::min(targets.size(), reach_targets_.size());
+  std::copy(targets.begin(), targets.begin() + static_cast<long>(n), reach_targets_.begin());
+  reach_used_ = n;
+  if (w_.reach_stretch < 0) return;
+  for (size_t h = 0; h < handles_.size() && h < n; ++h) {
+    const int a = reach_anchor_[h];
+    if (a < 0 || !targets[h].allFinite()) continue;
+    // The joint where the anchoring body's best rigid fit puts it: a joint vertex pulled
+    // by the limb does not drag the reach along (that would feed back frame after frame).
+    const size_t body = static_cast<size_t>(body_of_[static_cast<size_t>(a)]);
+    Vec2 cr = Vec2::Zero(), cv = Vec2::Zero();
+    int n_body = 0;
+    for (size_t i = 0; i < v_.size(); ++i) {
+      if (static_cast<size_t>(body_of_[i]) != body) continue;
+      cr += frame_->rest[i];
+      cv += v_[i];
+      ++n_body;
+    }
+    cr /= n_body;
+    cv /= n_body;
+    double re = 0, im = 0;
+    for (size_t i = 0; i < v_.size(); ++i) {
+      if (static_cast<size_t>(body_of_[i]) != body) continue;
+      const Vec2 p = frame_->rest[i] - cr, q = v_[i] - cv;
+      re += q.x() * p.x() + q.y() * p.y();
+      im += q.y() * p.x() - q.x() * p.y();
+    }
+    const double len = std::hypot(re, im);
+    const double c = len > 1e-300 ? re / len : 1.0, sn = len > 1e-300 ? im / len : 0.0;
+    const Vec2 r = frame_->rest[static_cast<size_t>(a)] - cr;
+    const Vec2 anchor = cv + Vec2(c * r.x() - sn * r.y(), sn * r.x() + c * r.y());
+    const Vec2 d = targets[h] - anchor;
+    const double dist = d.norm();
+    const double soft = std::max(1e-9, w_.reach_stretch * reach_max_[h]);
+    double want = dist;
+    if (dist > reach_max_[h]) want = reach_max_[h] + soft * std::tanh((dist - reach_max_[h]) / soft);
+    if (dist < reach_min_[h]) want = reach_min_[h] - soft * std::tanh((reach_min_[h] - dist) / soft);
+    if (want != dist && dist > 1e-12) reach_targets_[h] = anchor + d * (want / dist);
+  }
 }
 
 void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
@@ -200,6 +282,24 @@ void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
           const Vec2 p = rest_of(h) - jr, q = targets[static_cast<size_t>(h)] - P;
           re += q.x() * p.x() + q.y() * p.y();
           im += q.y() * p.x() - q.x() * p.y();
+        }
+        if (body_handles_[o].empty()) {
+          // A link with no handle (an upper arm whose hand carries it): aim the chain
+          // straight at the first handle down it.
+          int cur = static_cast<int>(o), from = static_cast<int>(b);
+          for (size_t step = 0; step < nb; ++step) {
+            const auto& hs = body_hinges_[static_cast<size_t>(cur)];
+            if (!body_handles_[static_cast<size_t>(cur)].empty() || hs.size() != 2) break;
+            const int next = hs[0].other == from ? hs[1].other : hs[0].other;
+            from = cur;
+            cur = next;
+          }
+          for (int h : body_handles_[static_cast<size_t>(cur)]) {
+            if (!usable(h) || cur == static_cast<int>(o)) continue;
+            const Vec2 p = rest_of(h) - jr, q = targets[static_cast<size_t>(h)] - P;
+            re += q.x() * p.x() + q.y() * p.y();
+            im += q.y() * p.x() - q.x() * p.y();
+          }
         }
         double c = body_c_[b], s = body_s_[b];
         const double len = std::hypot(re, im);

@@ -527,8 +527,24 @@ void FeatureFrameSolver::anderson_mix() {
   for (int i = 0; i < k; ++i) v -= theta(i) * aa_dG_.col(i);
 }
 
-void FeatureFrameSolver::solve(std::span<const Vec2> targets, int iterations, std::span<double> energies) {
+void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std::span<double> energies) {
   if (!frame_ || v_.empty()) return;
+  // A jump in the targets (a pose recall): start from the best of the initial guesses.
+  bool jumped = false;
+  const size_t n_given = std::min(given.size(), jump_prev_.size());
+  if (w_.jump > 0 && jump_prev_n_ == n_given) {
+    const double limit2 = w_.jump * w_.jump * frame_->diagonal * frame_->diagonal;
+    for (size_t h = 0; h < n_given && !jumped; ++h) jumped = (given[h] - jump_prev_[h]).squaredNorm() > limit2;
+  }
+  std::copy(given.begin(), given.begin() + static_cast<long>(n_given), jump_prev_.begin());
+  jump_prev_n_ = n_given;
+  if (jumped) {
+    ++jumps_;
+    apply_reach(given);
+    initial_guess(effective_targets());
+  }
+  apply_reach(given);
+  const std::span<const Vec2> targets = effective_targets();
   std::copy(v_.begin(), v_.end(), anchor_.begin());
   const bool record = energies.size() >= static_cast<size_t>(iterations) + 1;
   const bool aa = aa_dF_.cols() > 0 && iterations > 1;

@@ -32,6 +32,14 @@ struct SolverWeights {
   /// energy fell below the last accepted one; otherwise the plain step is taken and the
   /// history restarts, so the accepted energies never increase.
   int anderson = 5;
+  /// Reach: a handle at the free end of a chain of hinged parts gets its target's distance
+  /// from the chain's anchoring joint softly limited to what the chain spans (stretching
+  /// at most `reach_stretch` of the chain's length), so a limb turns or stops instead of
+  /// pulling the body out of shape. Negative: off.
+  double reach_stretch = 0.04;
+  /// A target that moved more than this fraction of the frame's diagonal since the last
+  /// solve (a pose recall, a jump) makes solve() start from initial_guess(). <= 0: never.
+  double jump = 0.08;
 };
 
 class FeatureFrameSolver {
@@ -89,6 +97,10 @@ class FeatureFrameSolver {
   void optimal_rotations(std::span<const Vec2> v, std::span<double> line_angle, std::span<double> vertex_angle) const;
 
   size_t vertex_count() const { return v_.size(); }
+  /// The targets the last solve() used: the given ones, with reach applied (#handles [+1]).
+  std::span<const Vec2> effective_targets() const { return {reach_targets_.data(), reach_used_}; }
+  /// Solves that started from initial_guess() because the targets jumped (diagnostics).
+  long jumps() const { return jumps_; }
   /// Anderson steps accepted and rejected since prepare() (diagnostics).
   long anderson_accepted() const { return aa_accepted_; }
   long anderson_rejected() const { return aa_rejected_; }
@@ -125,6 +137,16 @@ class FeatureFrameSolver {
   std::vector<char> body_placed_;
   std::vector<int> body_queue_;
   std::vector<Vec2> guess_v_;                      ///< 2 x #q: initial_guess candidates
+  // Reach (see SolverWeights::reach_stretch), per handle: anchoring joint vertex (-1: free)
+  // and the span of the chain; the clamped targets of the current solve.
+  std::vector<int> reach_anchor_;
+  std::vector<double> reach_min_, reach_max_;
+  std::vector<Vec2> reach_targets_;
+  size_t reach_used_ = 0;
+  std::vector<Vec2> jump_prev_;  ///< the previous solve's given targets
+  size_t jump_prev_n_ = 0;
+  long jumps_ = 0;
+  void apply_reach(std::span<const Vec2> targets);
   // Extra handle (Woodbury): Z = A^-1 M^T in permuted order (two columns) and
   // K^-1 = (I / w_p + M Z)^-1.
   bool extra_active_ = false;

@@ -175,11 +175,13 @@ TEST(cli_inspect_rig, Table1ColumnsAndHandles) {
   EXPECT_NE(text.out.find(", 2)"), std::string::npos) << text.out;  // two user sewing lines
 }
 
+// The targets turn the right arm 60 degrees about its shoulder joint (188.1, 162.0) and the
+// left leg 20 degrees about its hip joint (134.8, 288.3): within reach.
 TEST(cli_pose, DumpHasTheContractKeysAndMeetsTargets) {
   const auto dump = test::temp_dir("pose") / "pose.json";
   const auto png = test::temp_dir("pose") / "pose.png";
   auto r = test::run_cli("pose " + character("figure") + " --rig " + rig("figure") +
-                         " --target right-hand=260,130 --target left-foot=70,385 --iterations 30 --dump " + q(dump) +
+                         " --target right-hand=292.8,156.7 --target left-foot=60.9,375 --iterations 30 --dump " + q(dump) +
                          " -o " + q(png));
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream in(dump);

@@ -224,6 +224,9 @@ PoseResult measure(const PoseCase& c, const Pose& pose, const std::vector<mar::P
   const std::vector<Vec2> t = targets_at(c, pose, 1);
   for (size_t h = 0; h < t.size() && h < handle_points.size(); ++h) {
     r.handle_max = std::max(r.handle_max, (handle_points[h] - t[h]).norm() * pct);
+    if (g_parts && (handle_points[h] - t[h]).norm() * pct > 0.5) {
+      std::printf("      handle %-10s residual %.3f\n", c.puppet->rig.handles[h].name.c_str(), (handle_points[h] - t[h]).norm() * pct);
+    }
   }
   return r;
 }

@@ -1,5 +1,6 @@
 #include "character/load.h"
 #include "character/svg_loader.h"
+#include "geom/polygon.h"
 #include "solve/feature_frame.h"
 #include "test_util.h"
 
@@ -147,21 +148,62 @@ TEST(FeatureFrameSolver, ConvergesTowardRigidMotionWithoutAlignment) {
 
 // (d) Reachable targets are met: residual below 0.5% of the character's diagonal after
 // the live loop's 12 iterations (warm-started frame to frame, as in a show).
+// The hinge of the figure's left arm (the joint nearest its shoulder).
+Vec2 left_shoulder(const FeatureFrame& f) {
+  Vec2 best = f.joints.at(0).at;
+  for (const FrameJoint& j : f.joints) {
+    if ((j.at - Vec2(110, 160)).norm() < (best - Vec2(110, 160)).norm()) best = j.at;
+  }
+  return best;
+}
+
+Vec2 rotate_about(const Vec2& p, const Vec2& c, double deg) {
+  const double a = deg * M_PI / 180, co = std::cos(a), si = std::sin(a);
+  const Vec2 d = p - c;
+  return c + Vec2(co * d.x() - si * d.y(), si * d.x() + co * d.y());
+}
+
 TEST(FeatureFrameSolver, ReachableTargetsAreMet) {
   Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}});
   FeatureFrameSolver s;
   ASSERT_TRUE(s.prepare(r.frame, r.handles, SolverWeights{}));
   std::vector<Vec2> targets = r.rest;
   const double diag = r.frame.diagonal;
-  // Raise the left hand over 30 frames.
+  const Vec2 shoulder = left_shoulder(r.frame);
+  // Raise the left hand over 30 frames, turning the arm 80 degrees about its shoulder.
   for (int f = 1; f <= 30; ++f) {
-    targets[3] = r.rest[3] + (f / 30.0) * Vec2(-20, -110);
+    targets[3] = rotate_about(r.rest[3], shoulder, 80.0 * f / 30);
     s.solve(targets, 12);
   }
   for (int f = 0; f < 5; ++f) s.solve(targets, 12);  // hold still a few frames
   for (size_t h = 0; h < targets.size(); ++h) {
     EXPECT_LT((eval_param(r.handles[h], s.vertices()) - targets[h]).norm(), 0.005 * diag) << "handle " << h;
   }
+}
+
+// A hand pulled beyond its arm's reach: the arm points at the target and stretches at most
+// a little; the body keeps its shape and stays where its handles hold it.
+TEST(FeatureFrameSolver, TargetsBeyondReachStopTheLimbNotTheBody) {
+  Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}, {150, 190}});
+  FeatureFrameSolver s;
+  ASSERT_TRUE(s.prepare(r.frame, r.handles, SolverWeights{}));
+  const Vec2 shoulder = left_shoulder(r.frame);
+  const double reach = (r.rest[3] - shoulder).norm();
+  std::vector<Vec2> targets = r.rest;
+  for (int f = 1; f <= 60; ++f) {  // out to 2x the reach, straight left
+    targets[3] = shoulder + Vec2(-reach * (1 + f / 60.0), 0);
+    s.solve(targets, 8);
+  }
+  std::vector<Points> shapes = rest_shapes(r.ch);
+  reconstruct_shapes(r.frame, s.vertices(), shapes);
+  const Vec2 hand = eval_param(r.handles[3], s.vertices());
+  EXPECT_LT((hand - shoulder).norm(), 1.06 * reach);            // stretched by at most ~5%
+  EXPECT_LT(std::abs((hand - shoulder).normalized().y()), 0.05);  // and pointing at the target
+  for (size_t k = 0; k < r.ch.shapes.size(); ++k) {
+    if (r.ch.shapes[k].id != "torso") continue;
+    EXPECT_LT(rigid_fit_rms(r.ch.shapes[k].points, shapes[k]), 0.005 * r.ch.height);  // the body keeps its shape
+  }
+  EXPECT_LT((eval_param(r.handles[4], s.vertices()) - r.rest[4]).norm(), 0.005 * r.frame.diagonal);  // and its place
 }
 
 bool all_finite(std::span<const Vec2> v) {
