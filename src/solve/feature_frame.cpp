@@ -555,7 +555,7 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
   for (int it = 0; it < iterations; ++it) {
     local_step();
     vertex_rotations();
-    if (aa || (record && it == 0)) {
+    if (aa || record) {
       double e = current_energy(targets);
       if (aa && it > 0 && !(e < accepted)) {
         // The accelerated iterate did not lower the energy: take the plain step instead.

@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace mar {
 namespace {
@@ -92,6 +93,46 @@ deadzone = 0.1
   EXPECT_EQ(test::allocation_count() - before, 0);
   EXPECT_EQ(show.allocations_after_warmup(), 0u);
   EXPECT_GT(show.mapping().stats().matched, 500u);  // the devices really drove it
+}
+
+// Pen grabs and releases (taking over a handle, and a new handle away from the handles:
+// a rank-2 update of the factorisation) allocate nothing either, and re-factorise nothing.
+TEST(LiveAlloc, PenGrabsAndReleasesAllocateNothing) {
+  set_allocation_counter(&heap_allocation_count);
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  const std::string path = test::write_temp("grab.toml", "[show]\nrig = \"" + rig + R"("
+rate = 120
+[display]
+width = 200
+height = 240
+[[device]]
+name = "pen"
+sim = "pen_tablet"
+script = """
+0.1 stroke 0.5,0.45 0.62,0.42 0.7,0.5 over 0.4 pressure 0.7
+0.7 stroke 0.38,0.8 0.3,0.85 over 0.4 pressure 0.6
+loop 1.2
+"""
+[[binding]]
+device = "pen"
+control = "pointer"
+target = "grab"
+)");
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.warmup = 30;
+  auto s = LiveShow::load(path, o);
+  ASSERT_TRUE(s.ok()) << s.error;
+  LiveShow& show = **s.value;
+  for (int f = 0; f < 30; ++f) show.frame(int64_t(f * 1e9 / 120));
+  const long before = test::allocation_count();
+  for (int f = 30; f < 600; ++f) show.frame(int64_t(f * 1e9 / 120));
+  EXPECT_EQ(test::allocation_count() - before, 0);
+  EXPECT_EQ(show.allocations_after_warmup(), 0u);
+  const auto j = nlohmann::json::parse(show.stats_json());
+  EXPECT_GE(j["grabs"]["count"].get<int>(), 16);  // 4 strokes down and up per 1.2 s loop... at least 4 loops
+  EXPECT_EQ(j["refactorizations"]["count"], 0);
 }
 
 }  // namespace

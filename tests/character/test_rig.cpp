@@ -114,6 +114,14 @@ TEST(parse_rig, ErrorsNameFileAndLine) {
       {"character = \"a.svg\"\n[weights]\ncoupling = -1\n", "r.toml:3: coupling must not be negative"},
       {"iterations = 3\n", "'character'"},
       {"character = \"a.svg\"\nthis is not toml\n", "r.toml:2:"},
+      {"character = \"a.svg\"\n[solver]\nanderson = 40\n", "r.toml:3: anderson must be"},
+      {"character = \"a.svg\"\n[solver]\njoints = \"some\"\n", "r.toml:3: joints must be"},
+      {"character = \"a.svg\"\n\n[[joint]]\nstiffness = 1.0\n", "r.toml:3: a joint needs at = [x, y] or parts"},
+      {"character = \"a.svg\"\n[[joint]]\nat = [1, 2]\nkind = \"weld\"\n", "r.toml:2: a weld needs parts"},
+      {"character = \"a.svg\"\n[[joint]]\nparts = [\"a\"]\n", "r.toml:3: parts must be two"},
+      {"character = \"a.svg\"\n[[joint]]\nat = [1, 2]\nkind = \"ball\"\n", "r.toml:4: kind must be"},
+      {"character = \"a.svg\"\n[[part]]\nid = \"torso\"\nstiffness = 0\n", "r.toml:4: stiffness must be positive"},
+      {"character = \"a.svg\"\n[[part]]\nstiffness = 2\n", "r.toml:2: a part needs id"},
   };
   for (const Case& c : cases) {
     auto r = parse_rig(c.text, "r.toml");
@@ -123,8 +131,58 @@ TEST(parse_rig, ErrorsNameFileAndLine) {
   EXPECT_FALSE(load_rig("/nonexistent/rig.toml").ok());
 }
 
+TEST(parse_rig, JointsPartsAndSolverRoundTrip) {
+  const char* text = R"toml(character = "c.svg"
+[solver]
+anderson = 3
+joints = "none"
+stiffness = "auto"
+
+[[joint]]
+at = [176.0, 160.0]
+parts = ["arm-right", "shirt"]
+stiffness = 0.5
+
+[[joint]]
+parts = ["hair", "head"]
+kind = "weld"
+
+[[part]]
+id = "shirt"
+stiffness = 3.5
+)toml";
+  auto r = parse_rig(text, "j.toml");
+  ASSERT_TRUE(r.ok()) << r.error;
+  const Rig& a = *r.value;
+  EXPECT_EQ(a.anderson, 3);
+  EXPECT_FALSE(a.auto_joints);
+  EXPECT_TRUE(a.auto_stiffness);
+  ASSERT_EQ(a.joints.size(), 2u);
+  EXPECT_TRUE(a.joints[0].has_at);
+  EXPECT_EQ(a.joints[0].at, Vec2(176, 160));
+  EXPECT_EQ(a.joints[0].part_a, "arm-right");
+  EXPECT_EQ(a.joints[0].part_b, "shirt");
+  EXPECT_DOUBLE_EQ(a.joints[0].stiffness, 0.5);
+  EXPECT_EQ(a.joints[0].line, 7);
+  EXPECT_FALSE(a.joints[1].has_at);
+  EXPECT_TRUE(a.joints[1].weld);
+  ASSERT_EQ(a.parts.size(), 1u);
+  EXPECT_EQ(a.parts[0].id, "shirt");
+  EXPECT_DOUBLE_EQ(a.parts[0].stiffness, 3.5);
+  auto back = parse_rig(write_rig(a), "j.toml");
+  ASSERT_TRUE(back.ok()) << back.error;
+  EXPECT_EQ(back.value->anderson, 3);
+  EXPECT_FALSE(back.value->auto_joints);
+  ASSERT_EQ(back.value->joints.size(), 2u);
+  EXPECT_EQ(back.value->joints[0].at, a.joints[0].at);
+  EXPECT_EQ(back.value->joints[1].weld, true);
+  EXPECT_EQ(back.value->joints[1].part_a, "hair");
+  ASSERT_EQ(back.value->parts.size(), 1u);
+  EXPECT_EQ(write_rig(*back.value), write_rig(a));
+}
+
 TEST(load_rig, ExampleRigsLoad) {
-  for (const char* name : {"butterfly", "figure", "koi"}) {
+  for (const char* name : {"butterfly", "figure", "koi", "boy", "candle"}) {
     auto r = load_rig((test::source_dir() / "config" / "rigs" / (std::string(name) + ".toml")).string());
     ASSERT_TRUE(r.ok()) << r.error;
     EXPECT_GE(r.value->handles.size(), 5u);

@@ -286,3 +286,84 @@ TEST(FeatureFrameSolver, DegenerateCases) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// The extra handle (rank-2 Woodbury update of the factorised system) gives the same solve
+// as factorising the system with that handle included.
+TEST(FeatureFrameSolver, ExtraHandleEqualsRefactorisingWithIt) {
+  Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}});
+  const ShapeParam extra = bind_point(r.frame, r.ch, Vec2(120, 200));
+  SolverWeights w;
+  w.reach_stretch = -1;  // compare the linear algebra alone (no reach, no jump guess, and
+  w.jump = 0;            // no Anderson mixing, whose accept/reject turns rounding into steps)
+  w.anderson = 0;
+  FeatureFrameSolver a, b;
+  ASSERT_TRUE(a.prepare(r.frame, r.handles, w));
+  std::vector<ShapeParam> with = r.handles;
+  with.push_back(extra);
+  ASSERT_TRUE(b.prepare(r.frame, with, w));
+  a.set_extra_handle(extra);
+  ASSERT_TRUE(a.has_extra_handle());
+  std::vector<Vec2> targets = r.rest;
+  targets.push_back(Vec2(90, 215));
+  for (int f = 0; f < 5; ++f) {
+    a.solve(targets, 6);
+    b.solve(targets, 6);
+  }
+  for (size_t i = 0; i < a.vertices().size(); ++i) {
+    EXPECT_NEAR((a.vertices()[i] - b.vertices()[i]).norm(), 0.0, 1e-9 * r.frame.diagonal) << i;
+  }
+  // Cleared, it is the system without it again.
+  a.clear_extra_handle();
+  FeatureFrameSolver c;
+  ASSERT_TRUE(c.prepare(r.frame, r.handles, w));
+  c.set_vertices(a.vertices());
+  const std::vector<Vec2> base(targets.begin(), targets.end() - 1);
+  a.solve(base, 4);
+  c.solve(base, 4);
+  for (size_t i = 0; i < a.vertices().size(); ++i) EXPECT_NEAR((a.vertices()[i] - c.vertices()[i]).norm(), 0.0, 1e-9 * r.frame.diagonal);
+}
+
+// Anderson acceleration: accepted energies never increase, and in the same iteration count
+// it gets lower than the plain alternation after a large move.
+TEST(FeatureFrameSolver, AndersonLowersTheEnergyFasterAndNeverRaisesIt) {
+  Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}});
+  std::vector<Vec2> targets = r.rest;
+  targets[3] = Vec2(40, 140);
+  targets[0] = Vec2(170, 70);
+  double final_energy[2] = {0, 0};
+  for (int m : {0, 5}) {
+    SolverWeights w;
+    w.anderson = m;
+    FeatureFrameSolver s;
+    ASSERT_TRUE(s.prepare(r.frame, r.handles, w));
+    std::vector<double> e(13);
+    s.solve(targets, 12, e);
+    for (size_t k = 1; k < e.size(); ++k) EXPECT_LE(e[k], e[k - 1] * (1 + 1e-12)) << "m=" << m << " k=" << k;
+    final_energy[m == 0 ? 0 : 1] = e.back();
+    if (m > 0) {
+      EXPECT_GT(s.anderson_accepted(), 0);
+    }
+  }
+  EXPECT_LT(final_energy[1], 0.8 * final_energy[0]);
+}
+
+// A jump in the targets (a pose recall) starts from the articulated guess: one solve lands
+// near the pose instead of unwinding from the previous one.
+TEST(FeatureFrameSolver, AJumpStartsFromTheArticulatedGuess) {
+  Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}, {150, 190}});
+  FeatureFrameSolver s;
+  ASSERT_TRUE(s.prepare(r.frame, r.handles, SolverWeights{}));
+  const Vec2 shoulder = left_shoulder(r.frame);
+  std::vector<Vec2> targets = r.rest;
+  s.solve(targets, 8);
+  targets[3] = rotate_about(r.rest[3], shoulder, 120);
+  s.solve(targets, 8);
+  EXPECT_EQ(s.jumps(), 1);
+  EXPECT_LT((eval_param(r.handles[3], s.vertices()) - targets[3]).norm(), 0.005 * r.frame.diagonal);
+}
+
+}  // namespace
+}  // namespace mar
