@@ -85,6 +85,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
                    {"sewing_total", f.sewing_lines},
                    {"sewing_user", f.user_sewing_lines},
                    {"F.VER", f.rest.size()},
+                   {"joints", f.joints.size()},
                    {"PRE_ms", median(pre)},
                    {"SOL_ms", median(sol)}};
     nlohmann::ordered_json hs = nlohmann::ordered_json::array();
@@ -100,6 +101,12 @@ int cmd_inspect_rig(const InspectArgs& a) {
                               std::to_string(f.user_sewing_lines) + ")";
     std::printf("%8zu  %-22s %6zu %9.3f %9.3f\n", f.shape_vertices, lines.c_str(), f.rest.size(), median(pre),
                 median(sol));
+    std::printf("joints:");
+    for (const FrameJoint& j : f.joints) {
+      std::printf(" %s|%s(%.1f, %.1f)%s", p.character.shapes[static_cast<size_t>(j.shape_a)].id.c_str(),
+                  p.character.shapes[static_cast<size_t>(j.shape_b)].id.c_str(), j.at.x(), j.at.y(), j.automatic ? "" : "*");
+    }
+    std::printf("%s\n", f.joints.empty() ? " none" : "  (* from the rig)");
     std::printf("handles:");
     for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
     std::printf("\n");

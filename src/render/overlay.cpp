@@ -15,15 +15,27 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
   ring.half_width = 6.0;
   ring.cap = LineCap::Round;
   const SDL_Color feature{40, 90, 220, 255}, sewing{240, 140, 0, 255}, usersew{220, 30, 30, 255},
-      point{20, 20, 20, 255}, handle{0, 170, 80, 200};
+      point{20, 20, 20, 255}, handle{0, 170, 80, 200}, spoke{150, 150, 150, 255}, joint{140, 40, 200, 230};
   Vec2 seg[2];
   for (size_t j = 0; j < frame.lines.size(); ++j) {
     const FrameLine& l = frame.lines[j];
     seg[0] = view.apply(v[static_cast<size_t>(l.a)]);
     seg[1] = view.apply(v[static_cast<size_t>(l.b)]);
+    if (l.kind == FrameLine::Joint) continue;  // drawn as a ring below
+    if (l.kind == FrameLine::Spoke || l.kind == FrameLine::Spring) {
+      stroke_polyline(seg, false, thin, spoke, out);
+      continue;
+    }
     const bool is_feature = l.kind == FrameLine::Feature;
     stroke_polyline(seg, false, is_feature ? thin : (l.kind == FrameLine::UserSewing ? user : thick),
                     is_feature ? feature : (l.kind == FrameLine::UserSewing ? usersew : sewing), out);
+  }
+  // Hinges: a ring at each joint (purple), over the lines.
+  StrokeStyle hinge = ring;
+  hinge.half_width = 5.0;
+  for (const FrameJoint& jt : frame.joints) {
+    seg[0] = seg[1] = view.apply(v[static_cast<size_t>(jt.va)]);
+    stroke_polyline(seg, false, hinge, joint, out);
   }
   for (const Vec2& p : v) {
     seg[0] = seg[1] = view.apply(p);

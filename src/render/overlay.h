@@ -1,5 +1,6 @@
-// Frame overlay (seed 000 Fig. 2(d)): feature lines, sewing lines (automatic and the
-// user's), feature points and handles drawn over the character.
+// Frame overlay (seed 000 Fig. 2(d)): feature lines (blue), sewing lines (orange; the user's
+// red), feature points (black), hinges (purple rings, their spokes grey) and handles (green)
+// drawn over the character.
 #pragma once
 
 #include "frame/feature_frame.h"

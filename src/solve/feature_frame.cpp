@@ -87,9 +87,19 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
     }
   }
   line_rest_.resize(static_cast<size_t>(frame.feature_lines));
+  line_rest_n2_.resize(static_cast<size_t>(frame.feature_lines));
+  line_w_.resize(static_cast<size_t>(frame.feature_lines));
   for (int j = 0; j < frame.feature_lines; ++j) {
     const FrameLine& l = frame.lines[static_cast<size_t>(j)];
     line_rest_[static_cast<size_t>(j)] = frame.rest[static_cast<size_t>(l.b)] - frame.rest[static_cast<size_t>(l.a)];
+    line_rest_n2_[static_cast<size_t>(j)] = line_rest_[static_cast<size_t>(j)].squaredNorm();
+    line_w_[static_cast<size_t>(j)] = (l.a == l.b || !(l.weight > 0) || !std::isfinite(l.weight)) ? 0.0 : l.weight;
+  }
+  adj_rest_n2_.assign(q, 0.0);
+  for (size_t i = 0; i < q; ++i) {
+    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
+      adj_rest_n2_[i] += adj_w_[static_cast<size_t>(k)] * adj_rest_[static_cast<size_t>(k)].squaredNorm();
+    }
   }
 
   // Components without a handle get a tiny pull toward the pose the solve starts from.
@@ -101,7 +111,11 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
     handled[static_cast<size_t>(uf.find(h.b))] = 1;
   }
   free_.assign(q, 0);
-  for (size_t i = 0; i < q; ++i) free_[i] = handled[static_cast<size_t>(uf.find(static_cast<int>(i)))] ? 0 : 1;
+  any_free_ = false;
+  for (size_t i = 0; i < q; ++i) {
+    free_[i] = handled[static_cast<size_t>(uf.find(static_cast<int>(i)))] ? 0 : 1;
+    any_free_ = any_free_ || free_[i];
+  }
   eps_ = 1e-6 * std::max(w.coupling, 1e-12);
 
   // System matrix.
@@ -260,28 +274,36 @@ double FeatureFrameSolver::energy(std::span<const Vec2> targets) const {
 
 // Local step for the feature lines: R_j turns ebar_j onto e_j (angle of e * conj(ebar)).
 // The vertex rotations Rhat_i are computed inside global_step, fused with their use.
+// Both rotation passes also sum the energy of their terms at the optimal rotations, in
+// closed form: min_R |d - R dbar|^2 = |d|^2 + |dbar|^2 - 2 |d conj(dbar)| (current_energy()).
 void FeatureFrameSolver::local_step() {
   const FeatureFrame& f = *frame_;
+  const double cr = w_.rigidity / 12.0;
+  double e = 0;
   for (int j = 0; j < f.feature_lines; ++j) {
     const FrameLine& l = f.lines[static_cast<size_t>(j)];
-    const Vec2 e = v_[static_cast<size_t>(l.b)] - v_[static_cast<size_t>(l.a)];
+    const Vec2 d = v_[static_cast<size_t>(l.b)] - v_[static_cast<size_t>(l.a)];
     const Vec2& eb = line_rest_[static_cast<size_t>(j)];
-    const double re = e.x() * eb.x() + e.y() * eb.y(), im = e.y() * eb.x() - e.x() * eb.y();
+    const double re = d.x() * eb.x() + d.y() * eb.y(), im = d.y() * eb.x() - d.x() * eb.y();
     const double len2 = re * re + im * im;
+    const double len = std::sqrt(len2);
+    e += line_w_[static_cast<size_t>(j)] * (d.squaredNorm() + line_rest_n2_[static_cast<size_t>(j)] - 2 * len);
     if (len2 > 1e-280 && std::isfinite(len2)) {  // zero-length edge keeps its rotation
-      const double inv = 1.0 / std::sqrt(len2);
+      const double inv = 1.0 / len;
       line_c_[static_cast<size_t>(j)] = re * inv;
       line_s_[static_cast<size_t>(j)] = im * inv;
     }
   }
+  e_lines_ = cr * e;
 }
 
 void FeatureFrameSolver::vertex_rotations() {
   const size_t q = v_.size();
   // Vertex rotations Rhat_i: angle of sum_k w_k (v_k - v_i) conj(vbar_k - vbar_i); a
   // vanishing sum keeps the previous rotation.
+  double e = 0;
   for (size_t i = 0; i < q; ++i) {
-    double re = 0, im = 0;
+    double re = 0, im = 0, n2 = 0;
     const Vec2 vi = v_[i];
     for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
       const Vec2 d = v_[static_cast<size_t>(adj_[static_cast<size_t>(k)])] - vi;
@@ -289,14 +311,18 @@ void FeatureFrameSolver::vertex_rotations() {
       const double w = adj_w_[static_cast<size_t>(k)];
       re += w * (d.x() * db.x() + d.y() * db.y());
       im += w * (d.y() * db.x() - d.x() * db.y());
+      n2 += w * d.squaredNorm();
     }
     const double len2 = re * re + im * im;
+    const double len = std::sqrt(len2);
+    e += n2 + adj_rest_n2_[i] - 2 * len;
     if (len2 > 1e-280 && std::isfinite(len2)) {
-      const double inv = 1.0 / std::sqrt(len2);
+      const double inv = 1.0 / len;
       vert_c_[i] = re * inv;
       vert_s_[i] = im * inv;
     }
   }
+  e_spokes_ = (w_.coupling / 3.0) * e;
 }
 
 void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
@@ -461,30 +487,17 @@ void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
 }
 
 double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
-  const FeatureFrame& f = *frame_;
-  const double cr = w_.rigidity / 12.0, cc = w_.coupling / 3.0;
-  double e = 0;
-  for (int j = 0; j < f.feature_lines; ++j) {
-    const FrameLine& l = f.lines[static_cast<size_t>(j)];
-    if (l.a == l.b || !(l.weight > 0)) continue;
-    const Vec2 d = v_[static_cast<size_t>(l.b)] - v_[static_cast<size_t>(l.a)];
-    e += cr * l.weight * (d - rot(line_c_[static_cast<size_t>(j)], line_s_[static_cast<size_t>(j)], line_rest_[static_cast<size_t>(j)])).squaredNorm();
-  }
-  for (size_t i = 0; i < v_.size(); ++i) {
-    for (int k = adj_begin_[i]; k < adj_begin_[i + 1]; ++k) {
-      const size_t n = static_cast<size_t>(adj_[static_cast<size_t>(k)]);
-      e += cc * adj_w_[static_cast<size_t>(k)] *
-           ((v_[n] - v_[i]) - rot(vert_c_[i], vert_s_[i], adj_rest_[static_cast<size_t>(k)])).squaredNorm();
-    }
-  }
+  double e = e_lines_ + e_spokes_;
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
     e += w_.position * (eval_param(handles_[h], v_) - targets[h]).squaredNorm();
   }
   if (extra_active_ && targets.size() > handles_.size()) {
     e += w_.position * (eval_param(extra_, v_) - targets[handles_.size()]).squaredNorm();
   }
-  for (size_t i = 0; i < v_.size(); ++i) {
-    if (free_[i]) e += eps_ * (v_[i] - anchor_[i]).squaredNorm();
+  if (any_free_) {
+    for (size_t i = 0; i < v_.size(); ++i) {
+      if (free_[i]) e += eps_ * (v_[i] - anchor_[i]).squaredNorm();
+    }
   }
   return e;
 }
@@ -501,6 +514,9 @@ void FeatureFrameSolver::anderson_mix() {
     const int col = aa_head_;
     aa_dF_.col(col) = aa_f_ - aa_prev_f_;
     aa_dG_.col(col) = aa_g_ - aa_prev_g_;
+    // Gram matrix of the dF columns, kept up to date one column at a time.
+    const int filled = std::min(aa_count_, m);
+    for (int j = 0; j < filled; ++j) aa_gram_[col * 16 + j] = aa_gram_[j * 16 + col] = aa_dF_.col(col).dot(aa_dF_.col(j));
     aa_head_ = (aa_head_ + 1) % m;
   }
   aa_prev_f_ = aa_f_;
@@ -516,7 +532,7 @@ void FeatureFrameSolver::anderson_mix() {
   double scale = 0;
   for (int i = 0; i < k; ++i) {
     b(i) = aa_dF_.col(i).dot(aa_f_);
-    for (int j = 0; j <= i; ++j) A(i, j) = A(j, i) = aa_dF_.col(i).dot(aa_dF_.col(j));
+    for (int j = 0; j < k; ++j) A(i, j) = aa_gram_[i * 16 + j];
     scale = std::max(scale, A(i, i));
   }
   if (!(scale > 0) || !std::isfinite(scale)) return;
@@ -578,7 +594,11 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
       anderson_mix();
     }
   }
-  if (record) energies[static_cast<size_t>(iterations)] = energy(targets);
+  if (record) {
+    local_step();
+    vertex_rotations();
+    energies[static_cast<size_t>(iterations)] = current_energy(targets);
+  }
 }
 
 }  // namespace mar

@@ -160,6 +160,11 @@ class FeatureFrameSolver {
   std::vector<int> adj_line_;         ///< feature line of each CSR entry, -1 for sewing lines
   std::vector<double> adj_w_;         ///< weight of each CSR entry's line
   std::vector<Vec2> line_rest_;       ///< vbar_b - vbar_a per feature line
+  std::vector<double> line_rest_n2_;  ///< |vbar_b - vbar_a|^2 per feature line
+  std::vector<double> line_w_;        ///< weight per feature line (0 for degenerate)
+  std::vector<double> adj_rest_n2_;   ///< per vertex: sum of w |vbar_k - vbar_i|^2 over its CSR entries
+  double e_lines_ = 0, e_spokes_ = 0; ///< energy terms summed by the last rotation passes
+  bool any_free_ = false;
   std::vector<char> free_;            ///< vertex is in a component without a handle
   double eps_ = 0;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
@@ -172,6 +177,7 @@ class FeatureFrameSolver {
   // Anderson history (columns of 2q), preallocated in prepare().
   Eigen::MatrixXd aa_dF_, aa_dG_;
   Eigen::VectorXd aa_x_, aa_g_, aa_f_, aa_prev_g_, aa_prev_f_, aa_accept_g_;
+  double aa_gram_[16 * 16] = {};  ///< dF^T dF (row stride 16)
   int aa_count_ = 0, aa_head_ = 0;
   long aa_accepted_ = 0, aa_rejected_ = 0;
 };

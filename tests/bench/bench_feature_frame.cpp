@@ -74,6 +74,13 @@ Case make_case(const std::string& name, mar::Character ch, std::vector<mar::Vec2
   return c;
 }
 
+// MARIONETTE_BENCH_ANDERSON=m overrides the Anderson history (0: the plain alternation).
+mar::SolverWeights bench_weights() {
+  mar::SolverWeights w;
+  if (const char* m = std::getenv("MARIONETTE_BENCH_ANDERSON")) w.anderson = std::atoi(m);
+  return w;
+}
+
 std::vector<Case>& cases() {
   static std::vector<Case> all = [] {
     std::vector<Case> v;
@@ -102,7 +109,7 @@ void BM_prepare(benchmark::State& st) {
   const Case& c = cases()[static_cast<size_t>(st.range(0))];
   for (auto _ : st) {
     mar::FeatureFrameSolver s;
-    s.prepare(c.frame, c.bindings, mar::SolverWeights{});
+    s.prepare(c.frame, c.bindings, bench_weights());
     benchmark::DoNotOptimize(s.vertex_count());
   }
   st.SetLabel(c.name);
@@ -111,7 +118,7 @@ void BM_prepare(benchmark::State& st) {
 void BM_solve_frame(benchmark::State& st) {
   const Case& c = cases()[static_cast<size_t>(st.range(0))];
   mar::FeatureFrameSolver s;
-  s.prepare(c.frame, c.bindings, mar::SolverWeights{});
+  s.prepare(c.frame, c.bindings, bench_weights());
   int k = 0;
   for (auto _ : st) {
     const std::vector<mar::Vec2> t = targets_at(c, k++);
@@ -126,7 +133,7 @@ void BM_solve_frame(benchmark::State& st) {
 void BM_reconstruct(benchmark::State& st) {
   const Case& c = cases()[static_cast<size_t>(st.range(0))];
   mar::FeatureFrameSolver s;
-  s.prepare(c.frame, c.bindings, mar::SolverWeights{});
+  s.prepare(c.frame, c.bindings, bench_weights());
   s.solve(targets_at(c, 10), 12);
   std::vector<mar::Points> shapes;
   for (const mar::SubShape& sh : c.character.shapes) shapes.push_back(sh.points);
