@@ -46,6 +46,7 @@ class UsbMidiBackend final : public Backend {
   size_t pending_n_ = 0;
   bool out_busy_ = false;
   int in_flight_ = 0;
+  bool in_active_[kInTransfers] = {};  ///< libusb owns in_[i] (submitted, not yet finished)
   bool failed_ = false;
   pollfd fds_[16];
   nfds_t nfds_ = 0;
@@ -138,7 +139,8 @@ DeviceState UsbMidiBackend::open() {
   for (int i = 0; i < kInTransfers; ++i) {
     in_[i] = libusb_alloc_transfer(0);
     libusb_fill_bulk_transfer(in_[i], h_, ep_in_, in_buf_[i], kInSize, &UsbMidiBackend::on_in, this, 0);
-    if (libusb_submit_transfer(in_[i]) == 0) ++in_flight_;
+    in_active_[i] = libusb_submit_transfer(in_[i]) == 0;
+    if (in_active_[i]) ++in_flight_;
   }
   if (ep_out_) out_ = libusb_alloc_transfer(0);
   nfds_ = 0;
@@ -156,13 +158,17 @@ void UsbMidiBackend::close() {
   for (auto* t : in_)
     if (t) libusb_cancel_transfer(t);
   if (out_ && out_busy_) libusb_cancel_transfer(out_);
+  // Cancelled transfers finish through the event loop; an emulated or busy bus may take a
+  // while. A transfer libusb still owns must never be freed (libusb would later lock a
+  // mutex inside freed memory): wait up to 3 s, then leave any still-active one allocated.
   timeval tv{0, 10000};
-  for (int k = 0; k < 50 && (in_flight_ > 0 || out_busy_); ++k) libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
-  for (auto*& t : in_) {
-    if (t) libusb_free_transfer(t);
-    t = nullptr;
+  for (int k = 0; k < 300 && (in_flight_ > 0 || out_busy_); ++k) libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
+  for (int i = 0; i < kInTransfers; ++i) {
+    if (in_[i] && !in_active_[i]) libusb_free_transfer(in_[i]);
+    in_[i] = nullptr;
+    in_active_[i] = false;
   }
-  if (out_) libusb_free_transfer(out_);
+  if (out_ && !out_busy_) libusb_free_transfer(out_);
   out_ = nullptr;
   in_flight_ = 0;
   out_busy_ = false;
@@ -187,6 +193,9 @@ void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {
     if (libusb_submit_transfer(t) == 0) return;
   } else if (t->status != LIBUSB_TRANSFER_CANCELLED) {
     self->failed_ = true;  // NO_DEVICE, ERROR, STALL, OVERFLOW
+  }
+  for (int i = 0; i < kInTransfers; ++i) {
+    if (self->in_[i] == t) self->in_active_[i] = false;
   }
   --self->in_flight_;
 }
