@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <set>
 
 namespace mar {
@@ -212,8 +213,10 @@ void add_joints_and_stiffness(const Character& ch, const FrameOptions& o, Featur
       for (size_t k = 0; k < f.subframes.size(); ++k) {
         if (f.subframes[k].empty()) continue;
         const ContourSpan c = contour_of(ch, f.origin[static_cast<size_t>(f.subframes[k][0])]);
-        if (!c.closed || c.shape == skip_shape) continue;
-        if (!id.empty() ? ch.shapes[static_cast<size_t>(c.shape)].id == id : winding_number(c.pts, at) != 0) {
+        if (c.shape == skip_shape) continue;
+        // Named parts may be open strokes (a wick hinged to a candle); unnamed ones are the
+        // closed parts containing the point.
+        if (!id.empty() ? ch.shapes[static_cast<size_t>(c.shape)].id == id : c.closed && winding_number(c.pts, at) != 0) {
           best = static_cast<int>(k);  // the last (topmost) wins
         }
       }
@@ -232,10 +235,13 @@ void add_joints_and_stiffness(const Character& ch, const FrameOptions& o, Featur
     pending.erase(std::remove_if(pending.begin(), pending.end(),
                                  [&](const Pending& p) { return (p.sub_a == sa && p.sub_b == sb) || (p.sub_a == sb && p.sub_b == sa); }),
                   pending.end());
-    auto between = [&](size_t li) {
-      const int x = sub_of[static_cast<size_t>(f.lines[li].a)], y = sub_of[static_cast<size_t>(f.lines[li].b)];
+    auto joins = [&](const FrameLine& l) {
+      const int x = sub_of[static_cast<size_t>(l.a)], y = sub_of[static_cast<size_t>(l.b)];
       return (x == sa && y == sb) || (x == sb && y == sa);
     };
+    auto between = [&](size_t li) { return joins(f.lines[li]); };
+    // Automatic welds between the two parts give way to the rig's joint.
+    welds.erase(std::remove_if(welds.begin(), welds.end(), joins), welds.end());
     if (js.weld) {
       // Keep (or make) the sewing between them, plus a line that holds their orientation.
       int kept_line = -1;
@@ -247,6 +253,17 @@ void add_joints_and_stiffness(const Character& ch, const FrameOptions& o, Featur
       const std::vector<int>& A = f.subframes[static_cast<size_t>(sa)];
       const std::vector<int>& B = f.subframes[static_cast<size_t>(sb)];
       int x = kept_line >= 0 ? f.lines[static_cast<size_t>(kept_line)].a : A[0];
+      if (kept_line < 0) {
+        // No line between them yet: sew the closest pair.
+        double best = std::numeric_limits<double>::infinity();
+        for (int va : A) {
+          const int vb = nearest_vertices(f, B, f.rest[static_cast<size_t>(va)], 1)[0];
+          if (const double d = (f.rest[static_cast<size_t>(va)] - f.rest[static_cast<size_t>(vb)]).squaredNorm(); d < best) {
+            best = d;
+            x = va;
+          }
+        }
+      }
       if (kept_line < 0) {
         const int y = nearest_vertices(f, B, f.rest[static_cast<size_t>(x)], 1)[0];
         welds.push_back({FrameLine::Sewing, x, y, 1});
@@ -264,7 +281,7 @@ void add_joints_and_stiffness(const Character& ch, const FrameOptions& o, Featur
     if (!js.has_at) {
       const ContourSpan A = contour_of(ch, f.origin[static_cast<size_t>(f.subframes[static_cast<size_t>(sa)][0])]);
       const ContourSpan B = contour_of(ch, f.origin[static_cast<size_t>(f.subframes[static_cast<size_t>(sb)][0])]);
-      if (!overlap_centre(A.pts, B.pts, at)) {
+      if (!A.closed || !B.closed || !overlap_centre(A.pts, B.pts, at)) {
         f.warnings.push_back(js.where + ": parts '" + js.part_a + "' and '" + js.part_b + "' do not overlap; give the joint at = [x, y]");
         continue;
       }

@@ -449,6 +449,48 @@ void FeatureFrameSolver::set_extra_handle(const ShapeParam& h) {
   extra_active_ = true;
 }
 
+void FeatureFrameSolver::follow_rigid_motion(std::span<const Vec2> before, std::span<const Vec2> after) {
+  // Best rigid motion of the targets since the last solve; applied to the pose when it
+  // explains the motion (residual under 1% of it), so a character carried as a whole does
+  // not trail behind its handles.
+  const size_t n = std::min(before.size(), after.size());
+  Vec2 cb = Vec2::Zero(), ca = Vec2::Zero();
+  size_t used = 0;
+  for (size_t h = 0; h < n; ++h) {
+    if (!before[h].allFinite() || !after[h].allFinite()) return;
+    cb += before[h];
+    ca += after[h];
+    ++used;
+  }
+  if (used < 2) return;
+  cb /= static_cast<double>(used);
+  ca /= static_cast<double>(used);
+  double re = 0, im = 0, moved = 0;
+  for (size_t h = 0; h < n; ++h) {
+    const Vec2 p = before[h] - cb, q = after[h] - ca;
+    re += q.x() * p.x() + q.y() * p.y();
+    im += q.y() * p.x() - q.x() * p.y();
+    moved += (after[h] - before[h]).squaredNorm();
+  }
+  const double len = std::hypot(re, im);
+  if (!(len > 1e-300) || !std::isfinite(len) || !(moved > 1e-18 * frame_->diagonal * frame_->diagonal)) return;
+  const double c = re / len, sn = im / len;
+  double resid = 0;
+  for (size_t h = 0; h < n; ++h) resid += (ca + rot(c, sn, before[h] - cb) - after[h]).squaredNorm();
+  if (resid > 0.01 * moved) return;
+  for (Vec2& x : v_) x = ca + rot(c, sn, x - cb);
+  for (size_t j = 0; j < line_c_.size(); ++j) {
+    const double lc = line_c_[j], ls = line_s_[j];
+    line_c_[j] = c * lc - sn * ls;
+    line_s_[j] = sn * lc + c * ls;
+  }
+  for (size_t i = 0; i < vert_c_.size(); ++i) {
+    const double vc = vert_c_[i], vs = vert_s_[i];
+    vert_c_[i] = c * vc - sn * vs;
+    vert_s_[i] = sn * vc + c * vs;
+  }
+}
+
 void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
   const size_t n = std::min(handles_.size(), targets.size());
   if (n == 0 || v_.empty()) return;
@@ -552,6 +594,7 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
     const double limit2 = w_.jump * w_.jump * frame_->diagonal * frame_->diagonal;
     for (size_t h = 0; h < n_given && !jumped; ++h) jumped = (given[h] - jump_prev_[h]).squaredNorm() > limit2;
   }
+  if (!jumped && jump_prev_n_ == n_given) follow_rigid_motion(std::span<const Vec2>(jump_prev_.data(), n_given), given);
   std::copy(given.begin(), given.begin() + static_cast<long>(n_given), jump_prev_.begin());
   jump_prev_n_ = n_given;
   if (jumped) {

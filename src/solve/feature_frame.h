@@ -147,6 +147,7 @@ class FeatureFrameSolver {
   size_t jump_prev_n_ = 0;
   long jumps_ = 0;
   void apply_reach(std::span<const Vec2> targets);
+  void follow_rigid_motion(std::span<const Vec2> before, std::span<const Vec2> after);
   // Extra handle (Woodbury): Z = A^-1 M^T in permuted order (two columns) and
   // K^-1 = (I / w_p + M Z)^-1.
   bool extra_active_ = false;

@@ -465,8 +465,8 @@ void render_cell(const PoseCase& c, const std::vector<Points>& shapes, int size,
   mar::DrawList list;
   const mar::Character& ch = c.puppet->character;
   // Room around the character for limbs that leave its rest box.
-  const double w = ch.width * 1.5, h = ch.height * 1.3;
-  const mar::Affine2 view = mar::fit_view(w, h, size * ss, size * ss) * mar::Affine2::translate(ch.width * 0.25, ch.height * 0.15);
+  const double w = ch.width * 1.6, h = ch.height * 1.4;
+  const mar::Affine2 view = mar::fit_view(w, h, size * ss, size * ss) * mar::Affine2::translate(ch.width * 0.3, ch.height * 0.2);
   mar::build_draw_list(ch, c.puppet->mesh, shapes, view, 0.2 * ss, list);
   if (std::string err = cv.draw(list); !err.empty()) fail(err);
   const std::vector<std::uint8_t> px = cv.read_premultiplied();
