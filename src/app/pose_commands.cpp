@@ -106,7 +106,9 @@ int cmd_inspect_rig(const InspectArgs& a) {
       std::printf(" %s|%s(%.1f, %.1f)%s", p.character.shapes[static_cast<size_t>(j.shape_a)].id.c_str(),
                   p.character.shapes[static_cast<size_t>(j.shape_b)].id.c_str(), j.at.x(), j.at.y(), j.automatic ? "" : "*");
     }
-    std::printf("%s\n", f.joints.empty() ? " none" : "  (* from the rig)");
+    bool from_rig = false;
+    for (const FrameJoint& j : f.joints) from_rig = from_rig || !j.automatic;
+    std::printf("%s\n", f.joints.empty() ? " none" : from_rig ? "  (* from the rig)" : "");
     std::printf("handles:");
     for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
     std::printf("\n");
