@@ -1,6 +1,7 @@
 #include "character/load.h"
 #include "character/svg_loader.h"
 #include "geom/polygon.h"
+#include "geom/triangulate.h"
 #include "solve/feature_frame.h"
 #include "test_util.h"
 
@@ -204,6 +205,30 @@ TEST(FeatureFrameSolver, TargetsBeyondReachStopTheLimbNotTheBody) {
     EXPECT_LT(rigid_fit_rms(r.ch.shapes[k].points, shapes[k]), 0.005 * r.ch.height);  // the body keeps its shape
   }
   EXPECT_LT((eval_param(r.handles[4], s.vertices()) - r.rest[4]).norm(), 0.005 * r.frame.diagonal);  // and its place
+  // No fold-over: no triangle of any part's fill triangulation flips.
+  int flipped = 0, triangles = 0;
+  for (size_t k = 0; k < r.ch.shapes.size(); ++k) {
+    const SubShape& sh = r.ch.shapes[k];
+    std::vector<Ring> rings;
+    for (const Contour& c : sh.contours) {
+      if (c.closed) rings.push_back({c.begin, c.count});
+    }
+    if (rings.empty()) continue;
+    const FillMesh m = triangulate_fill(sh.points, rings, FillRule::NonZero);
+    std::vector<Vec2> now(m.vertices.size());
+    fill_mesh_positions(m, shapes[k], now);
+    for (size_t t = 0; t + 2 < m.triangles.size(); t += 3) {
+      auto area = [&](const std::vector<Vec2>& p) {
+        const Vec2 &a = p[static_cast<size_t>(m.triangles[t])], &b = p[static_cast<size_t>(m.triangles[t + 1])],
+                   &c = p[static_cast<size_t>(m.triangles[t + 2])];
+        return (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+      };
+      ++triangles;
+      if (area(m.vertices) * area(now) < 0) ++flipped;
+    }
+  }
+  EXPECT_GT(triangles, 300);  // every filled part checked
+  EXPECT_EQ(flipped, 0);
 }
 
 bool all_finite(std::span<const Vec2> v) {
