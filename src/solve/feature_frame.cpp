@@ -478,17 +478,7 @@ void FeatureFrameSolver::follow_rigid_motion(std::span<const Vec2> before, std::
   double resid = 0;
   for (size_t h = 0; h < n; ++h) resid += (ca + rot(c, sn, before[h] - cb) - after[h]).squaredNorm();
   if (resid > 0.01 * moved) return;
-  for (Vec2& x : v_) x = ca + rot(c, sn, x - cb);
-  for (size_t j = 0; j < line_c_.size(); ++j) {
-    const double lc = line_c_[j], ls = line_s_[j];
-    line_c_[j] = c * lc - sn * ls;
-    line_s_[j] = sn * lc + c * ls;
-  }
-  for (size_t i = 0; i < vert_c_.size(); ++i) {
-    const double vc = vert_c_[i], vs = vert_s_[i];
-    vert_c_[i] = c * vc - sn * vs;
-    vert_s_[i] = sn * vc + c * vs;
-  }
+  move_rigidly(c, sn, cb, ca);
 }
 
 void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
@@ -514,7 +504,11 @@ void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
   }
   const double len = std::hypot(re, im);
   const double c = len > 1e-300 ? re / len : 1.0, sn = len > 1e-300 ? im / len : 0.0;
-  for (Vec2& x : v_) x = ct + rot(c, sn, x - cp);
+  move_rigidly(c, sn, cp, ct);
+}
+
+void FeatureFrameSolver::move_rigidly(double c, double sn, const Vec2& from, const Vec2& to) {
+  for (Vec2& x : v_) x = to + rot(c, sn, x - from);
   // Rotations follow the pose.
   for (size_t j = 0; j < line_c_.size(); ++j) {
     const double lc = line_c_[j], ls = line_s_[j];

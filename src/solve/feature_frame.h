@@ -148,6 +148,8 @@ class FeatureFrameSolver {
   long jumps_ = 0;
   void apply_reach(std::span<const Vec2> targets);
   void follow_rigid_motion(std::span<const Vec2> before, std::span<const Vec2> after);
+  /// v -> to + R (v - from), rotations turned by R = (c, sn).
+  void move_rigidly(double c, double sn, const Vec2& from, const Vec2& to);
   // Extra handle (Woodbury): Z = A^-1 M^T in permuted order (two columns) and
   // K^-1 = (I / w_p + M Z)^-1.
   bool extra_active_ = false;
