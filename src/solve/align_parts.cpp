@@ -328,6 +328,10 @@ void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
 void FeatureFrameSolver::initial_guess(std::span<const Vec2> targets) {
   if (!frame_ || v_.empty()) return;
   const size_t q = v_.size();
+  // The pose will answer these targets: the next solve neither follows nor jumps from them.
+  const size_t n = std::min(targets.size(), jump_prev_.size());
+  std::copy(targets.begin(), targets.begin() + static_cast<long>(n), jump_prev_.begin());
+  jump_prev_n_ = n;
   auto save = [&](size_t slot) {
     std::copy(v_.begin(), v_.end(), guess_v_.begin() + static_cast<long>(slot * q));
   };

@@ -201,6 +201,10 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
 void FeatureFrameSolver::reset_to_rest() {
   if (!frame_) return;
   std::copy(frame_->rest.begin(), frame_->rest.end(), v_.begin());
+  // The rest pose answers the handles' rest positions: the next solve follows (or jumps)
+  // from there.
+  for (size_t h = 0; h < handles_.size() && h < jump_prev_.size(); ++h) jump_prev_[h] = eval_param(handles_[h], frame_->rest);
+  jump_prev_n_ = std::min(handles_.size(), jump_prev_.size());
   std::fill(line_c_.begin(), line_c_.end(), 1.0);
   std::fill(line_s_.begin(), line_s_.end(), 0.0);
   std::fill(vert_c_.begin(), vert_c_.end(), 1.0);
@@ -589,13 +593,13 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
     for (size_t h = 0; h < n_given && !jumped; ++h) jumped = (given[h] - jump_prev_[h]).squaredNorm() > limit2;
   }
   if (!jumped && jump_prev_n_ == n_given) follow_rigid_motion(std::span<const Vec2>(jump_prev_.data(), n_given), given);
-  std::copy(given.begin(), given.begin() + static_cast<long>(n_given), jump_prev_.begin());
-  jump_prev_n_ = n_given;
   if (jumped) {
     ++jumps_;
     apply_reach(given);
     initial_guess(effective_targets());
   }
+  std::copy(given.begin(), given.begin() + static_cast<long>(n_given), jump_prev_.begin());
+  jump_prev_n_ = n_given;
   apply_reach(given);
   const std::span<const Vec2> targets = effective_targets();
   std::copy(v_.begin(), v_.end(), anchor_.begin());

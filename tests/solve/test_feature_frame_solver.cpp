@@ -43,7 +43,7 @@ std::vector<Points> rest_shapes(const Character& ch) {
 // (a) Targets that are a rigid motion of the rest handles move every shape vertex by it,
 // after the solve from rest (rigid initial guess + the live loop's 12 iterations).
 TEST(FeatureFrameSolver, RigidMotionOfHandlesGivesThatMotionEverywhere) {
-  for (const char* name : {"butterfly", "figure", "koi"}) {
+  for (const char* name : {"butterfly", "figure", "koi", "boy", "candle"}) {
     Rig r = make_rig(name, {});
     const Bounds b = r.ch.bounds();
     r = make_rig(name, {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), 0.5 * (b.lo + b.hi)});
@@ -54,7 +54,7 @@ TEST(FeatureFrameSolver, RigidMotionOfHandlesGivesThatMotionEverywhere) {
     auto motion = [&](const Vec2& p) { return Vec2(c * p.x() - sn * p.y() + t.x(), sn * p.x() + c * p.y() + t.y()); };
     std::vector<Vec2> targets;
     for (const ShapeParam& h : r.handles) targets.push_back(motion(eval_param(h, r.frame.rest)));
-    s.align_to(targets);  // the initial guess of a solve from rest
+    s.initial_guess(targets);  // the start of a solve from rest
     s.solve(targets, 12);
     std::vector<Points> out = rest_shapes(r.ch);
     reconstruct_shapes(r.frame, s.vertices(), out);
@@ -63,6 +63,23 @@ TEST(FeatureFrameSolver, RigidMotionOfHandlesGivesThatMotionEverywhere) {
     for (size_t k = 0; k < out.size(); ++k)
       for (size_t i = 0; i < out[k].size(); ++i) worst = std::max(worst, (out[k][i] - motion(r.ch.shapes[k].points[i])).norm());
     EXPECT_LE(worst / scale, 1e-9) << name;
+    // The same motion as a live drag (30 frames, 8 iterations each, warm start).
+    FeatureFrameSolver live;
+    ASSERT_TRUE(live.prepare(r.frame, r.handles, SolverWeights{}));
+    for (int f = 1; f <= 30; ++f) {
+      const double a = ang * f / 30, cf = std::cos(a), sf = std::sin(a);
+      std::vector<Vec2> tf;
+      for (const ShapeParam& h : r.handles) {
+        const Vec2 p = eval_param(h, r.frame.rest);
+        tf.push_back(Vec2(cf * p.x() - sf * p.y(), sf * p.x() + cf * p.y()) + t * (f / 30.0));
+      }
+      live.solve(tf, 8);
+    }
+    reconstruct_shapes(r.frame, live.vertices(), out);
+    worst = 0;
+    for (size_t k = 0; k < out.size(); ++k)
+      for (size_t i = 0; i < out[k].size(); ++i) worst = std::max(worst, (out[k][i] - motion(r.ch.shapes[k].points[i])).norm());
+    EXPECT_LE(worst / scale, 1e-9) << name << " (live drag)";
   }
 }
 
