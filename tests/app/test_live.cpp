@@ -355,6 +355,18 @@ TEST(Live, DemoPartsKeepTheirShape) {
   EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
 }
 
+// Determinism safety net (the layout refactor must not change behaviour): the demo's first
+// 300 headless frames hash to this constant. A change that moves any vertex changes it —
+// update it only when the change is meant to alter the poses, and say so in the commit.
+TEST(Live, DemoRunHashIsPinned) {
+  const auto dir = test::temp_dir("pinned");
+  auto r = test::run_cli("run " + (test::source_dir() / "config/shows/demo.toml").string() +
+                         " --headless --frames 300 --stats " + (dir / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(dir / "s.json");
+  EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "d82b8067a37644cf");
+}
+
 // The shipped demo uses only what ships: on a clean clone it warns about nothing.
 TEST(Live, DemoShowPrintsNoWarning) {
   ::setenv("MARIONETTE_CORPUS_DIR", "/nonexistent-corpus", 1);

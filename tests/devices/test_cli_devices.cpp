@@ -69,5 +69,22 @@ TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
   EXPECT_GE(j["grabs"]["count"], 2);  // the pen grabbed and let go
 }
 
+// A hardware show run on the bench and recorded replays to the same run_hash.
+TEST(RunSimulate, RecordedHardwareShowReplaysToTheSameHash) {
+  const auto dir = test::temp_dir("simulate-replay");
+  const std::string show = (test::source_dir() / "config/shows/hardware.toml").string();
+  const auto rec = dir / "hw.rec";
+  const auto live = test::run_cli("run '" + show + "' --headless --simulate --record '" + rec.string() + "' --stats '" +
+                                  (dir / "live.json").string() + "'");
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  const auto rep = test::run_cli("replay '" + rec.string() + "' --show '" + show + "' --stats '" + (dir / "replay.json").string() + "'");
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  std::ifstream a(dir / "live.json"), b(dir / "replay.json");
+  const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  EXPECT_GT(ja["frames"].get<int>(), 100);
+  EXPECT_EQ(ja["frames"], jb["frames"]);
+  EXPECT_EQ(ja["run_hash"], jb["run_hash"]);
+}
+
 }  // namespace
 }  // namespace mar
