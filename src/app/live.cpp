@@ -138,7 +138,6 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     if (std::string err = s->open_hardware(); !err.empty()) return R::failure(err);
   }
   s->events_.resize(4096);
-  s->handle_params_ = p.bindings;
   s->targets_ = rest;
   s->targets_.push_back(Vec2::Zero());  // the grab handle's target (used while grabbing)
   s->replay_pending_.reserve(1 << 16);
@@ -268,18 +267,18 @@ void LiveShow::regrab(bool down) {
     // Near an existing handle, the pen takes that handle over (two handles side by side
     // would pull against each other); elsewhere the nearest point becomes a new handle.
     double nearest = INFINITY;
-    for (size_t h = 0; h < p.bindings.size(); ++h) {
-      const Vec2 at = eval_param(p.bindings[h], p.solver.vertices());
+    for (size_t h = 0; h < p.solver->handle_count(); ++h) {
+      const Vec2 at = p.solver->handle_point(h);
       if (double d = (at - g).norm(); d < nearest) {
         nearest = d;
         grab_handle_ = int(h);
         grab_offset_ = at - g;
       }
     }
-    if (nearest > 0.05 * p.frame.diagonal) grab_handle_ = -1;
+    if (nearest > 0.05 * p.diagonal) grab_handle_ = -1;
   }
   if (down && grab_handle_ >= 0) {
-    p.solver.clear_extra_handle();
+    p.solver->release();
   } else if (down) {
     const Vec2 g = mapping_.grab_point();
     double best = INFINITY;
@@ -290,10 +289,10 @@ void LiveShow::regrab(bool down) {
           best = d;
           rest = p.character.shapes[s].points[k];
         }
-    p.solver.set_extra_handle(bind_point(p.frame, p.character, rest));
+    p.solver->grab(rest);
     targets_.back() = g;
   } else {
-    p.solver.clear_extra_handle();
+    p.solver->release();
   }
   grab_us_.add(now_us() - t0);
   ++grabs_;
@@ -306,11 +305,13 @@ void LiveShow::refactor() {
   Puppet& p = *puppet_;
   const double t0 = now_us();
   const uint64_t a0 = allocations();
-  const std::vector<Vec2> pose(p.solver.vertices().begin(), p.solver.vertices().end());
   const double* w = mapping_.weights();
   const bool grabbing = grabbing_;
-  p.solver.prepare(p.frame, handle_params_, SolverWeights{w[0], w[1], w[2], p.rig.anderson});
-  p.solver.set_vertices(pose);
+  SolverWeights sw = p.weights();
+  sw.rigidity = w[0];
+  sw.coupling = w[1];
+  sw.position = w[2];
+  p.solver->set_weights(sw, nullptr);
   grabbing_ = false;
   if (grabbing) regrab(true);
   refactor_us_.add(now_us() - t0);
@@ -350,7 +351,7 @@ void LiveShow::frame(int64_t t_ns) {
   if (extra) targets_.back() = mapping_.grab_point();
   if (grabbing_ && grab_handle_ >= 0) targets_[size_t(grab_handle_)] = mapping_.grab_point() + grab_offset_;
   const double a2 = now_us();
-  p.solver.solve(std::span<const Vec2>(targets_.data(), extra ? targets_.size() : targets_.size() - 1), iterations_);
+  p.solver->solve(std::span<const Vec2>(targets_.data(), extra ? targets_.size() : targets_.size() - 1), iterations_);
   const double a3 = now_us();
   p.reconstruct();
   // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its

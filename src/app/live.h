@@ -101,7 +101,6 @@ class LiveShow {
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0;
   std::vector<Vec2> targets_;   ///< handles, then the grab handle's target
-  std::vector<ShapeParam> handle_params_;
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;

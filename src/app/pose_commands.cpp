@@ -32,7 +32,9 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   DrawList list;
   const Affine2 view = fit_view(p.character.width, p.character.height, w * ss, h * ss);
   build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list);
-  if (overlay) append_frame_overlay(p.frame, p.solver.vertices(), handle_points, view, list);
+  if (overlay) {
+    if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
+  }
   if (std::string err = c.draw(list); !err.empty()) {
     std::cerr << "error: " << err << "\n";
     return kExitRuntime;
@@ -62,21 +64,26 @@ int cmd_inspect_rig(const InspectArgs& a) {
     return kExitBadInput;
   }
   Puppet& p = **loaded.value;
+  const FeatureFrameMethod* ff = p.feature_frame();
+  if (!ff) {
+    std::cerr << "error: inspect --rig shows the feature frame; " << p.rig.path << " uses solver '" << p.rig.solver << "'\n";
+    return kExitBadInput;
+  }
   // PRE and SOL: medians of 7 runs (the first prepare happened in load_puppet).
   std::vector<double> pre{p.prefactor_ms}, sol;
-  const SolverWeights w{p.rig.w_rigidity, p.rig.w_coupling, p.rig.w_position};
+  const SolverWeights w = p.weights();
   const std::vector<Vec2> targets = p.rest_targets();
   for (int k = 0; k < 7; ++k) {
     FeatureFrameSolver s;
     const auto t0 = std::chrono::steady_clock::now();
-    s.prepare(p.frame, p.bindings, w);
+    s.prepare(ff->frame(), ff->bindings(), w);
     const auto t1 = std::chrono::steady_clock::now();
     s.solve(targets, 12);
     const auto t2 = std::chrono::steady_clock::now();
     pre.push_back(std::chrono::duration<double, std::milli>(t1 - t0).count());
     sol.push_back(std::chrono::duration<double, std::milli>(t2 - t1).count());
   }
-  const FeatureFrame& f = p.frame;
+  const FeatureFrame& f = ff->frame();
   for (const std::string& warning : f.warnings) std::cerr << "warning: " << warning << "\n";
   if (a.json) {
     nlohmann::ordered_json j = inspect_json(p.character);
@@ -154,8 +161,12 @@ int cmd_pose(const PoseArgs& a) {
   }
   const int iterations = a.iterations > 0 ? a.iterations : p.rig.iterations;
   std::vector<double> energies(static_cast<size_t>(iterations) + 1);
-  p.solver.initial_guess(targets);
-  p.solver.solve(targets, iterations, energies);
+  p.solver->initial_guess(targets);
+  if (FeatureFrameMethod* ff = p.feature_frame()) {
+    ff->core().solve(targets, iterations, energies);  // with the energy of every iteration
+  } else {
+    p.solver->solve(targets, iterations);
+  }
   p.reconstruct();
   if (!a.dump.empty()) {
     nlohmann::ordered_json j;
@@ -167,12 +178,14 @@ int cmd_pose(const PoseArgs& a) {
     }
     j["subshapes"] = subs;
     nlohmann::ordered_json fv = nlohmann::ordered_json::array();
-    for (const Vec2& q : p.solver.vertices()) fv.push_back({q.x(), q.y()});
+    if (const FeatureFrameMethod* ff = p.feature_frame()) {
+      for (const Vec2& q : ff->core().vertices()) fv.push_back({q.x(), q.y()});
+    }
     j["frame_vertices"] = fv;
     j["energy_per_iteration"] = std::vector<double>(energies.begin() + 1, energies.end());
     nlohmann::ordered_json res = nlohmann::ordered_json::object();
-    for (size_t h = 0; h < p.bindings.size(); ++h) {
-      res[p.rig.handles[h].name] = (eval_param(p.bindings[h], p.solver.vertices()) - targets[h]).norm();
+    for (size_t h = 0; h < p.solver->handle_count(); ++h) {
+      res[p.rig.handles[h].name] = (p.solver->handle_point(h) - targets[h]).norm();
     }
     j["handle_residuals"] = res;
     std::ofstream out(a.dump);
@@ -190,9 +203,8 @@ int cmd_pose(const PoseArgs& a) {
     if (rc != kExitOk) return rc;
   }
   if (a.dump.empty() && a.output.empty()) {
-    for (size_t h = 0; h < p.bindings.size(); ++h) {
-      std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(),
-                  (eval_param(p.bindings[h], p.solver.vertices()) - targets[h]).norm());
+    for (size_t h = 0; h < p.solver->handle_count(); ++h) {
+      std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(), (p.solver->handle_point(h) - targets[h]).norm());
     }
   }
   return kExitOk;

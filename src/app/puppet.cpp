@@ -12,7 +12,14 @@ std::vector<Vec2> Puppet::rest_targets() const {
   return t;
 }
 
-void Puppet::reconstruct() { reconstruct_shapes(frame, solver.vertices(), shapes); }
+SolverWeights Puppet::weights() const {
+  SolverWeights w;
+  w.rigidity = rig.w_rigidity;
+  w.coupling = rig.w_coupling;
+  w.position = rig.w_position;
+  w.anderson = rig.anderson;
+  return w;
+}
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path) {
   using R = Result<std::unique_ptr<Puppet>>;
@@ -20,18 +27,20 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, c
   if (!rig.ok()) return R::failure(rig.error);
   auto p = std::make_unique<Puppet>();
   p->rig = std::move(*rig.value);
+  p->solver = make_solver(p->rig.solver);
+  if (!p->solver) {
+    return R::failure(p->rig.path + ":" + std::to_string(std::max(1, p->rig.solver_line)) + ": unknown solver '" + p->rig.solver +
+                      "' (known: feature_frame)");
+  }
   const std::string path = character_path.empty() ? p->rig.character_path() : character_path;
   Result<Character> ch = load_character(path);
   if (!ch.ok()) return R::failure(ch.error);
   p->character = std::move(*ch.value);
-  const FrameOptions fo = frame_options_from_rig(p->rig);
-  refine_for_frame(p->character, fo);
-  p->frame = build_feature_frame(p->character, fo);
-  for (const RigHandle& h : p->rig.handles) p->bindings.push_back(bind_point(p->frame, p->character, h.rest));
+  const Bounds b = p->character.bounds();
+  p->diagonal = b.empty() ? 1.0 : std::max(1e-9, (b.hi - b.lo).norm());
   const auto t0 = std::chrono::steady_clock::now();
   std::string err;
-  const bool ok = p->solver.prepare(p->frame, p->bindings,
-                                    SolverWeights{p->rig.w_rigidity, p->rig.w_coupling, p->rig.w_position, p->rig.anderson}, &err);
+  const bool ok = p->solver->prepare(p->character, p->rig, p->rest_targets(), p->weights(), &err);
   p->prefactor_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (!ok) return R::failure(path + ": " + err);
   p->mesh = prepare_mesh(p->character);

@@ -1,10 +1,11 @@
-// A rigged character ready to pose: the character (refined for its frame), the rig, the
-// feature frame, handle bindings, the prefactored solver and render meshes.
+// A rigged character ready to pose: the character (refined for its solver), the rig, the
+// solver the rig names (behind the seam in solve/solver.h), render meshes and the deformed
+// shape points.
 #pragma once
 
 #include "character/rig.h"
 #include "render/tessellate.h"
-#include "solve/feature_frame.h"
+#include "solve/solver.h"
 
 #include <memory>
 #include <string>
@@ -14,15 +15,18 @@ namespace mar {
 struct Puppet {
   Character character;
   Rig rig;
-  FeatureFrame frame;
-  std::vector<ShapeParam> bindings;  ///< one per rig handle
-  FeatureFrameSolver solver;
+  std::unique_ptr<Solver> solver;
   CharacterMesh mesh;
   std::vector<Points> shapes;        ///< deformed shape points (rest after load)
-  double prefactor_ms = 0;           ///< time of FeatureFrameSolver::prepare
+  double prefactor_ms = 0;           ///< time of Solver::prepare
+  double diagonal = 1;               ///< of the character's bounds
   std::vector<Vec2> rest_targets() const;
-  /// Rebuilds `shapes` from the solver's current frame vertices.
-  void reconstruct();
+  SolverWeights weights() const;     ///< the rig's
+  /// Rebuilds `shapes` from the solver's current pose.
+  void reconstruct() { solver->shape_points(shapes); }
+  /// The feature frame behind the seam, when the rig's method is the feature frame.
+  const FeatureFrameMethod* feature_frame() const { return dynamic_cast<const FeatureFrameMethod*>(solver.get()); }
+  FeatureFrameMethod* feature_frame() { return dynamic_cast<FeatureFrameMethod*>(solver.get()); }
 };
 
 /// Loads the rig, then the character (`character_path`, or the rig's own when empty).

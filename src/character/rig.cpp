@@ -68,7 +68,8 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   try {
     Rig r = default_rig();
     r.path = path;
-    check_keys(path, root, {"character", "iterations", "weights", "sampling", "handle", "sewing", "solver", "joint", "part"},
+    check_keys(path, root, {"character", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
+                            "part"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -166,9 +167,14 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
       }
     }
     if (const toml::node* sv = root.get("solver")) {
+      if (!sv->is_string() || sv->value<std::string>()->empty()) throw RigError{at(path, *sv) + ": solver must be a method name, e.g. \"feature_frame\""};
+      r.solver = *sv->value<std::string>();
+      r.solver_line = static_cast<int>(sv->source().begin.line);
+    }
+    if (const toml::node* sv = root.get("feature_frame")) {
       const toml::table* t = sv->as_table();
-      if (!t) throw RigError{at(path, *sv) + ": [solver] must be a table"};
-      check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[solver]");
+      if (!t) throw RigError{at(path, *sv) + ": [feature_frame] must be a table"};
+      check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[feature_frame]");
       if (const toml::node* n = t->get("anderson")) {
         const auto v = n->value<int64_t>();
         if (!v || *v < 0 || *v > 16) throw RigError{at(path, *n) + ": anderson must be a whole number 0..16"};
@@ -262,6 +268,7 @@ std::string write_rig(const Rig& r) {
     return s.str();
   };
   o << "character = " << toml::value<std::string>(r.character) << "\n";
+  if (r.solver != "feature_frame") o << "solver = " << toml::value<std::string>(r.solver) << "\n";
   o << "iterations = " << r.iterations << "\n\n";
   o << "[weights]\nrigidity = " << r.w_rigidity << "\ncoupling = " << r.w_coupling << "\nposition = " << r.w_position
     << "\n\n";
@@ -277,7 +284,7 @@ std::string write_rig(const Rig& r) {
     if (e.action == RigSewing::Move) o << "new_from = " << pt(e.new_from) << "\nnew_to = " << pt(e.new_to) << "\n";
   }
   if (r.anderson != 5 || !r.auto_joints || !r.auto_stiffness) {
-    o << "\n[solver]\nanderson = " << r.anderson << "\njoints = \"" << (r.auto_joints ? "auto" : "none")
+    o << "\n[feature_frame]\nanderson = " << r.anderson << "\njoints = \"" << (r.auto_joints ? "auto" : "none")
       << "\"\nstiffness = \"" << (r.auto_stiffness ? "auto" : "none") << "\"\n";
   }
   for (const RigJoint& j : r.joints) {

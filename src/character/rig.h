@@ -2,13 +2,14 @@
 // sampling, solver iterations and weights. Validated once at load; errors name file:line.
 //
 //   character = "../characters/butterfly.svg"   # relative to the rig file
+//   solver = "feature_frame"                     # the deformation method (solve/solver.h)
 //   iterations = 12
 //   [weights]   rigidity = 1.0  coupling = 1.0  position = 100.0
 //   [sampling]  mode = "features" | "uniform"   interval = 20.0   (uniform: arc length)
 //   [[handle]]  name = "head"   rest = [200.0, 135.0]
 //   [[sewing]]  action = "add" | "delete" | "move"   from = [x, y]   to = [x, y]
 //               (move also: new_from = [x, y]   new_to = [x, y])
-//   [solver]    anderson = 5   joints = "auto" | "none"   stiffness = "auto" | "none"
+//   [feature_frame]  anderson = 5   joints = "auto" | "none"   stiffness = "auto" | "none"
 //   [[joint]]   at = [x, y]   parts = ["arm", "body"]   stiffness = 0.3   kind = "hinge" | "weld"
 //               (a hinge needs `at` or `parts`; a weld needs `parts`)
 //   [[part]]    id = "torso"   stiffness = 4.0
@@ -51,6 +52,8 @@ struct RigPart {
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
+  std::string solver = "feature_frame";  ///< the method (checked by the solver factory)
+  int solver_line = 0;    ///< line of `solver` in the file (0: not given)
   int iterations = 12;
   double w_rigidity = 1, w_coupling = 1, w_position = 100;
   bool uniform_sampling = false;

@@ -213,6 +213,11 @@ TEST(cli_pose, BadTargetsAndRigsExitTwo) {
   auto r = test::run_cli("pose " + character("figure") + " --rig " + q(bad));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("bad.toml:2"), std::string::npos) << r.err;
+  // A rig naming a method that does not exist.
+  const std::string unknown = test::write_temp("unknown.toml", "character = \"x.svg\"\nsolver = \"magic\"\n");
+  r = test::run_cli("pose " + character("figure") + " --rig " + q(unknown));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("unknown.toml:2: unknown solver 'magic'"), std::string::npos) << r.err;
 }
 
 }  // namespace

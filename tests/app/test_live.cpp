@@ -27,7 +27,7 @@ std::unique_ptr<LiveShow> load(const std::string& path, RunOptions o = {}) {
 }
 
 Vec2 handle_position(const LiveShow& s, int h) {
-  return eval_param(s.puppet().bindings[size_t(h)], s.puppet().solver.vertices());
+  return s.puppet().solver->handle_point(size_t(h));
 }
 
 TEST(Live, FaderSweepMovesAHandleFromAToB) {

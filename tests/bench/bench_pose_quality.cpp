@@ -144,9 +144,9 @@ PoseCase load_case(const fs::path& file) {
       c.poses.push_back(pose);
     }
   }
-  for (const mar::ShapeParam& b : c.puppet->bindings) {
-    c.handle_part.push_back(c.puppet->frame.origin[static_cast<size_t>(b.a)].shape);
-  }
+  const mar::FeatureFrameMethod* ff = c.puppet->feature_frame();
+  if (!ff) fail(file.string() + ": the case's rig must use the feature frame");
+  for (const mar::ShapeParam& b : ff->bindings()) c.handle_part.push_back(ff->frame().origin[static_cast<size_t>(b.a)].shape);
   return c;
 }
 
@@ -245,24 +245,24 @@ constexpr int kConverged = 1000;
 Solved ff_result(mar::Puppet& p) {
   p.reconstruct();
   Solved s{p.shapes, {}};
-  for (const mar::ShapeParam& b : p.bindings) s.handle_points.push_back(mar::eval_param(b, p.solver.vertices()));
+  for (size_t h = 0; h < p.solver->handle_count(); ++h) s.handle_points.push_back(p.solver->handle_point(h));
   return s;
 }
 
 Solved ff_rest(PoseCase& c, const Pose& pose, int iterations) {
   mar::Puppet& p = *c.puppet;
   const std::vector<Vec2> t = targets_at(c, pose, 1);
-  p.solver.reset_to_rest();
-  p.solver.initial_guess(t);
-  p.solver.solve(t, iterations);
+  p.solver->reset_to_rest();
+  p.solver->initial_guess(t);
+  p.solver->solve(t, iterations);
   return ff_result(p);
 }
 
 Solved ff_live(PoseCase& c, const Pose& pose) {
   mar::Puppet& p = *c.puppet;
-  p.solver.reset_to_rest();
+  p.solver->reset_to_rest();
   for (int k = 1; k <= kLiveFrames; ++k) {
-    p.solver.solve(targets_at(c, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
+    p.solver->solve(targets_at(c, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
   }
   return ff_result(p);
 }
@@ -552,10 +552,10 @@ int main(int argc, char** argv) {
   for (size_t ci = 0; ci < all_cases().size(); ++ci) {
     PoseCase& c = all_cases()[ci];
     std::printf("\n%s (%zu sub-shapes, %zu handles, %zu joints, ARAP mesh %zu vertices / %zu faces)\n", c.name.c_str(),
-                c.puppet->character.shapes.size(), c.handle_part.size(), c.puppet->frame.joints.size(),
+                c.puppet->character.shapes.size(), c.handle_part.size(), c.puppet->feature_frame()->frame().joints.size(),
                 arap_of()[ci]->rest.size(), arap_of()[ci]->faces);
     if (g_parts) {
-      for (const mar::FrameJoint& j : c.puppet->frame.joints) {
+      for (const mar::FrameJoint& j : c.puppet->feature_frame()->frame().joints) {
         std::printf("  joint %s - %s at (%.1f, %.1f)\n", c.puppet->character.shapes[static_cast<size_t>(j.shape_a)].id.c_str(),
                     c.puppet->character.shapes[static_cast<size_t>(j.shape_b)].id.c_str(), j.at.x(), j.at.y());
       }

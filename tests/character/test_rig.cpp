@@ -114,8 +114,9 @@ TEST(parse_rig, ErrorsNameFileAndLine) {
       {"character = \"a.svg\"\n[weights]\ncoupling = -1\n", "r.toml:3: coupling must not be negative"},
       {"iterations = 3\n", "'character'"},
       {"character = \"a.svg\"\nthis is not toml\n", "r.toml:2:"},
-      {"character = \"a.svg\"\n[solver]\nanderson = 40\n", "r.toml:3: anderson must be"},
-      {"character = \"a.svg\"\n[solver]\njoints = \"some\"\n", "r.toml:3: joints must be"},
+      {"character = \"a.svg\"\n[feature_frame]\nanderson = 40\n", "r.toml:3: anderson must be"},
+      {"character = \"a.svg\"\n[feature_frame]\njoints = \"some\"\n", "r.toml:3: joints must be"},
+      {"character = \"a.svg\"\nsolver = 3\n", "r.toml:2: solver must be a method name"},
       {"character = \"a.svg\"\n\n[[joint]]\nstiffness = 1.0\n", "r.toml:3: a joint needs at = [x, y] or parts"},
       {"character = \"a.svg\"\n[[joint]]\nat = [1, 2]\nkind = \"weld\"\n", "r.toml:2: a weld needs parts"},
       {"character = \"a.svg\"\n[[joint]]\nparts = [\"a\"]\n", "r.toml:3: parts must be two"},
@@ -133,7 +134,8 @@ TEST(parse_rig, ErrorsNameFileAndLine) {
 
 TEST(parse_rig, JointsPartsAndSolverRoundTrip) {
   const char* text = R"toml(character = "c.svg"
-[solver]
+solver = "feature_frame"
+[feature_frame]
 anderson = 3
 joints = "none"
 stiffness = "auto"
@@ -163,7 +165,9 @@ stiffness = 3.5
   EXPECT_EQ(a.joints[0].part_a, "arm-right");
   EXPECT_EQ(a.joints[0].part_b, "shirt");
   EXPECT_DOUBLE_EQ(a.joints[0].stiffness, 0.5);
-  EXPECT_EQ(a.joints[0].line, 7);
+  EXPECT_EQ(a.joints[0].line, 8);
+  EXPECT_EQ(a.solver, "feature_frame");
+  EXPECT_EQ(a.solver_line, 2);
   EXPECT_FALSE(a.joints[1].has_at);
   EXPECT_TRUE(a.joints[1].weld);
   ASSERT_EQ(a.parts.size(), 1u);

@@ -1,0 +1,87 @@
+// The solver seam: what every deformation method offers the rest of the program (the live
+// loop, the pose and inspect commands, benchmarks). The feature frame (seed 000) implements
+// it today; the rigid grid (seed 003) and the outline ARAP baseline will. A rig names its
+// method (`solver = "feature_frame"`, the default); Puppet holds whichever it names.
+//
+// Shapes: handles are given by rest points on the character (#h); targets are #h points,
+// plus one while a temporary grab handle is set. Everything but prepare() and set_weights()
+// allocates nothing.
+#pragma once
+
+#include "character/rig.h"
+#include "solve/feature_frame.h"
+
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+
+namespace mar {
+
+class Solver {
+ public:
+  virtual ~Solver() = default;
+  virtual std::string_view name() const = 0;
+
+  /// Builds the method's representation of `ch` (it may insert vertices the method needs,
+  /// so call it before preparing render meshes) and factorises for handles at `handle_rest`.
+  virtual bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+                       std::string* error) = 0;
+  /// New weights, keeping the pose (re-factorises: may allocate).
+  virtual bool set_weights(const SolverWeights& w, std::string* error) = 0;
+
+  /// A fixed number of iterations from the current pose toward `targets`.
+  virtual void solve(std::span<const Vec2> targets, int iterations) = 0;
+  /// The start for a jump (a solve from rest, a pose recall).
+  virtual void initial_guess(std::span<const Vec2> targets) = 0;
+  virtual void reset_to_rest() = 0;
+
+  /// Deformed points of every sub-shape; `out` holds one Points per shape with the rest sizes.
+  virtual void shape_points(std::vector<Points>& out) const = 0;
+  /// Where handle h is on the deformed character.
+  virtual Vec2 handle_point(size_t h) const = 0;
+  virtual size_t handle_count() const = 0;
+
+  /// A temporary extra handle at a rest point of the character (a pen grab); its target is
+  /// the last of solve()'s targets until release().
+  virtual void grab(const Vec2& rest_point) = 0;
+  virtual void release() = 0;
+  virtual bool grabbing() const = 0;
+};
+
+/// The methods a rig may name.
+bool solver_known(std::string_view name);
+/// A new solver for `name` ("feature_frame"); nullptr for an unknown name.
+std::unique_ptr<Solver> make_solver(std::string_view name);
+
+/// The feature frame (seed 000) behind the seam; frame() and core() give its own views
+/// (overlay, Table 1, frame vertices) to the commands that show them.
+class FeatureFrameMethod final : public Solver {
+ public:
+  std::string_view name() const override { return "feature_frame"; }
+  bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+               std::string* error) override;
+  bool set_weights(const SolverWeights& w, std::string* error) override;
+  void solve(std::span<const Vec2> targets, int iterations) override { s_.solve(targets, iterations); }
+  void initial_guess(std::span<const Vec2> targets) override { s_.initial_guess(targets); }
+  void reset_to_rest() override { s_.reset_to_rest(); }
+  void shape_points(std::vector<Points>& out) const override { reconstruct_shapes(frame_, s_.vertices(), out); }
+  Vec2 handle_point(size_t h) const override { return eval_param(bindings_[h], s_.vertices()); }
+  size_t handle_count() const override { return bindings_.size(); }
+  void grab(const Vec2& rest_point) override { s_.set_extra_handle(bind_point(frame_, *character_, rest_point)); }
+  void release() override { s_.clear_extra_handle(); }
+  bool grabbing() const override { return s_.has_extra_handle(); }
+
+  const FeatureFrame& frame() const { return frame_; }
+  std::span<const ShapeParam> bindings() const { return bindings_; }
+  FeatureFrameSolver& core() { return s_; }
+  const FeatureFrameSolver& core() const { return s_; }
+
+ private:
+  const Character* character_ = nullptr;
+  FeatureFrame frame_;
+  std::vector<ShapeParam> bindings_;
+  FeatureFrameSolver s_;
+};
+
+}  // namespace mar

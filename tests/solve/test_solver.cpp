@@ -1,0 +1,55 @@
+// The solver seam (solve/solver.h): the factory and the feature frame behind it.
+#include "character/load.h"
+#include "solve/solver.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+namespace mar {
+namespace {
+
+TEST(make_solver, KnowsTheFeatureFrameAndNothingElseYet) {
+  EXPECT_TRUE(solver_known("feature_frame"));
+  EXPECT_FALSE(solver_known("rigid_grid"));
+  auto s = make_solver("feature_frame");
+  ASSERT_NE(s, nullptr);
+  EXPECT_EQ(s->name(), "feature_frame");
+  EXPECT_EQ(make_solver("bogus"), nullptr);
+}
+
+// Through the seam only: prepare, solve, handle points, shape points, grab and release.
+TEST(Solver, FeatureFrameBehindTheSeamPosesAndGrabs) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  Rig rig = default_rig();
+  const std::vector<Vec2> rest{{150, 190}, {150, 280}, {245, 250}};
+  std::unique_ptr<Solver> s = make_solver("feature_frame");
+  std::string err;
+  ASSERT_TRUE(s->prepare(c, rig, rest, SolverWeights{}, &err)) << err;
+  ASSERT_EQ(s->handle_count(), 3u);
+  for (size_t h = 0; h < 3; ++h) EXPECT_LT((s->handle_point(h) - rest[h]).norm(), 1e-9);
+  std::vector<Vec2> targets = rest;
+  targets[2] = Vec2(265.8, 232.3);  // the arm turned 15 degrees about its shoulder joint (188.1, 162.0)
+  for (int f = 0; f < 20; ++f) s->solve(targets, 8);
+  EXPECT_LT((s->handle_point(2) - targets[2]).norm(), 2.0);
+  std::vector<Points> shapes;
+  for (const SubShape& sh : c.shapes) shapes.push_back(sh.points);
+  s->shape_points(shapes);
+  bool moved = false;
+  for (size_t k = 0; k < shapes.size(); ++k)
+    for (size_t i = 0; i < shapes[k].size(); ++i) moved = moved || (shapes[k][i] - c.shapes[k].points[i]).norm() > 1;
+  EXPECT_TRUE(moved);
+  // A grab: the point under the pen follows the last target.
+  s->grab(Vec2(150, 230));
+  EXPECT_TRUE(s->grabbing());
+  targets.push_back(Vec2(165, 230));
+  for (int f = 0; f < 20; ++f) s->solve(targets, 8);
+  s->release();
+  EXPECT_FALSE(s->grabbing());
+  s->reset_to_rest();
+  for (size_t h = 0; h < 3; ++h) EXPECT_LT((s->handle_point(h) - rest[h]).norm(), 1e-9);
+}
+
+}  // namespace
+}  // namespace mar
