@@ -9,7 +9,9 @@
 namespace mar {
 
 int cmd_devices(const DevicesArgs& a) {
-  const auto reports = discover_devices(load_profile_ids());
+  std::vector<std::string> profile_errors;
+  const auto reports = discover_devices(load_profile_ids(&profile_errors));
+  for (const std::string& e : profile_errors) std::cerr << "error: device profile " << e << "\n";
   size_t total = 0;
   for (const auto& r : reports) total += r.found.size();
   if (a.json) {
@@ -21,7 +23,10 @@ int cmd_devices(const DevicesArgs& a) {
                          {"problem", f.problem}});
       j.push_back({{"backend", r.backend}, {"status", r.status}, {"found", found}});
     }
-    std::cout << nlohmann::ordered_json{{"devices_found", total}, {"backends", j}}.dump(2) << "\n";
+    std::cout << nlohmann::ordered_json{{"devices_found", total}, {"data_dir", data_dir()}, {"profile_errors", profile_errors},
+                                        {"backends", j}}
+                     .dump(2)
+              << "\n";
     return 0;
   }
   if (total == 0)

@@ -61,11 +61,18 @@ Result<bool> parse_target(const std::string& text, const ShowConfig& show, Targe
 /// A binding's control text with the device profile's names replaced ("left-x" -> "usage x");
 /// OSC controls ("osc /fader/1") are numbered per device here.
 std::string device_control(ShowDevice& d, const std::string& control);
-/// Finds config/devices/NAME.toml (next to the show's config folder, then the source tree).
+/// The program's data folder (device profiles, example characters, rigs and shows):
+/// $MARIONETTE_DATA_DIR, else `share/marionette` beside or above the executable's folder
+/// (an installed `bin/marionette`, or a build tree, where CMake links it to config/).
+/// Empty when none exists.
+std::string data_dir();
+
+/// Finds devices/NAME.toml next to the show's folder (`shows/../devices`), then in data_dir().
 std::string find_profile(const std::string& show_path, const std::string& name);
 
-/// VID/PIDs of every profile in config/devices/ (for `marionette devices`).
-std::vector<ProfileId> load_profile_ids();
+/// VID/PIDs of every profile in data_dir()/devices (for `marionette devices`); a profile that
+/// does not parse is left out and named in `errors` ("file:line: what").
+std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors = nullptr);
 
 /// Appends a learned binding to the show file (text appended; the rest is untouched).
 std::string append_binding(const std::string& path, const std::string& device, const std::string& control,

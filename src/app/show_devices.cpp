@@ -70,8 +70,21 @@ void read_profile(const std::string& show_path, const toml::node& where, const s
 
 }  // namespace
 
+std::string data_dir() {
+  if (const char* env = std::getenv("MARIONETTE_DATA_DIR"); env && *env) return env;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  for (const fs::path& d : {exe.parent_path() / ".." / "share" / "marionette", exe.parent_path() / "share" / "marionette"}) {
+    if (fs::is_directory(d / "devices", ec)) return fs::weakly_canonical(d, ec).string();
+  }
+  return {};
+}
+
 std::string find_profile(const std::string& show_path, const std::string& name) {
-  for (const fs::path& dir : {fs::path(show_path).parent_path() / ".." / "devices", fs::path(MARIONETTE_SOURCE_CONFIG) / "devices"})
+  std::vector<fs::path> dirs{fs::path(show_path).parent_path() / ".." / "devices"};
+  if (const std::string d = data_dir(); !d.empty()) dirs.push_back(fs::path(d) / "devices");
+  for (const fs::path& dir : dirs)
     if (fs::exists(dir / (name + ".toml"))) return (dir / (name + ".toml")).lexically_normal().string();
   return {};
 }
@@ -145,9 +158,11 @@ std::string device_control(ShowDevice& d, const std::string& control) {
 
 namespace mar {
 
-std::vector<ProfileId> load_profile_ids() {
+std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
   std::vector<ProfileId> out;
-  const fs::path dir = fs::path(MARIONETTE_SOURCE_CONFIG) / "devices";
+  const std::string data = data_dir();
+  if (data.empty()) return out;
+  const fs::path dir = fs::path(data) / "devices";
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     if (e.path().extension() != ".toml") continue;
@@ -162,8 +177,8 @@ std::vector<ProfileId> load_profile_ids() {
         p.pids.push_back(int(t["device"]["pid"].value_or(int64_t(-1))));
       }
       out.push_back(p);
-    } catch (const toml::parse_error&) {
-      // A broken profile is reported when a show uses it; here it just names nothing.
+    } catch (const toml::parse_error& err) {
+      if (errors) errors->push_back(e.path().string() + ":" + std::to_string(err.source().begin.line) + ": " + std::string(err.description()));
     }
   }
   return out;

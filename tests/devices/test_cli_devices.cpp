@@ -6,10 +6,33 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 namespace mar {
 namespace {
+
+// Profiles come from the data folder (MARIONETTE_DATA_DIR here); a broken one is named with
+// its file and line and the rest still work.
+TEST(DevicesCommand, ABrokenProfileIsNamedWithFileAndLine) {
+  const auto dir = test::temp_dir("data");
+  std::filesystem::create_directories(dir / "devices");
+  std::filesystem::copy_file(test::source_dir() / "config/devices/ps4.toml", dir / "devices/ps4.toml");
+  {
+    std::ofstream f(dir / "devices/broken.toml");
+    f << "[device]\nvid = = 3\n";
+  }
+  ::setenv("MARIONETTE_DATA_DIR", dir.c_str(), 1);
+  const auto r = test::run_cli("devices --json");
+  ::unsetenv("MARIONETTE_DATA_DIR");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("broken.toml:2:"), std::string::npos) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["data_dir"], dir.string());
+  ASSERT_EQ(j["profile_errors"].size(), 1u);
+}
 
 TEST(DevicesCommand, NothingConnectedIsSaidPlainly) {
   VirtualBench bench;  // empty

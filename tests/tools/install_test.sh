@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# `cmake --install` into a temporary prefix: the binary, device profiles, udev rule and the
+# example characters, rigs and shows land in standard places, and the installed program,
+# run away from the source and build trees, finds its data there.
+set -euo pipefail
+build=$1
+prefix=$(mktemp -d)
+trap 'rm -rf "$prefix"' EXIT
+cmake --install "$build" --prefix "$prefix" >/dev/null
+test -x "$prefix/bin/marionette"
+test -f "$prefix/lib/udev/rules.d/70-marionette.rules"
+for d in characters rigs shows devices; do
+  test -n "$(ls "$prefix/share/marionette/$d")" || { echo "empty: share/marionette/$d"; exit 1; }
+done
+cd "$prefix"
+export MARIONETTE_CORPUS_DIR=/nonexistent
+"$prefix/bin/marionette" devices --json > devices.json
+grep -q "\"data_dir\": \"$prefix/share/marionette\"" devices.json || { echo "data_dir is not the installed one:"; grep data_dir devices.json; exit 1; }
+"$prefix/bin/marionette" inspect "$prefix/share/marionette/characters/boy.svg" --rig "$prefix/share/marionette/rigs/boy.toml" > inspect.txt
+grep -q "joints:" inspect.txt
+"$prefix/bin/marionette" run "$prefix/share/marionette/shows/demo.toml" --headless --frames 30 --stats stats.json > run.txt 2> run.err
+grep -q '"frames": 30' stats.json
+if [ -s run.err ]; then echo "the installed demo printed:"; cat run.err; exit 1; fi
+echo "installed into a temporary prefix: binary, profiles, udev rule, characters, rigs, shows; the program finds them"
