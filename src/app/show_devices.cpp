@@ -11,18 +11,6 @@ namespace {
 
 constexpr const char* kTypes[] = {"sim", "usb_midi", "hid", "gpio", "tablet", "alsa", "osc", "sdl"};
 
-int integer(const std::string& path, const toml::node& n, const char* what, int lo, int hi) {
-  if (auto v = n.value<int64_t>(); v && *v >= lo && *v <= hi) return int(*v);
-  throw ShowError{at(path, n) + ": " + what + " must be an integer " + std::to_string(lo) + ".." + std::to_string(hi)};
-}
-
-std::vector<std::string> strings(const std::string& path, const toml::node& n, const char* what) {
-  std::vector<std::string> out;
-  const toml::array* a = n.as_array();
-  if (!a) throw ShowError{at(path, n) + ": " + what + " must be a list of strings"};
-  for (const toml::node& e : *a) out.push_back(text(path, e, what));
-  return out;
-}
 
 // vid/pid/usage: an integer, or pid a list of them.
 void ids(const std::string& path, const toml::table& t, DeviceSpec& hw) {

@@ -1,8 +1,9 @@
-// TOML helpers shared by the show-file readers (show.cpp, show_devices.cpp). Errors are
-// thrown as ShowError with file:line and caught at the loader's edge.
+// Show-file reading helpers (show.cpp, show_devices.cpp): the shared config TOML helpers and
+// path resolution for show files. Errors are thrown as ShowError (a cfg::ConfigError) with
+// file:line and caught at the loader's edge.
 #pragma once
 
-#include <toml++/toml.h>
+#include "character/config_toml.h"
 
 #include <cmath>
 #include <filesystem>
@@ -13,37 +14,16 @@ namespace mar::showtoml {
 
 namespace fs = std::filesystem;
 
-struct ShowError {
-  std::string message;
-};
-
-inline std::string at(const std::string& path, const toml::node& n) {
-  return path + ":" + std::to_string(n.source().begin.line);
-}
-
-inline double number(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be a finite number"};
-}
-
-inline std::string text(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<std::string>()) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be a string"};
-}
-
-inline bool boolean(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<bool>()) return *v;
-  throw ShowError{at(path, n) + ": " + what + " must be true or false"};
-}
-
-inline void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
-                const char* where) {
-  for (const auto& [k, v] : t) {
-    bool ok = false;
-    for (std::string_view n : known) ok = ok || k.str() == n;
-    if (!ok) throw ShowError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
-  }
-}
+// The shared helpers (character/config_toml.h) under the names the show readers use.
+using ShowError = cfg::ConfigError;
+using cfg::at;
+using cfg::boolean;
+using cfg::check_keys;
+using cfg::integer;
+using cfg::number;
+using cfg::point;
+using cfg::strings;
+using cfg::text;
 
 inline std::string resolve(const std::string& show_path, const std::string& p) {
   if (p.empty() || fs::path(p).is_absolute()) return p;

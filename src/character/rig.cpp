@@ -1,6 +1,6 @@
 #include "character/rig.h"
 
-#include <toml++/toml.h>
+#include "character/config_toml.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -25,37 +25,8 @@ int Rig::find_handle(const std::string& name) const {
   return -1;
 }
 
-namespace {
-
-struct RigError {
-  std::string message;
-};
-
-std::string at(const std::string& path, const toml::node& n) {
-  return path + ":" + std::to_string(n.source().begin.line);
-}
-
-double number(const std::string& path, const toml::node& n, const char* what) {
-  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
-  throw RigError{at(path, n) + ": " + what + " must be a finite number"};
-}
-
-Vec2 point(const std::string& path, const toml::node& n, const char* what) {
-  const toml::array* a = n.as_array();
-  if (!a || a->size() != 2) throw RigError{at(path, n) + ": " + what + " must be [x, y]"};
-  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
-}
-
-void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
-                const char* where) {
-  for (const auto& [k, v] : t) {
-    bool ok = false;
-    for (std::string_view n : known) ok = ok || k.str() == n;
-    if (!ok) throw RigError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
-  }
-}
-
-}  // namespace
+using namespace cfg;
+using RigError = ConfigError;
 
 Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   toml::table root;

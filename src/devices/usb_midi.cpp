@@ -158,23 +158,24 @@ void UsbMidiBackend::close() {
   for (auto* t : in_)
     if (t) libusb_cancel_transfer(t);
   if (out_ && out_busy_) libusb_cancel_transfer(out_);
-  // Cancelled transfers finish through the event loop; an emulated or busy bus may take a
-  // while. A transfer libusb still owns must never be freed (libusb would later lock a
-  // mutex inside freed memory): wait up to 3 s, then leave any still-active one allocated.
+  // Cancelled transfers finish through the event loop (up to 0.5 s here). libusb_close()
+  // takes any still in flight off libusb's lists, so transfers are freed only after it:
+  // freeing one libusb still lists made libusb_close() lock a mutex in freed memory (the
+  // abort on unplug under load), and waiting longer would delay the reconnect.
   timeval tv{0, 10000};
-  for (int k = 0; k < 300 && (in_flight_ > 0 || out_busy_); ++k) libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
-  for (int i = 0; i < kInTransfers; ++i) {
-    if (in_[i] && !in_active_[i]) libusb_free_transfer(in_[i]);
-    in_[i] = nullptr;
-    in_active_[i] = false;
-  }
-  if (out_ && !out_busy_) libusb_free_transfer(out_);
-  out_ = nullptr;
-  in_flight_ = 0;
-  out_busy_ = false;
+  for (int k = 0; k < 50 && (in_flight_ > 0 || out_busy_); ++k) libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
   libusb_release_interface(h_, iface_);
   libusb_close(h_);
   h_ = nullptr;
+  for (int i = 0; i < kInTransfers; ++i) {
+    if (in_[i]) libusb_free_transfer(in_[i]);
+    in_[i] = nullptr;
+    in_active_[i] = false;
+  }
+  if (out_) libusb_free_transfer(out_);
+  out_ = nullptr;
+  in_flight_ = 0;
+  out_busy_ = false;
 }
 
 void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {

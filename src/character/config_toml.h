@@ -1,0 +1,70 @@
+// TOML helpers shared by every config file reader — rigs, show files, device profiles. A
+// problem is thrown as ConfigError with "file:line: what" and caught at the reader's edge,
+// which returns it as a failed Result.
+#pragma once
+
+#include "geom/types.h"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mar::cfg {
+
+struct ConfigError {
+  std::string message;
+};
+
+inline std::string at(const std::string& path, const toml::node& n) {
+  return path + ":" + std::to_string(n.source().begin.line);
+}
+
+inline double number(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<double>(); v && std::isfinite(*v)) return *v;
+  throw ConfigError{at(path, n) + ": " + what + " must be a finite number"};
+}
+
+inline int integer(const std::string& path, const toml::node& n, const char* what, int lo, int hi) {
+  if (auto v = n.value<int64_t>(); v && *v >= lo && *v <= hi) return int(*v);
+  throw ConfigError{at(path, n) + ": " + what + " must be an integer " + std::to_string(lo) + ".." + std::to_string(hi)};
+}
+
+inline std::string text(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<std::string>()) return *v;
+  throw ConfigError{at(path, n) + ": " + what + " must be a string"};
+}
+
+inline bool boolean(const std::string& path, const toml::node& n, const char* what) {
+  if (auto v = n.value<bool>()) return *v;
+  throw ConfigError{at(path, n) + ": " + what + " must be true or false"};
+}
+
+inline Vec2 point(const std::string& path, const toml::node& n, const char* what) {
+  const toml::array* a = n.as_array();
+  if (!a || a->size() != 2) throw ConfigError{at(path, n) + ": " + what + " must be [x, y]"};
+  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
+}
+
+inline std::vector<std::string> strings(const std::string& path, const toml::node& n, const char* what) {
+  std::vector<std::string> out;
+  const toml::array* a = n.as_array();
+  if (!a) throw ConfigError{at(path, n) + ": " + what + " must be a list of strings"};
+  for (const toml::node& e : *a) out.push_back(text(path, e, what));
+  return out;
+}
+
+inline void check_keys(const std::string& path, const toml::table& t, std::initializer_list<std::string_view> known,
+                       const char* where) {
+  for (const auto& [k, v] : t) {
+    bool ok = false;
+    for (std::string_view n : known) ok = ok || k.str() == n;
+    if (!ok) throw ConfigError{at(path, v) + ": unknown key '" + std::string(k.str()) + "' in " + where};
+  }
+}
+
+}  // namespace mar::cfg
