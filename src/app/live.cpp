@@ -485,27 +485,25 @@ int LiveShow::run() {
     if (learn) {
       for (size_t i = 0; i < n_events_ && !learned_; ++i) {
         const Event& e = events_[i];
-        std::string control;
+        // The control that moved, in the grammar show files use (format_control prints what
+        // parse_control reads).
+        ControlSpec spec;
         switch (e.kind) {
-          case ControlKind::MidiCC: control = "cc " + std::to_string(e.number); break;
-          case ControlKind::MidiNoteOn: control = "note " + std::to_string(e.number); break;
-          case ControlKind::MidiPitchBend: control = "pitchbend"; break;
+          case ControlKind::MidiCC: spec.kind = ControlSpec::CC; break;
+          case ControlKind::MidiNoteOn: spec.kind = ControlSpec::Note; break;
+          case ControlKind::MidiPitchBend: spec.kind = ControlSpec::PitchBend; break;
           case ControlKind::EncoderDelta:
-            control = show_.devices[e.source].sim == "knob_box" || show_.devices[e.source].type == "gpio"
-                          ? "encoder " + std::to_string(e.number)
-                                                                : "usage " + std::to_string(e.number);
+            spec.kind = show_.devices[e.source].sim == "knob_box" || show_.devices[e.source].type == "gpio" ? ControlSpec::Encoder
+                                                                                                             : ControlSpec::Hid;
             break;
-          case ControlKind::Button: control = "button " + std::to_string(e.number); break;
-          case ControlKind::HidValue: {
-            std::ostringstream o;
-            o << "usage 0x" << std::hex << e.number;
-            control = o.str();
-            break;
-          }
+          case ControlKind::Button: spec.kind = ControlSpec::GpioButton; break;
+          case ControlKind::HidValue: spec.kind = ControlSpec::Hid; break;
           default: continue;
         }
+        spec.number = e.number;
         if (e.kind == ControlKind::MidiCC || e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiPitchBend)
-          control += " ch " + std::to_string(e.channel + 1);
+          spec.channel = e.channel;
+        const std::string control = format_control(spec);
         if (std::string err = append_binding(show_.path, show_.devices[e.source].name, control, opt_.learn); !err.empty()) {
           std::cerr << "error: " << err << "\n";
           return 1;

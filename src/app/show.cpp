@@ -79,6 +79,41 @@ std::pair<double, double> pair_of(const std::string& path, const toml::node& n, 
 
 }  // namespace
 
+// HID usage names of the control grammar (page << 16 | id).
+constexpr std::pair<const char*, uint32_t> kUsageNames[] = {
+    {"x", 0x010030},     {"y", 0x010031},      {"z", 0x010032},    {"rx", 0x010033},      {"ry", 0x010034},
+    {"rz", 0x010035},    {"dial", 0x010037},   {"wheel", 0x010038}, {"hat", 0x010039},    {"pressure", 0x0D0030},
+    {"in_range", 0x0D0032}, {"tip", 0x0D0042}, {"barrel", 0x0D0044}, {"x_tilt", 0x0D003D}, {"y_tilt", 0x0D003E}};
+
+std::string format_control(const ControlSpec& c) {
+  std::string out;
+  switch (c.kind) {
+    case ControlSpec::CC: out = "cc " + std::to_string(c.number); break;
+    case ControlSpec::CC14: out = "cc14 " + std::to_string(c.number); break;
+    case ControlSpec::NRPN: out = "nrpn " + std::to_string(c.number); break;
+    case ControlSpec::Note: out = "note " + std::to_string(c.number); break;
+    case ControlSpec::PitchBend: out = "pitchbend"; break;
+    case ControlSpec::Encoder: out = "encoder " + std::to_string(c.number); break;
+    case ControlSpec::GpioButton: out = "button " + std::to_string(c.number); break;
+    case ControlSpec::Pointer: out = "pointer"; break;
+    case ControlSpec::Hid: {
+      for (auto [n, u] : kUsageNames)
+        if (u == c.number) out = std::string("usage ") + n;
+      if (out.empty() && (c.number >> 16) == 0x09 && (c.number & 0xFFFF) > 0) out = "usage button" + std::to_string(c.number & 0xFFFF);
+      if (out.empty()) {
+        char buf[32];
+        std::snprintf(buf, sizeof buf, "usage 0x%06X", c.number);
+        out = buf;
+      }
+      break;
+    }
+  }
+  const bool midi = c.kind == ControlSpec::CC || c.kind == ControlSpec::CC14 || c.kind == ControlSpec::NRPN ||
+                    c.kind == ControlSpec::Note || c.kind == ControlSpec::PitchBend;
+  if (midi && c.channel >= 0) out += " ch " + std::to_string(c.channel + 1);
+  return out;
+}
+
 Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   using R = Result<bool>;
   std::istringstream in(s);
@@ -109,12 +144,8 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   } else if (w[0] == "usage") {
     c.kind = ControlSpec::Hid;
     if (w.size() < 2) return R::failure("'usage' needs a name or number");
-    static const std::pair<const char*, uint32_t> names[] = {
-        {"x", 0x010030}, {"y", 0x010031}, {"z", 0x010032}, {"rx", 0x010033}, {"ry", 0x010034}, {"rz", 0x010035},
-        {"dial", 0x010037}, {"wheel", 0x010038}, {"hat", 0x010039}, {"pressure", 0x0D0030}, {"in_range", 0x0D0032},
-        {"tip", 0x0D0042}, {"barrel", 0x0D0044}, {"x_tilt", 0x0D003D}, {"y_tilt", 0x0D003E}};
     bool found = false;
-    for (auto [n, u] : names)
+    for (auto [n, u] : kUsageNames)
       if (w[1] == n) {
         c.number = u;
         found = true;

@@ -54,6 +54,8 @@ Result<ShowConfig> load_show_header(const std::string& path);
 /// Parses a control ("cc 7", "cc 7 ch 2", "cc14 1", "nrpn 300", "note 36", "pitchbend",
 /// "usage x", "usage 0x0d0030", "button 3", "encoder 2", "pointer") into `out`.
 Result<bool> parse_control(const std::string& text, ControlSpec& out);
+/// The control grammar's text for a control: parse_control(format_control(c)) gives c back.
+std::string format_control(const ControlSpec& c);
 /// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME", "grab",
 /// "solver.iterations", "solver.rigidity|coupling|position").
 Result<bool> parse_target(const std::string& text, const ShowConfig& show, TargetKind& kind, int& index);

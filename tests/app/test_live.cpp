@@ -367,6 +367,23 @@ TEST(Live, DemoRunHashIsPinned) {
   EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "d82b8067a37644cf");
 }
 
+// One control grammar: format_control prints exactly what parse_control reads (what --learn
+// writes into a show file is what the show file reader accepts).
+TEST(format_control, RoundTripsEveryKind) {
+  const char* texts[] = {"cc 7", "cc 7 ch 3", "cc14 5", "nrpn 300", "note 60 ch 10", "pitchbend", "pitchbend ch 2",
+                         "encoder 2", "button 4", "pointer", "usage x", "usage pressure", "usage button3", "usage 0xFF0001"};
+  for (const char* t : texts) {
+    ControlSpec a;
+    ASSERT_TRUE(parse_control(t, a).ok()) << t;
+    EXPECT_EQ(format_control(a), t);
+    ControlSpec b;
+    ASSERT_TRUE(parse_control(format_control(a), b).ok()) << t;
+    EXPECT_EQ(b.kind, a.kind) << t;
+    EXPECT_EQ(b.number, a.number) << t;
+    EXPECT_EQ(b.channel, a.channel) << t;
+  }
+}
+
 // The shipped demo uses only what ships: on a clean clone it warns about nothing.
 TEST(Live, DemoShowPrintsNoWarning) {
   ::setenv("MARIONETTE_CORPUS_DIR", "/nonexistent-corpus", 1);
