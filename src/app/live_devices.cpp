@@ -3,6 +3,7 @@
 #include "app/live.h"
 #include "devices/backends.h"
 #include "firmware_sim/hid_device.h"
+#include "input/hid_usages.h"
 
 #include <linux/input.h>
 
@@ -24,12 +25,12 @@ void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int
     const double u = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
     const int64_t t = epoch + r.t_ns;
     switch (e.number) {
-      case 0x010030: bench.evdev_event(dev, EV_ABS, ABS_X, int32_t(u * geom.x_max), t); break;
-      case 0x010031: bench.evdev_event(dev, EV_ABS, ABS_Y, int32_t(u * geom.y_max), t); break;
-      case 0x0D0030: bench.evdev_event(dev, EV_ABS, ABS_PRESSURE, int32_t(u * geom.pressure_max), t); break;
-      case 0x0D0042: bench.evdev_event(dev, EV_KEY, BTN_TOUCH, e.value, t); break;
-      case 0x0D0032: bench.evdev_event(dev, EV_KEY, BTN_TOOL_PEN, e.value, t); break;
-      case 0x0D0044: bench.evdev_event(dev, EV_KEY, BTN_STYLUS, e.value, t); break;
+      case usage::kX: bench.evdev_event(dev, EV_ABS, ABS_X, int32_t(u * geom.x_max), t); break;
+      case usage::kY: bench.evdev_event(dev, EV_ABS, ABS_Y, int32_t(u * geom.y_max), t); break;
+      case usage::kTipPressure: bench.evdev_event(dev, EV_ABS, ABS_PRESSURE, int32_t(u * geom.pressure_max), t); break;
+      case usage::kTipSwitch: bench.evdev_event(dev, EV_KEY, BTN_TOUCH, e.value, t); break;
+      case usage::kInRange: bench.evdev_event(dev, EV_KEY, BTN_TOOL_PEN, e.value, t); break;
+      case usage::kBarrelSwitch: bench.evdev_event(dev, EV_KEY, BTN_STYLUS, e.value, t); break;
       default: return;
     }
     bench.evdev_event(dev, EV_SYN, SYN_REPORT, 0, t);

@@ -1,5 +1,6 @@
 #include "app/show.h"
 #include "app/show_toml.h"
+#include "input/hid_usages.h"
 
 #include <toml++/toml.h>
 
@@ -79,12 +80,6 @@ std::pair<double, double> pair_of(const std::string& path, const toml::node& n, 
 
 }  // namespace
 
-// HID usage names of the control grammar (page << 16 | id).
-constexpr std::pair<const char*, uint32_t> kUsageNames[] = {
-    {"x", 0x010030},     {"y", 0x010031},      {"z", 0x010032},    {"rx", 0x010033},      {"ry", 0x010034},
-    {"rz", 0x010035},    {"dial", 0x010037},   {"wheel", 0x010038}, {"hat", 0x010039},    {"pressure", 0x0D0030},
-    {"in_range", 0x0D0032}, {"tip", 0x0D0042}, {"barrel", 0x0D0044}, {"x_tilt", 0x0D003D}, {"y_tilt", 0x0D003E}};
-
 std::string format_control(const ControlSpec& c) {
   std::string out;
   switch (c.kind) {
@@ -97,9 +92,11 @@ std::string format_control(const ControlSpec& c) {
     case ControlSpec::GpioButton: out = "button " + std::to_string(c.number); break;
     case ControlSpec::Pointer: out = "pointer"; break;
     case ControlSpec::Hid: {
-      for (auto [n, u] : kUsageNames)
+      for (auto [n, u] : usage::kNames)
         if (u == c.number) out = std::string("usage ") + n;
-      if (out.empty() && (c.number >> 16) == 0x09 && (c.number & 0xFFFF) > 0) out = "usage button" + std::to_string(c.number & 0xFFFF);
+      if (out.empty() && (c.number >> 16) == usage::kButtonPage && (c.number & 0xFFFF) > 0) {
+        out = "usage button" + std::to_string(c.number & 0xFFFF);
+      }
       if (out.empty()) {
         char buf[32];
         std::snprintf(buf, sizeof buf, "usage 0x%06X", c.number);
@@ -145,7 +142,7 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
     c.kind = ControlSpec::Hid;
     if (w.size() < 2) return R::failure("'usage' needs a name or number");
     bool found = false;
-    for (auto [n, u] : kUsageNames)
+    for (auto [n, u] : usage::kNames)
       if (w[1] == n) {
         c.number = u;
         found = true;
@@ -154,7 +151,7 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
       uint32_t b = 0;
       w.push_back(w[1].substr(6));
       if (num(w.size() - 1, b, 0xFFFF) && b > 0) {
-        c.number = 0x090000 | b;
+        c.number = usage::button(b);
         found = true;
       }
       w.pop_back();

@@ -3,6 +3,7 @@
 // read each frame and changes become HidValue events with the HID usages a hidraw device
 // would give (X/Y, tip switch, buttons), so the same bindings work.
 #include "devices/backends.h"
+#include "input/hid_usages.h"
 
 #include <SDL.h>
 
@@ -14,7 +15,7 @@ namespace {
 
 std::atomic<bool> g_window{false};
 
-constexpr uint32_t kAxisUsage[SDL_CONTROLLER_AXIS_MAX] = {0x010030, 0x010031, 0x010032, 0x010035, 0x010033, 0x010034};
+constexpr uint32_t kAxisUsage[SDL_CONTROLLER_AXIS_MAX] = {usage::kX, usage::kY, usage::kZ, usage::kRz, usage::kRx, usage::kRy};
 
 class SdlBackend final : public Backend {
  public:
@@ -90,7 +91,7 @@ bool SdlBackend::poll(int64_t t, EventSink& out) {
           last_[a], out);
     }
     for (int b = 0; b < SDL_CONTROLLER_BUTTON_MAX; ++b)
-      put(t, 0x090001 + uint32_t(b), SDL_GameControllerGetButton(pad_, SDL_GameControllerButton(b)), 0, 1, last_[8 + b],
+      put(t, usage::button(1 + uint32_t(b)), SDL_GameControllerGetButton(pad_, SDL_GameControllerButton(b)), 0, 1, last_[8 + b],
           out);
     return true;
   }
@@ -101,10 +102,10 @@ bool SdlBackend::poll(int64_t t, EventSink& out) {
     int x = 0, y = 0, ww = 1, wh = 1;
     const uint32_t buttons = SDL_GetMouseState(&x, &y);
     SDL_GetWindowSize(w, &ww, &wh);
-    put(t, 0x010030, x, 0, ww - 1, last_[0], out);
-    put(t, 0x010031, y, 0, wh - 1, last_[1], out);
-    put(t, 0x0D0042, (buttons & SDL_BUTTON_LMASK) != 0, 0, 1, last_[2], out);
-    put(t, 0x090002, (buttons & SDL_BUTTON_RMASK) != 0, 0, 1, last_[3], out);
+    put(t, usage::kX, x, 0, ww - 1, last_[0], out);
+    put(t, usage::kY, y, 0, wh - 1, last_[1], out);
+    put(t, usage::kTipSwitch, (buttons & SDL_BUTTON_LMASK) != 0, 0, 1, last_[2], out);
+    put(t, usage::button(2), (buttons & SDL_BUTTON_RMASK) != 0, 0, 1, last_[3], out);
     return true;
   }
   if (SDL_GetNumTouchDevices() == 0) return true;
@@ -112,10 +113,10 @@ bool SdlBackend::poll(int64_t t, EventSink& out) {
   const int fingers = SDL_GetNumTouchFingers(id);
   if (fingers > 0)
     if (SDL_Finger* f = SDL_GetTouchFinger(id, 0)) {
-      put(t, 0x010030, int32_t(f->x * 65535), 0, 65535, last_[0], out);
-      put(t, 0x010031, int32_t(f->y * 65535), 0, 65535, last_[1], out);
+      put(t, usage::kX, int32_t(f->x * 65535), 0, 65535, last_[0], out);
+      put(t, usage::kY, int32_t(f->y * 65535), 0, 65535, last_[1], out);
     }
-  put(t, 0x0D0042, fingers > 0, 0, 1, last_[2], out);
+  put(t, usage::kTipSwitch, fingers > 0, 0, 1, last_[2], out);
   return true;
 }
 

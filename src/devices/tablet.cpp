@@ -4,6 +4,7 @@
 // kernel's event timestamps (CLOCK_MONOTONIC) are kept.
 #include "devices/backends.h"
 #include "devices/util.h"
+#include "input/hid_usages.h"
 
 #include <fcntl.h>
 #include <libevdev/libevdev.h>
@@ -19,24 +20,24 @@ namespace {
 // evdev code -> HID usage (page << 16 | id).
 uint32_t abs_usage(unsigned code) {
   switch (code) {
-    case ABS_X: return 0x010030;
-    case ABS_Y: return 0x010031;
-    case ABS_Z: return 0x010032;
-    case ABS_WHEEL: return 0x010038;
-    case ABS_PRESSURE: return 0x0D0030;
-    case ABS_TILT_X: return 0x0D003D;
-    case ABS_TILT_Y: return 0x0D003E;
+    case ABS_X: return usage::kX;
+    case ABS_Y: return usage::kY;
+    case ABS_Z: return usage::kZ;
+    case ABS_WHEEL: return usage::kWheel;
+    case ABS_PRESSURE: return usage::kTipPressure;
+    case ABS_TILT_X: return usage::kXTilt;
+    case ABS_TILT_Y: return usage::kYTilt;
     default: return 0;
   }
 }
 uint32_t key_usage(unsigned code) {
   switch (code) {
-    case BTN_TOUCH: return 0x0D0042;      // tip switch
-    case BTN_TOOL_PEN: return 0x0D0032;   // in range (proximity)
-    case BTN_TOOL_RUBBER: return 0x0D0045;  // eraser
-    case BTN_STYLUS: return 0x0D0044;     // barrel switch
-    case BTN_STYLUS2: return 0x0D005A;    // secondary barrel switch
-    default: return code >= BTN_0 && code <= BTN_9 ? 0x090001 + (code - BTN_0) : 0;
+    case BTN_TOUCH: return usage::kTipSwitch;      // tip switch
+    case BTN_TOOL_PEN: return usage::kInRange;   // in range (proximity)
+    case BTN_TOOL_RUBBER: return usage::kEraser;  // eraser
+    case BTN_STYLUS: return usage::kBarrelSwitch;     // barrel switch
+    case BTN_STYLUS2: return usage::kSecondaryBarrelSwitch;    // secondary barrel switch
+    default: return code >= BTN_0 && code <= BTN_9 ? usage::button(1 + (code - BTN_0)) : 0;
   }
 }
 

@@ -14,6 +14,7 @@
 #include "geom/types.h"
 #include "input/event.h"
 #include "input/filters.h"
+#include "input/hid_usages.h"
 
 #include <span>
 #include <string>
@@ -27,7 +28,7 @@ struct ControlSpec {
   int channel = -1;     ///< MIDI channel 0-15, -1 = any
   uint32_t number = 0;  ///< CC / note / NRPN parameter / HID usage / encoder or button index
   /// HID usages of a pointer: x, y, tip (defaults: Generic Desktop X/Y, Digitizer Tip Switch)
-  uint32_t px = 0x010030, py = 0x010031, ptip = 0x0D0042;
+  uint32_t px = usage::kX, py = usage::kY, ptip = usage::kTipSwitch;
   std::string text;     ///< as written (for messages and learn)
 };
 
