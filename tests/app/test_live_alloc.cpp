@@ -11,6 +11,25 @@
 namespace mar {
 namespace {
 
+// Loads a show headless at 120 Hz, runs 30 warm-up frames, then 570 frames that must not
+// allocate (counted by the test's operator new and by the show itself).
+std::unique_ptr<LiveShow> run_steady(const std::string& path) {
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.warmup = 30;
+  auto s = LiveShow::load(path, o);
+  EXPECT_TRUE(s.ok()) << s.error;
+  if (!s.ok()) return nullptr;
+  LiveShow& show = **s.value;
+  for (int f = 0; f < 30; ++f) show.frame(int64_t(f * 1e9 / 120));
+  const long before = test::allocation_count();
+  for (int f = 30; f < 600; ++f) show.frame(int64_t(f * 1e9 / 120));
+  EXPECT_EQ(test::allocation_count() - before, 0);
+  EXPECT_EQ(show.allocations_after_warmup(), 0u);
+  return std::move(*s.value);
+}
+
 TEST(LiveAlloc, SteadyFramesAllocateNothing) {
   set_allocation_counter(&heap_allocation_count);
   const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
@@ -80,18 +99,9 @@ control = "usage x"
 target = "handle.left-foot.x"
 deadzone = 0.1
 )");
-  RunOptions o;
-  o.headless = true;
-  o.quiet = true;
-  o.warmup = 30;
-  auto s = LiveShow::load(path, o);
-  ASSERT_TRUE(s.ok()) << s.error;
-  LiveShow& show = **s.value;
-  for (int f = 0; f < 30; ++f) show.frame(int64_t(f * 1e9 / 120));
-  const long before = test::allocation_count();
-  for (int f = 30; f < 600; ++f) show.frame(int64_t(f * 1e9 / 120));
-  EXPECT_EQ(test::allocation_count() - before, 0);
-  EXPECT_EQ(show.allocations_after_warmup(), 0u);
+  const std::unique_ptr<LiveShow> s = run_steady(path);
+  ASSERT_TRUE(s);
+  LiveShow& show = *s;
   EXPECT_GT(show.mapping().stats().matched, 500u);  // the devices really drove it
 }
 
@@ -118,18 +128,9 @@ device = "pen"
 control = "pointer"
 target = "grab"
 )");
-  RunOptions o;
-  o.headless = true;
-  o.quiet = true;
-  o.warmup = 30;
-  auto s = LiveShow::load(path, o);
-  ASSERT_TRUE(s.ok()) << s.error;
-  LiveShow& show = **s.value;
-  for (int f = 0; f < 30; ++f) show.frame(int64_t(f * 1e9 / 120));
-  const long before = test::allocation_count();
-  for (int f = 30; f < 600; ++f) show.frame(int64_t(f * 1e9 / 120));
-  EXPECT_EQ(test::allocation_count() - before, 0);
-  EXPECT_EQ(show.allocations_after_warmup(), 0u);
+  const std::unique_ptr<LiveShow> s = run_steady(path);
+  ASSERT_TRUE(s);
+  LiveShow& show = *s;
   const auto j = nlohmann::json::parse(show.stats_json());
   EXPECT_GE(j["grabs"]["count"].get<int>(), 16);  // 4 strokes down and up per 1.2 s loop... at least 4 loops
   EXPECT_EQ(j["refactorizations"]["count"], 0);
