@@ -276,8 +276,8 @@ double FeatureFrameSolver::energy(std::span<const Vec2> targets) const {
   return energy_with_rotations(v_, scratch_line_, scratch_vert_, targets);
 }
 
-// Local step for the feature lines: R_j turns ebar_j onto e_j (angle of e * conj(ebar)).
-// The vertex rotations Rhat_i are computed inside global_step, fused with their use.
+// Local step for the feature lines: R_j turns ebar_j onto e_j (angle of e * conj(ebar));
+// vertex_rotations() does the vertices' Rhat_i.
 // Both rotation passes also sum the energy of their terms at the optimal rotations, in
 // closed form: min_R |d - R dbar|^2 = |d|^2 + |dbar|^2 - 2 |d conj(dbar)| (current_energy()).
 void FeatureFrameSolver::local_step() {
@@ -544,7 +544,7 @@ double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
 
 // Type-II Anderson acceleration on x -> G(x): with residuals f = G(x) - x and the history
 // of differences dF, dG, theta = argmin |f - dF theta| and x+ = G(x) - dG theta.
-void FeatureFrameSolver::anderson_mix() {
+bool FeatureFrameSolver::anderson_mix() {
   const Eigen::Index n2 = aa_x_.size();
   const int m = static_cast<int>(aa_dF_.cols());
   Eigen::Map<Eigen::VectorXd> v(v_.data()->data(), n2);
@@ -563,7 +563,9 @@ void FeatureFrameSolver::anderson_mix() {
   aa_prev_g_ = aa_g_;
   const int k = std::min(aa_count_, m);
   ++aa_count_;
-  if (k == 0) return;  // v_ = G(x)
+  if (k == 0) return false;  // v_ = G(x)
+  // Converged to rounding: nothing to accelerate (and the history would be noise).
+  if (aa_f_.squaredNorm() < 1e-24 * frame_->diagonal * frame_->diagonal * static_cast<double>(n2)) return false;
   // Normal equations (k <= 16), Tikhonov-regularised, solved on the stack.
   using Small = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 16, 16>;  // no heap
   using SmallVec = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 16, 1>;
@@ -575,12 +577,13 @@ void FeatureFrameSolver::anderson_mix() {
     for (int j = 0; j < k; ++j) A(i, j) = aa_gram_[i * 16 + j];
     scale = std::max(scale, A(i, i));
   }
-  if (!(scale > 0) || !std::isfinite(scale)) return;
+  if (!(scale > 0) || !std::isfinite(scale)) return false;
   for (int i = 0; i < k; ++i) A(i, i) += 1e-10 * scale;
   const Eigen::LDLT<Small> ldlt(A);
   const SmallVec theta = ldlt.solve(b);
-  if (!theta.allFinite()) return;
+  if (!theta.allFinite()) return false;
   for (int i = 0; i < k; ++i) v -= theta(i) * aa_dG_.col(i);
+  return true;
 }
 
 void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std::span<double> energies) {
@@ -609,20 +612,22 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
   Eigen::Map<Eigen::VectorXd> v(v_.data()->data(), n2);
   aa_count_ = aa_head_ = 0;
   double accepted = std::numeric_limits<double>::infinity();
+  bool mixed = false;  // the current iterate is an Anderson extrapolation, not a plain step
+  const double rounding = 1e-14 * frame_->diagonal * frame_->diagonal;  // energy noise floor
   for (int it = 0; it < iterations; ++it) {
     local_step();
     vertex_rotations();
     if (aa || record) {
       double e = current_energy(targets);
-      if (aa && it > 0 && !(e < accepted)) {
-        // The accelerated iterate did not lower the energy: take the plain step instead.
+      if (mixed && e > accepted + 1e-12 * accepted + rounding) {
+        // The accelerated iterate raised the energy (beyond rounding): take the plain step.
         v = aa_accept_g_;
         ++aa_rejected_;
         aa_count_ = aa_head_ = 0;
         local_step();
         vertex_rotations();
         e = current_energy(targets);
-      } else if (aa && it > 0) {
+      } else if (mixed) {
         ++aa_accepted_;
       }
       if (record) energies[static_cast<size_t>(it)] = std::isfinite(accepted) ? std::min(e, accepted) : e;
@@ -630,9 +635,10 @@ void FeatureFrameSolver::solve(std::span<const Vec2> given, int iterations, std:
     }
     if (aa) aa_x_ = v;
     global_step(targets);
+    mixed = false;
     if (aa && it + 1 < iterations) {
       aa_accept_g_ = v;  // G(x): the fallback
-      anderson_mix();
+      mixed = anderson_mix();
     }
   }
   if (record) {

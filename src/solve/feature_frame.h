@@ -119,8 +119,9 @@ class FeatureFrameSolver {
   void global_step(std::span<const Vec2> targets);
   /// E(v_, current rotations): equals energy() right after local_step() + vertex_rotations().
   double current_energy(std::span<const Vec2> targets) const;
-  /// Anderson mixing: takes x (the iterate) and g = G(x) in v_, writes the next iterate to v_.
-  void anderson_mix();
+  /// Anderson mixing: takes x (the iterate) and g = G(x) in v_, writes the next iterate to
+  /// v_. Returns whether it extrapolated (false: v_ stays G(x)).
+  bool anderson_mix();
 
   void build_bodies();
 

@@ -378,7 +378,7 @@ TEST(Live, DemoRunHashIsPinned) {
   auto r = test::run_cli("run " + (dir / "demo.toml").string() + " --headless --frames 300 --stats " + (dir / "s.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream f(dir / "s.json");
-  EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "d82b8067a37644cf");
+  EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "7cd437f35e97482d");
 }
 
 // One control grammar: format_control prints exactly what parse_control reads (what --learn
