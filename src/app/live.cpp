@@ -1,4 +1,5 @@
 #include "app/live.h"
+#include "app/simulate.h"
 
 #include "geom/polygon.h"
 
@@ -45,9 +46,7 @@ void put(const void* p, size_t n, std::FILE* f) { fwrite_unlocked(p, 1, n, f); }
 void set_allocation_counter(AllocationCounter f) { g_counter = f; }
 
 LiveShow::~LiveShow() {
-  bench_stop_ = true;
-  if (bench_thread_.joinable()) bench_thread_.join();
-  if (bench_) bench_->stop_playing();
+  if (simulation_) simulation_->stop();
   devices_.reset();
   if (record_) std::fclose(record_);
   if (replay_) std::fclose(replay_);

@@ -7,7 +7,6 @@
 #include "app/show.h"
 #include "app/stats.h"
 #include "devices/device.h"
-#include "firmware_sim/vbench.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
 
@@ -18,6 +17,8 @@
 #include <atomic>
 
 namespace mar {
+
+class HardwareSimulation;
 
 struct RunOptions {
   bool headless = false;
@@ -62,8 +63,6 @@ class LiveShow {
   DeviceSet* devices() { return devices_.get(); }
   /// Show device index -> DeviceSet index (-1: simulated in-process).
   int hardware_index(size_t device) const { return device < hw_index_.size() ? hw_index_[device] : -1; }
-  /// The virtual bench of --simulate (nullptr otherwise).
-  VirtualBench* bench() { return bench_.get(); }
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
   /// Whether frames follow the wall clock (a window, or hardware devices).
@@ -87,15 +86,13 @@ class LiveShow {
   Mapping mapping_;
   std::vector<std::unique_ptr<SimDevice>> sims_;   ///< in-process sims (index = show device)
   std::vector<int> sim_index_;                     ///< show device -> sims_ index (-1: hardware)
-  std::unique_ptr<VirtualBench> bench_;            ///< --simulate: hardware sims at the kernel interface
+  std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
   std::vector<std::unique_ptr<SimDevice>> bench_sims_;
   std::unique_ptr<DeviceSet> devices_;
   std::vector<int> hw_index_;
   std::vector<Event> hw_events_;
   int64_t epoch_ns_ = 0;                           ///< CLOCK_MONOTONIC at show time 0
-  std::thread bench_thread_;
   std::atomic<bool> stop_{false};
-  std::atomic<bool> bench_stop_{false};
   std::vector<std::unique_ptr<WireDecoder>> decoders_;
   std::vector<Event> events_;   ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;

@@ -1,8 +1,10 @@
-// marionette — live 2D puppeteering controller. Command-line entry point.
+// marionette — live 2D puppeteering controller. Command-line entry point, built twice:
+// `marionette` (ships; no virtual bench) and `marionette-simulate` (MARIONETTE_SIMULATE:
+// links the umockdev bench for `run --simulate`).
 #include "app/alloc_count.h"
 #include "app/commands.h"
 #include "app/live.h"
-#include "firmware_sim/vbench.h"
+#include "app/simulate.h"
 
 #include <CLI/CLI.hpp>
 
@@ -95,7 +97,13 @@ int main(int argc, char** argv) {
   if (p->parsed()) return mar::cmd_pose(pose);
   if (v->parsed()) return mar::cmd_view(view);
   if (run_cmd->parsed()) {
-    if (run.simulate) mar::VirtualBench::ensure_preload(argv);  // re-executes under umockdev's preload
+    if (run.simulate) {
+#ifdef MARIONETTE_SIMULATE
+      mar::enable_virtual_bench(argv);  // re-executes under umockdev's preload
+#else
+      return mar::exec_simulator(argv);  // the bench is not linked into this program
+#endif
+    }
     return mar::cmd_run(run);
   }
   if (devices_cmd->parsed()) return mar::cmd_devices(devs);

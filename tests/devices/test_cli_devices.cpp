@@ -2,7 +2,7 @@
 // process inherits umockdev's preload and this test's testbed, so it sees exactly the
 // devices the bench presents (and none of the machine's).
 #include "firmware_sim/hid_device.h"
-#include "firmware_sim/vbench.h"
+#include "devices/vbench.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

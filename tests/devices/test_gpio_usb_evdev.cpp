@@ -4,7 +4,7 @@
 #include "devices/backends.h"
 #include "firmware_sim/knob_box.h"
 #include "firmware_sim/midi_controller.h"
-#include "firmware_sim/vbench.h"
+#include "devices/vbench.h"
 
 #include <gtest/gtest.h>
 #include <linux/gpio.h>

@@ -4,7 +4,7 @@
 #include "bench_util.h"
 #include "devices/backends.h"
 #include "firmware_sim/hid_device.h"
-#include "firmware_sim/vbench.h"
+#include "devices/vbench.h"
 
 #include <gtest/gtest.h>
 

@@ -4,6 +4,7 @@
 #include "app/alloc_count.h"
 #include "app/live.h"
 #include "bench_util.h"
+#include "devices/vbench.h"
 #include "firmware_sim/hid_device.h"
 #include "test_util.h"
 

@@ -8,6 +8,10 @@ prefix=$(mktemp -d)
 trap 'rm -rf "$prefix"' EXIT
 cmake --install "$build" --prefix "$prefix" >/dev/null
 test -x "$prefix/bin/marionette"
+test -x "$prefix/bin/marionette-simulate"
+# The shipping program does not link the virtual bench; --simulate hands over to its sibling.
+if ldd "$prefix/bin/marionette" | grep -q umockdev; then echo "bin/marionette links umockdev:"; ldd "$prefix/bin/marionette"; exit 1; fi
+ldd "$prefix/bin/marionette-simulate" | grep -q umockdev || { echo "bin/marionette-simulate should carry the bench"; exit 1; }
 test -f "$prefix/lib/udev/rules.d/70-marionette.rules"
 for d in characters rigs shows devices; do
   test -n "$(ls "$prefix/share/marionette/$d")" || { echo "empty: share/marionette/$d"; exit 1; }

@@ -242,4 +242,36 @@ std::unique_ptr<Backend> make_usb_midi_backend(const DeviceSpec& s, uint16_t sou
   return std::make_unique<UsbMidiBackend>(s, source);
 }
 
+BackendReport discover_usb_midi(const std::vector<ProfileId>& profiles) {
+  BackendReport r{"usb_midi", "ok", {}};
+  libusb_context* ctx = nullptr;
+  if (libusb_init(&ctx) != 0) return {"usb_midi", "libusb could not start", {}};
+  libusb_device** list = nullptr;
+  const ssize_t n = libusb_get_device_list(ctx, &list);
+  for (ssize_t i = 0; i < n; ++i) {
+    libusb_device_descriptor dd{};
+    libusb_config_descriptor* cfg = nullptr;
+    if (libusb_get_device_descriptor(list[i], &dd) != 0 || libusb_get_active_config_descriptor(list[i], &cfg) != 0) continue;
+    bool midi = false;
+    for (int k = 0; k < cfg->bNumInterfaces; ++k)
+      for (int a = 0; a < cfg->interface[k].num_altsetting; ++a)
+        midi = midi || (cfg->interface[k].altsetting[a].bInterfaceClass == LIBUSB_CLASS_AUDIO &&
+                        cfg->interface[k].altsetting[a].bInterfaceSubClass == 3);
+    libusb_free_config_descriptor(cfg);
+    if (!midi) continue;
+    FoundDevice f;
+    f.backend = "usb_midi";
+    f.identity = devutil::vid_pid(dd.idVendor, dd.idProduct) + " USB-MIDI";
+    char node[64];
+    std::snprintf(node, sizeof node, "/dev/bus/usb/%03d/%03d", libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]));
+    f.node = node;
+    f.profile = devutil::profile_of(profiles, dd.idVendor, dd.idProduct);
+    devutil::access_status(f);
+    r.found.push_back(f);
+  }
+  if (n >= 0) libusb_free_device_list(list, 1);
+  libusb_exit(ctx);
+  return r;
+}
+
 }  // namespace mar

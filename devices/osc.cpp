@@ -17,7 +17,10 @@
 #include <cstring>
 
 namespace mar {
+namespace {
 
+// The Event for a message at `path` whose arguments are `types`/`argv`; returns the index of
+// the first pattern in `patterns` that matches, or -1 (no event).
 int osc_event(const std::vector<std::string>& patterns, const char* path, const char* types, lo_arg** argv, Event& e) {
   int hit = -1;
   for (size_t i = 0; i < patterns.size() && hit < 0; ++i)
@@ -39,8 +42,6 @@ int osc_event(const std::vector<std::string>& patterns, const char* path, const 
   }
   return hit;
 }
-
-namespace {
 
 class OscBackend final : public Backend {
  public:

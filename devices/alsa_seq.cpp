@@ -108,4 +108,39 @@ std::unique_ptr<Backend> make_alsa_backend(const DeviceSpec& s, uint16_t source)
   return std::make_unique<AlsaSeqBackend>(s, source);
 }
 
+BackendReport discover_alsa(const std::vector<ProfileId>&) {
+  snd_seq_t* seq = nullptr;
+  quiet_alsa_errors();
+  const int rc = snd_seq_open(&seq, "default", SND_SEQ_OPEN_INPUT, SND_SEQ_NONBLOCK);
+  if (rc < 0) return {"alsa", std::string("no ALSA sequencer (/dev/snd/seq: ") + snd_strerror(rc) + ")", {}};
+  BackendReport r{"alsa", "ok", {}};
+  snd_seq_client_info_t* ci = nullptr;
+  snd_seq_port_info_t* pi = nullptr;
+  snd_seq_client_info_malloc(&ci);
+  snd_seq_port_info_malloc(&pi);
+  snd_seq_client_info_set_client(ci, -1);
+  while (snd_seq_query_next_client(seq, ci) >= 0) {
+    const int client = snd_seq_client_info_get_client(ci);
+    if (client == SND_SEQ_CLIENT_SYSTEM) continue;
+    snd_seq_port_info_set_client(pi, client);
+    snd_seq_port_info_set_port(pi, -1);
+    while (snd_seq_query_next_port(seq, pi) >= 0) {
+      const unsigned caps = snd_seq_port_info_get_capability(pi);
+      if ((caps & (SND_SEQ_PORT_CAP_READ | SND_SEQ_PORT_CAP_SUBS_READ)) != (SND_SEQ_PORT_CAP_READ | SND_SEQ_PORT_CAP_SUBS_READ))
+        continue;
+      FoundDevice f;
+      f.backend = "alsa";
+      f.identity = std::to_string(client) + ":" + std::to_string(snd_seq_port_info_get_port(pi)) + " '" +
+                   snd_seq_client_info_get_name(ci) + "' / '" + snd_seq_port_info_get_name(pi) + "'";
+      f.node = "/dev/snd/seq";
+      f.status = "available";
+      r.found.push_back(f);
+    }
+  }
+  snd_seq_port_info_free(pi);
+  snd_seq_client_info_free(ci);
+  snd_seq_close(seq);
+  return r;
+}
+
 }  // namespace mar

@@ -1,5 +1,7 @@
 #include "devices/util.h"
 
+#include "devices/device.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <dirent.h>
@@ -47,6 +49,23 @@ std::vector<std::string> list_dir(const std::string& path) {
   }
   std::sort(out.begin(), out.end());
   return out;
+}
+
+std::string profile_of(const std::vector<ProfileId>& profiles, int vid, int pid) {
+  for (const auto& p : profiles)
+    if (p.vid == vid)
+      for (int q : p.pids)
+        if (q == pid) return p.name;
+  return {};
+}
+
+void access_status(FoundDevice& f) {
+  if (access(f.node.c_str(), R_OK | W_OK) == 0) {
+    f.status = "available";
+  } else {
+    f.status = "permission denied";
+    f.problem = "install " + std::string(kUdevRule) + " and join the 'marionette' group";
+  }
 }
 
 }  // namespace mar::devutil

@@ -159,4 +159,31 @@ std::unique_ptr<Backend> make_gpio_backend(const DeviceSpec& s, uint16_t source)
   return std::make_unique<GpioBackend>(s, source);
 }
 
+BackendReport discover_gpio(const std::vector<ProfileId>&) {
+  BackendReport r{"gpio", "ok", {}};
+  std::vector<std::string> seen;
+  for (const char* dir : {"/sys/bus/gpio/devices", "/sys/class/gpio"})
+    for (const std::string& n : devutil::list_dir(dir)) {
+      if (n.rfind("gpiochip", 0) != 0 || std::find(seen.begin(), seen.end(), n) != seen.end()) continue;
+      seen.push_back(n);
+      FoundDevice f;
+      f.backend = "gpio";
+      f.node = "/dev/" + n;
+      if (gpiod_chip* c = gpiod_chip_open(f.node.c_str())) {
+        f.identity = n + " '" + gpiod_chip_label(c) + "' " + std::to_string(gpiod_chip_num_lines(c)) + " lines";
+        gpiod_chip_close(c);
+        f.status = "available";
+      } else {
+        f.identity = n;
+        devutil::access_status(f);
+        if (f.status == "available") {
+          f.status = "unreadable";
+          f.problem = "libgpiod cannot open it";
+        }
+      }
+      r.found.push_back(f);
+    }
+  return r;
+}
+
 }  // namespace mar

@@ -162,4 +162,36 @@ std::unique_ptr<Backend> make_tablet_backend(const DeviceSpec& s, uint16_t sourc
   return std::make_unique<TabletBackend>(s, source);
 }
 
+BackendReport discover_tablet(const std::vector<ProfileId>&) {
+  BackendReport r{"tablet", "ok", {}};
+  for (const std::string& name : devutil::list_dir("/sys/class/input")) {
+    if (name.rfind("event", 0) != 0) continue;
+    FoundDevice f;
+    f.backend = "tablet";
+    f.node = "/dev/input/" + name;
+    const int fd = ::open(f.node.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0) {
+      f.identity = devutil::read_line("/sys/class/input/" + name + "/device/name");
+      if (f.identity.empty()) continue;
+      devutil::access_status(f);
+      r.found.push_back(f);
+      continue;
+    }
+    libevdev* d = nullptr;
+    if (libevdev_new_from_fd(fd, &d) == 0) {
+      const bool pen = libevdev_has_event_code(d, EV_ABS, ABS_X) &&
+                       (libevdev_has_event_code(d, EV_KEY, BTN_TOOL_PEN) || libevdev_has_event_code(d, EV_ABS, ABS_PRESSURE));
+      if (pen) {
+        f.identity = devutil::vid_pid(libevdev_get_id_vendor(d), libevdev_get_id_product(d)) + " '" +
+                     (libevdev_get_name(d) ? libevdev_get_name(d) : "") + "'";
+        f.status = "available";
+        r.found.push_back(f);
+      }
+      libevdev_free(d);
+    }
+    ::close(fd);
+  }
+  return r;
+}
+
 }  // namespace mar

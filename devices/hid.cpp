@@ -115,4 +115,24 @@ std::unique_ptr<Backend> make_hid_backend(const DeviceSpec& s, uint16_t source) 
   return std::make_unique<HidBackend>(s, source);
 }
 
+BackendReport discover_hid(const std::vector<ProfileId>& profiles) {
+  BackendReport r{"hid", "ok", {}};
+  if (hid_init() != 0) return {"hid", "hidapi could not start", {}};
+  hid_device_info* list = hid_enumerate(0, 0);
+  for (const hid_device_info* d = list; d; d = d->next) {
+    FoundDevice f;
+    f.backend = "hid";
+    char usage[32] = "";
+    if (d->usage_page) std::snprintf(usage, sizeof usage, " usage %04x:%04x", d->usage_page, d->usage);
+    f.identity = devutil::vid_pid(d->vendor_id, d->product_id) + " '" + devutil::narrow(d->product_string) + "'" +
+                 (d->serial_number && *d->serial_number ? " serial " + devutil::narrow(d->serial_number) : "") + usage;
+    f.node = d->path;
+    f.profile = devutil::profile_of(profiles, d->vendor_id, d->product_id);
+    devutil::access_status(f);
+    r.found.push_back(f);
+  }
+  hid_free_enumeration(list);
+  return r;
+}
+
 }  // namespace mar

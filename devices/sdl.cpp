@@ -3,6 +3,7 @@
 // read each frame and changes become HidValue events with the HID usages a hidraw device
 // would give (X/Y, tip switch, buttons), so the same bindings work.
 #include "devices/backends.h"
+#include "devices/util.h"
 #include "input/hid_usages.h"
 
 #include <SDL.h>
@@ -126,6 +127,23 @@ void sdl_input_window(bool open) { g_window = open; }
 
 std::unique_ptr<Backend> make_sdl_backend(const DeviceSpec& s, uint16_t source) {
   return std::make_unique<SdlBackend>(s, source);
+}
+
+BackendReport discover_sdl(const std::vector<ProfileId>&) {
+  BackendReport r{"sdl", "ok", {}};
+  if (SDL_InitSubSystem(SDL_INIT_GAMECONTROLLER) != 0) return {"sdl", std::string("SDL: ") + SDL_GetError(), {}};
+  for (int i = 0; i < SDL_NumJoysticks(); ++i) {
+    if (!SDL_IsGameController(i)) continue;
+    FoundDevice f;
+    f.backend = "sdl";
+    const char* name = SDL_GameControllerNameForIndex(i);
+    f.identity = devutil::vid_pid(SDL_JoystickGetDeviceVendor(i), SDL_JoystickGetDeviceProduct(i)) + " game controller '" +
+                 (name ? name : "?") + "'";
+    f.status = "available";
+    r.found.push_back(f);
+  }
+  SDL_QuitSubSystem(SDL_INIT_GAMECONTROLLER);
+  return r;
 }
 
 }  // namespace mar

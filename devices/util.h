@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "devices/discover.h"
+
 namespace mar::devutil {
 
 /// Whole file as bytes (sysfs attributes, descriptors); empty when unreadable.
@@ -18,5 +20,10 @@ std::string vid_pid(int vid, int pid);
 std::string narrow(const wchar_t* w);
 /// Entries of a directory (names only, sorted); empty when missing.
 std::vector<std::string> list_dir(const std::string& path);
+
+/// The profile (config/devices) that names vid:pid; empty when none does.
+std::string profile_of(const std::vector<ProfileId>& profiles, int vid, int pid);
+/// "available", or "permission denied" with the udev hint, for f.node.
+void access_status(FoundDevice& f);
 
 }  // namespace mar::devutil

@@ -1,0 +1,259 @@
+#include "devices/vbench_impl.h"
+
+namespace mar {
+using namespace vb;
+
+gboolean VirtualBench::Impl::on_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self) {
+  auto* impl = static_cast<Impl*>(self);
+  BenchDev* d = impl->by_node(umockdev_ioctl_client_get_devnode(c));
+  if (!d) return FALSE;
+  const unsigned long req = umockdev_ioctl_client_get_request(c);
+  UMockdevIoctlData* arg = umockdev_ioctl_client_get_arg(c);
+  std::lock_guard lock(d->m);
+  switch (d->kind) {
+    case BenchKind::Usb: return impl->usb_ioctl(*d, c, req, arg);
+    case BenchKind::Gpio: return impl->gpio_ioctl(*d, c, req, arg);
+    case BenchKind::Evdev: return impl->evdev_ioctl(*d, c, req, arg);
+    case BenchKind::Hid:
+      if (req == HIDIOCGRDESCSIZE) return answer(c, arg, int(1));
+      return FALSE;
+  }
+  return FALSE;
+}
+
+gboolean VirtualBench::Impl::on_read(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self) {
+  auto* impl = static_cast<Impl*>(self);
+  const char* node = umockdev_ioctl_client_get_devnode(c);
+  BenchDev* d = impl->by_node(node);
+  if (!d || d->kind != BenchKind::Hid) return FALSE;
+  return hid_read(*d, c, node);
+}
+
+bool VirtualBench::preload_active() {
+  const char* p = std::getenv("LD_PRELOAD");
+  return p && std::strstr(p, "libumockdev-preload");
+}
+
+void VirtualBench::ensure_preload(char** argv) {
+  if (preload_active()) return;
+  std::string pre = "libumockdev-preload.so.0";
+  if (const char* old = std::getenv("LD_PRELOAD"); old && *old) pre = std::string(old) + ":" + pre;
+  setenv("LD_PRELOAD", pre.c_str(), 1);
+  // AddressSanitizer wants to be first in the preload list; umockdev's preload is added after it.
+  std::string asan = std::getenv("ASAN_OPTIONS") ? std::getenv("ASAN_OPTIONS") : "";
+  setenv("ASAN_OPTIONS", (asan.empty() ? "" : asan + ":").append("verify_asan_link_order=0").c_str(), 1);
+  execv("/proc/self/exe", argv);
+  std::perror("marionette: cannot re-execute under umockdev's preload");
+}
+
+VirtualBench::VirtualBench() : p_(std::make_unique<Impl>()) {
+  p_->tb = umockdev_testbed_new();
+  p_->handler = umockdev_ioctl_base_new();
+  g_signal_connect(p_->handler, "handle-ioctl", G_CALLBACK(&Impl::on_ioctl), p_.get());
+  g_signal_connect(p_->handler, "handle-read", G_CALLBACK(&Impl::on_read), p_.get());
+}
+
+VirtualBench::~VirtualBench() {
+  stop_playing();
+  for (auto& d : p_->devs) {
+    for (int fd : d->line_fd)
+      if (fd >= 0) ::close(fd);
+    for (auto* q : {&d->in_urbs, &d->done_urbs, &d->discarded})
+      for (auto* u : *q) umockdev_ioctl_data_unref(u);
+  }
+  g_object_unref(p_->tb);
+  g_object_unref(p_->handler);
+}
+
+// Gives the device a fresh node (a replugged device gets a new number, as in the kernel)
+// and its umockdev description.
+void VirtualBench::Impl::describe(BenchDev& d) {
+  std::lock_guard lock(devs_m);
+  if (!d.node.empty()) d.old_nodes.push_back(d.node);
+  switch (d.kind) {
+    case BenchKind::Usb: describe_usb(d); break;
+    case BenchKind::Hid: describe_hid(d); break;
+    case BenchKind::Gpio: describe_gpio(d); break;
+    case BenchKind::Evdev: describe_evdev(d); break;
+  }
+  umockdev_testbed_attach_ioctl(tb, d.node.c_str(), handler, nullptr);
+}
+
+int VirtualBench::Impl::plug_new(std::unique_ptr<BenchDev> d) {
+  describe(*d);
+  add(*d);
+  std::lock_guard lock(devs_m);
+  devs.push_back(std::move(d));
+  return int(devs.size()) - 1;
+}
+
+int VirtualBench::add_usb_midi(const UsbMidi& u) {
+  auto d = std::make_unique<BenchDev>();
+  d->kind = BenchKind::Usb;
+  d->usb = u;
+  d->driver = u.kernel_driver;
+  return p_->plug_new(std::move(d));
+}
+
+int VirtualBench::add_hid(const Hid& h) {
+  auto d = std::make_unique<BenchDev>();
+  d->kind = BenchKind::Hid;
+  d->hid = h;
+  return p_->plug_new(std::move(d));
+}
+
+int VirtualBench::add_gpio(const Gpio& g) {
+  auto d = std::make_unique<BenchDev>();
+  d->kind = BenchKind::Gpio;
+  d->gpio = g;
+  d->line_fd.assign(g.lines.size(), -1);
+  d->line_flags.assign(g.lines.size(), 0);
+  return p_->plug_new(std::move(d));
+}
+
+int VirtualBench::add_evdev(const Evdev& e) {
+  auto d = std::make_unique<BenchDev>();
+  d->kind = BenchKind::Evdev;
+  d->ev = e;
+  return p_->plug_new(std::move(d));
+}
+
+void VirtualBench::usb_in(int dev, std::span<const uint8_t> packets) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  if (d.plugged) d.in_packets.emplace_back(packets.begin(), packets.end());
+}
+
+void VirtualBench::hid_report(int dev, std::span<const uint8_t> report) {
+  // Reads of the node are answered from this queue (handle-read), one report per read as
+  // hidraw does; the node's tty only makes poll() report it readable.
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  if (d.plugged) d.reports.emplace_back(report.begin(), report.end());
+}
+
+void VirtualBench::gpio_edge(int dev, unsigned line, int level, int64_t mono_ns) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  if (!d.plugged || line >= d.line_fd.size() || d.line_fd[line] < 0) return;
+  gpioevent_data ev{};
+  ev.timestamp = uint64_t(mono_ns);
+  ev.id = level ? GPIOEVENT_EVENT_RISING_EDGE : GPIOEVENT_EVENT_FALLING_EDGE;
+  if (::write(d.line_fd[line], &ev, sizeof ev) < 0) std::perror("vbench: gpio write");
+}
+
+void VirtualBench::evdev_event(int dev, uint16_t type, uint16_t code, int32_t value, int64_t mono_ns) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  if (!d.plugged) return;
+  input_event ev{};
+  ev.input_event_sec = decltype(ev.input_event_sec)(mono_ns / 1000000000);
+  ev.input_event_usec = decltype(ev.input_event_usec)((mono_ns % 1000000000) / 1000);
+  ev.type = type;
+  ev.code = code;
+  ev.value = value;
+  if (::write(d.master, &ev, sizeof ev) < 0) std::perror("vbench: evdev write");
+}
+
+void VirtualBench::write(int dev, const WireRecord& r, int64_t epoch) {
+  switch (r.kind) {
+    case WireKind::UsbMidi: usb_in(dev, r.bytes()); break;
+    case WireKind::HidReport: hid_report(dev, r.bytes()); break;
+    case WireKind::GpioEdge: gpio_edge(dev, r.data[0], r.data[1], epoch + r.t_ns); break;
+    default: break;
+  }
+}
+
+std::vector<uint8_t> VirtualBench::usb_out(int dev) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  return d.out_bytes;
+}
+
+uint32_t VirtualBench::gpio_flags(int dev, unsigned line) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  return line < d.line_flags.size() ? d.line_flags[line] : 0;
+}
+
+bool VirtualBench::kernel_driver_detached(int dev) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  return d.detached;
+}
+
+void VirtualBench::unplug(int dev) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  if (!d.plugged) return;
+  d.plugged = false;
+  umockdev_testbed_uevent(p_->tb, d.syspath.c_str(), "remove");
+  umockdev_testbed_remove_device(p_->tb, d.syspath.c_str());
+  for (int& fd : d.line_fd) {  // the kernel hangs up a removed chip's event fds
+    if (fd >= 0) ::close(fd);
+    fd = -1;
+  }
+  for (auto* q : {&d.in_urbs, &d.done_urbs})  // in-flight URBs die with the device
+    while (!q->empty()) {
+      reinterpret_cast<usbdevfs_urb*>(q->front()->data)->status = -ENODEV;
+      d.discarded.push_back(q->front());
+      q->pop_front();
+    }
+  d.in_packets.clear();
+  d.reports.clear();
+  d.detached = false;
+}
+
+void VirtualBench::replug(int dev) {
+  BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
+  if (d.plugged) return;
+  p_->describe(d);
+  p_->add(d);
+}
+
+bool VirtualBench::plugged(int dev) const { return p_->devs[size_t(dev)]->plugged; }
+
+void VirtualBench::deny(int dev, bool denied) {
+  const BenchDev& d = *p_->devs[size_t(dev)];
+  gchar* root = umockdev_testbed_get_root_dir(p_->tb);  // a copy to free
+  const std::string path = std::string(root) + d.node;
+  g_free(root);
+  chmod(path.c_str(), denied ? 0 : 0666);
+}
+
+void VirtualBench::act_as_user(bool on) {
+  __user_cap_header_struct h{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct c[2]{};
+  if (syscall(SYS_capget, &h, c) != 0) return;
+  const uint32_t bits = (1u << CAP_DAC_OVERRIDE) | (1u << CAP_DAC_READ_SEARCH);
+  if (on) c[0].effective &= ~bits;
+  else c[0].effective |= (c[0].permitted & bits);
+  syscall(SYS_capset, &h, c);
+}
+
+void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch) {
+  // One player thread per call: the bench is small (a device or two per test).
+  ++p_->playing;
+  p_->players.emplace_back([this, dev, &sim, epoch] {
+    while (!p_->stop.load()) {
+      timespec ts{};
+      clock_gettime(CLOCK_MONOTONIC, &ts);
+      const int64_t now = int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec - epoch;
+      sim.drain(now, [&](const WireRecord& r) { write(dev, r, epoch); });
+      if (now > sim.end_ns()) break;
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+    --p_->playing;
+  });
+}
+
+void VirtualBench::stop_playing() {
+  p_->stop = true;
+  for (auto& t : p_->players) t.join();
+  p_->players.clear();
+  p_->stop = false;
+}
+
+bool VirtualBench::played_all() const { return p_->playing.load() == 0; }
+
+}  // namespace mar

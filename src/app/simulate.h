@@ -1,0 +1,42 @@
+// --simulate: a show's hardware devices presented at the kernel interface (the virtual
+// bench, umockdev) and played by their simulators, so the real backends read them. The
+// bench lives in a library the shipping `marionette` program does not link: that program
+// hands --simulate runs to `marionette-simulate` (installed beside it), which links the
+// bench and registers it here.
+#pragma once
+
+#include "app/show.h"
+#include "firmware_sim/sim_device.h"
+
+#include <memory>
+#include <string>
+
+namespace mar {
+
+class HardwareSimulation {
+ public:
+  virtual ~HardwareSimulation() = default;
+  /// Presents show device `d` (a hardware type) played by `sim`. Returns an empty string,
+  /// or a note saying why it cannot be presented (the device then stays absent).
+  virtual std::string present(const ShowDevice& d, SimDevice& sim) = 0;
+  /// Starts playing every presented device in real time (show time 0 = `epoch_mono_ns`).
+  virtual void play(int64_t epoch_mono_ns) = 0;
+  /// Stops playing (joins the players); the devices stay plugged until destruction.
+  virtual void stop() = 0;
+};
+
+/// Makes the simulation; nullptr with `error` set when this program cannot simulate.
+using SimulationFactory = std::unique_ptr<HardwareSimulation> (*)(std::string* error);
+void set_simulation_factory(SimulationFactory f);
+std::unique_ptr<HardwareSimulation> make_simulation(std::string* error);
+bool simulation_available();
+
+/// marionette-simulate's start: re-executes under umockdev's preload when needed and
+/// registers the virtual bench (defined in the marionette_simulate library).
+void enable_virtual_bench(char** argv);
+
+/// The shipping program's --simulate: replaces this process with `marionette-simulate`
+/// from the same directory and the same arguments. Returns only on failure (exit code).
+int exec_simulator(char** argv);
+
+}  // namespace mar

@@ -1,0 +1,125 @@
+// The virtual bench behind --simulate (linked by marionette-simulate and the tests only).
+#include "app/simulate.h"
+#include "devices/device.h"
+#include "devices/vbench.h"
+#include "firmware_sim/hid_device.h"
+#include "input/hid_usages.h"
+
+#include <linux/input.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+
+namespace mar {
+namespace {
+
+// A pen simulator's HID reports as evdev events (the bench's evdev node).
+void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int64_t epoch, WireDecoder& dec,
+                          const VirtualBench::Evdev& geom) {
+  dec.feed(r, [&](const Event& e) {
+    if (e.kind != ControlKind::HidValue) return;
+    const double u = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+    const int64_t t = epoch + r.t_ns;
+    switch (e.number) {
+      case usage::kX: bench.evdev_event(dev, EV_ABS, ABS_X, int32_t(u * geom.x_max), t); break;
+      case usage::kY: bench.evdev_event(dev, EV_ABS, ABS_Y, int32_t(u * geom.y_max), t); break;
+      case usage::kTipPressure: bench.evdev_event(dev, EV_ABS, ABS_PRESSURE, int32_t(u * geom.pressure_max), t); break;
+      case usage::kTipSwitch: bench.evdev_event(dev, EV_KEY, BTN_TOUCH, e.value, t); break;
+      case usage::kInRange: bench.evdev_event(dev, EV_KEY, BTN_TOOL_PEN, e.value, t); break;
+      case usage::kBarrelSwitch: bench.evdev_event(dev, EV_KEY, BTN_STYLUS, e.value, t); break;
+      default: return;
+    }
+    bench.evdev_event(dev, EV_SYN, SYN_REPORT, 0, t);
+  });
+}
+
+class BenchSimulation final : public HardwareSimulation {
+ public:
+  ~BenchSimulation() override { stop(); }
+
+  std::string present(const ShowDevice& d, SimDevice& sim) override {
+    const DeviceSpec& h = d.hw;
+    if (d.type == "usb_midi" && d.sim == "nanokontrol2") {
+      played_.push_back({bench_.add_usb_midi({h.vid >= 0 ? h.vid : 0x0944, h.pid >= 0 ? h.pid : 0x0117, false}), &sim, false});
+    } else if (d.type == "hid" && (d.sim == "gamepad" || d.sim == "pen_tablet")) {
+      const int pid = h.pid >= 0 ? h.pid : h.pids.empty() ? 0x0001 : h.pids[0];
+      played_.push_back({bench_.add_hid({h.vid >= 0 ? h.vid : 0x1209, pid, h.product.empty() ? d.name : h.product, h.serial,
+                                         static_cast<HidDeviceSim&>(sim).descriptor_bytes()}),
+                         &sim, false});
+    } else if (d.type == "gpio" && d.sim == "knob_box") {
+      VirtualBench::Gpio g;
+      g.label = h.chip;
+      // The knob box's lines 3(k-1) = A, +1 = B, +2 = switch, named as the show names them.
+      for (int k = 0; k < 4; ++k) {
+        const bool enc = size_t(k) < h.encoders.size(), sw = size_t(k) < h.buttons.size();
+        g.lines.push_back(enc ? h.encoders[size_t(k)].a : "UNUSED" + std::to_string(3 * k));
+        g.lines.push_back(enc ? h.encoders[size_t(k)].b : "UNUSED" + std::to_string(3 * k + 1));
+        g.lines.push_back(sw ? h.buttons[size_t(k)] : "UNUSED" + std::to_string(3 * k + 2));
+      }
+      played_.push_back({bench_.add_gpio(g), &sim, false});
+    } else if (d.type == "tablet" && d.sim == "pen_tablet") {
+      VirtualBench::Evdev e;
+      if (!h.product.empty()) e.name = h.product;
+      played_.push_back({bench_.add_evdev(e), &sim, true});
+    } else {
+      return "--simulate cannot present a " + d.sim + " as " + d.type;
+    }
+    return {};
+  }
+
+  void play(int64_t epoch) override {
+    for (const Played& p : played_) {
+      if (!p.as_evdev) {
+        bench_.play(p.dev, *p.sim, epoch);
+        continue;
+      }
+      // Pen reports are re-expressed as evdev events by a feeder thread per tablet.
+      auto& pen = static_cast<HidDeviceSim&>(*p.sim);
+      feeders_.emplace_back([this, dev = p.dev, &pen, epoch] {
+        auto dec = WireDecoder::hid(pen.descriptor(), 0);
+        VirtualBench::Evdev geom;
+        pen.drain(INT64_MAX, [&](const WireRecord& r) {
+          while (!stop_ && monotonic_ns() < epoch + r.t_ns) std::this_thread::sleep_for(std::chrono::microseconds(500));
+          if (!stop_) present_pen_as_evdev(bench_, dev, r, epoch, *dec, geom);
+        });
+      });
+    }
+  }
+
+  void stop() override {
+    stop_ = true;
+    for (auto& t : feeders_)
+      if (t.joinable()) t.join();
+    feeders_.clear();
+    bench_.stop_playing();
+  }
+
+ private:
+  struct Played {
+    int dev;
+    SimDevice* sim;
+    bool as_evdev;
+  };
+  VirtualBench bench_;
+  std::vector<Played> played_;
+  std::vector<std::thread> feeders_;
+  std::atomic<bool> stop_{false};
+};
+
+std::unique_ptr<HardwareSimulation> make_bench(std::string* error) {
+  if (!VirtualBench::preload_active()) {
+    *error = "--simulate needs umockdev's preload (marionette-simulate re-executes itself with it)";
+    return nullptr;
+  }
+  return std::make_unique<BenchSimulation>();
+}
+
+}  // namespace
+
+void enable_virtual_bench(char** argv) {
+  if (argv) VirtualBench::ensure_preload(argv);
+  set_simulation_factory(&make_bench);
+}
+
+}  // namespace mar
