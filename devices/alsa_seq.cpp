@@ -1,7 +1,7 @@
 // MIDI input from the ALSA sequencer: a "marionette" client with one writable port, so
 // software MIDI sources and virtual ports can feed a show (and hardware the kernel's
 // driver already owns). Sequencer events are turned back into MIDI bytes with
-// snd_midi_event and run through the same stream decoder as any MIDI wire.
+// snd_midi_event: the wire records are MIDI bytes, decoded like any MIDI stream.
 #include "devices/alsa_seq.h"
 #include "devices/backends.h"
 #include "devices/util.h"
@@ -37,12 +37,11 @@ class AlsaSeqBackend final : public Backend {
     seq_ = nullptr;
   }
   bool present() const override { return devutil::exists("/dev/snd/seq"); }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
   snd_seq_t* seq_ = nullptr;
   snd_midi_event_t* codec_ = nullptr;
-  std::unique_ptr<WireDecoder> dec_;
 };
 
 DeviceState AlsaSeqBackend::open() {
@@ -79,12 +78,13 @@ DeviceState AlsaSeqBackend::open() {
   }
   snd_midi_event_new(256, &codec_);
   snd_midi_event_no_status(codec_, 1);  // full status bytes: the stream decoder owns running status
-  dec_ = WireDecoder::midi(WireKind::MidiBytes, source_);
+  config_ = DecoderConfig{};
+  config_.kind = WireKind::MidiBytes;
   problem_.clear();
   return DeviceState::Connected;
 }
 
-bool AlsaSeqBackend::poll(int64_t now_ns, EventSink& out) {
+bool AlsaSeqBackend::poll(int64_t now_ns, WireSink& out) {
   for (int k = 0; k < 1024; ++k) {
     snd_seq_event_t* ev = nullptr;
     const int rc = snd_seq_event_input(seq_, &ev);
@@ -97,7 +97,7 @@ bool AlsaSeqBackend::poll(int64_t now_ns, EventSink& out) {
     if (ev->type == SND_SEQ_EVENT_CLIENT_EXIT || ev->type == SND_SEQ_EVENT_PORT_EXIT) continue;
     uint8_t buf[WireRecord::kMax];
     if (const size_t n = alsa_event_bytes(codec_, *ev, buf, sizeof buf))
-      decode(*dec_, WireRecord::make(now_ns, WireKind::MidiBytes, {buf, n}, source_), out);
+      emit(WireRecord::make(now_ns, WireKind::MidiBytes, {buf, n}, source_), out);
   }
   return true;
 }

@@ -22,17 +22,6 @@ int64_t monotonic_ns() {
   return int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec;
 }
 
-void Backend::decode(WireDecoder& dec, const WireRecord& r, EventSink& out) {
-  const uint64_t bad = dec.stats().malformed;
-  size_t n = 0;
-  dec.feed(r, [&](const Event& e) {
-    out.push(e);
-    ++n;
-  });
-  if (dec.stats().malformed != bad) count_malformed(dec.stats().malformed - bad);
-  count_events(n);
-}
-
 std::string Backend::denied_hint(const std::string& path) {
   return "permission denied on " + path + ": install " + std::string(kUdevRule) +
          " and add yourself to the 'marionette' group (see README, Devices)";
@@ -49,16 +38,36 @@ DeviceSet::~DeviceSet() {
 
 void DeviceSet::add(std::unique_ptr<Backend> b) {
   b->set_epoch(epoch_ns_);
+  if (port_of_source_.size() <= b->source()) port_of_source_.resize(size_t(b->source()) + 1, -1);
+  port_of_source_[b->source()] = int(ports_.size());
   auto p = std::make_unique<Port>();
   p->b = std::move(b);
   ports_.push_back(std::move(p));
 }
 
 void DeviceSet::attempt(Port& p) {
-  const DeviceState st = p.b->open();
+  DeviceState st = p.b->open();
+  std::string bad_config;
+  if (st == DeviceState::Connected) {
+    // A fresh decoder for this connection, in the slot the frame thread is not reading.
+    const uint8_t k = p.generation.load() == 0 ? 0 : uint8_t(1 - p.slot);
+    std::string err;
+    auto dec = make_decoder(p.b->decoder_config(), p.b->source(), &err);
+    if (!dec) {
+      p.b->close();
+      st = DeviceState::Unavailable;
+      bad_config = p.b->identity() + ": " + err;
+    } else {
+      p.slots[k].dec = std::move(dec);
+      p.slots[k].info = p.b->decoder_config().serialize();
+      p.slot = k;
+      p.live.store(k, std::memory_order_relaxed);
+      p.generation.fetch_add(1, std::memory_order_relaxed);
+    }
+  }
   {
     std::lock_guard lock(p.problem_mutex);
-    p.problem = st == DeviceState::Connected ? std::string() : p.b->problem();
+    p.problem = st == DeviceState::Connected ? std::string() : !bad_config.empty() ? bad_config : p.b->problem();
   }
   if (st == DeviceState::Connected) {
     if (p.was_connected.load()) {
@@ -105,10 +114,20 @@ void DeviceSet::loop() {
   }
 }
 
-void DeviceSet::poll(int64_t now_ns, EventSink& out) {
+void DeviceSet::poll(int64_t now_ns, WireSink& out) {
   for (auto& pp : ports_) {
     Port& p = *pp;
     if (p.phase.load(std::memory_order_acquire) != Open) continue;
+    const uint8_t live = p.live.load(std::memory_order_relaxed);  // ordered by the phase's acquire
+    if (p.polled_once && live != p.polled) {
+      // A new connection: the previous decoder's counts are kept, and the reconnect thread
+      // may rebuild that slot only after this thread has let go of the device again.
+      const Decoder& old = *p.slots[p.polled].dec;
+      p.retired_malformed.fetch_add(old.stats().malformed, std::memory_order_relaxed);
+      p.retired_events.fetch_add(old.stats().events, std::memory_order_relaxed);
+    }
+    p.polled = live;
+    p.polled_once = true;
     if (p.gone.load(std::memory_order_acquire) || !p.b->poll(now_ns, out)) {
       p.lost_at.store(monotonic_ns());
       p.unplugs.fetch_add(1);
@@ -118,14 +137,49 @@ void DeviceSet::poll(int64_t now_ns, EventSink& out) {
   }
 }
 
+void DeviceSet::decode(const WireRecord& r, EventSink& out) {
+  const int k = r.source < port_of_source_.size() ? port_of_source_[r.source] : -1;
+  Port* p = k >= 0 ? ports_[size_t(k)].get() : nullptr;
+  if (!p || !p->polled_once) {
+    ++out.dropped;
+    return;
+  }
+  p->slots[p->polled].dec->feed(r, out);
+}
+
+void DeviceSet::settle(int64_t now_ns, EventSink& out) {
+  for (auto& pp : ports_)
+    if (pp->polled_once && pp->phase.load(std::memory_order_acquire) == Open) pp->slots[pp->polled].dec->settle(now_ns, out);
+}
+
+bool DeviceSet::take_connected(size_t i) {
+  Port& p = *ports_[i];
+  if (!p.polled_once) return false;
+  const uint64_t g = p.generation.load(std::memory_order_relaxed);
+  if (g == p.seen_generation) return false;
+  p.seen_generation = g;
+  return true;
+}
+
+std::span<const uint8_t> DeviceSet::description(size_t i) const {
+  const Port& p = *ports_[i];
+  return p.slots[p.polled].info;
+}
+
 DeviceSet::Status DeviceSet::status(size_t i) const {
   const Port& p = *ports_[i];
   Status s;
   s.state = DeviceState(p.shown.load());
   s.unplugs = p.unplugs.load();
   s.reconnects = p.reconnects.load();
+  s.records = p.b->records();
   s.malformed = p.b->malformed();
-  s.events = p.b->events();
+  s.malformed += p.retired_malformed.load(std::memory_order_relaxed);
+  s.events = p.retired_events.load(std::memory_order_relaxed);
+  if (p.polled_once) {  // the frame's decoder (the frame thread's own)
+    s.malformed += p.slots[p.polled].dec->stats().malformed;
+    s.events += p.slots[p.polled].dec->stats().events;
+  }
   s.last_outage_ms = p.last_outage_ms.load();
   s.max_outage_ms = p.max_outage_ms.load();
   return s;

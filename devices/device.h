@@ -1,5 +1,9 @@
-// Hardware backends: each reads one real device through its library (libusb, hidapi,
-// libgpiod, libevdev, ALSA, liblo, SDL) and hands the frame decoded Events.
+// Input sources: each hardware backend reads one real device through its library (libusb,
+// hidapi, libgpiod, libevdev, ALSA, a UDP socket, SDL) and hands the frame the wire records
+// it read (USB-MIDI packets, HID reports, GPIO edges, evdev events, OSC messages, MIDI bytes,
+// SDL controls) with their timestamps; an in-process simulator is a source of the same kind.
+// Decoding happens in src/input (input/decoder.h): a source states, when it opens, the
+// DecoderConfig its records need (a report descriptor, axis ranges).
 //
 // Threads: a backend is opened, closed and looked for on the DeviceSet's reconnect thread
 // (enumeration, descriptors, allocation, blocking calls all live there); the frame thread
@@ -8,7 +12,7 @@
 #pragma once
 
 #include "input/event.h"
-#include "input/wire_decoder.h"
+#include "input/decoder.h"
 
 #include <atomic>
 #include <cstdint>
@@ -29,17 +33,6 @@ enum class DeviceState : uint8_t {
   Unavailable,  ///< the backend cannot work here (no ALSA sequencer, no window for the mouse)
 };
 const char* device_state_name(DeviceState s);
-
-/// One frame's decoded events: fixed capacity, never allocates.
-struct EventSink {
-  Event* data = nullptr;
-  size_t cap = 0, n = 0;
-  uint64_t dropped = 0;
-  void push(const Event& e) {
-    if (n < cap) data[n++] = e;
-    else ++dropped;
-  }
-};
 
 /// What the show (or `marionette devices`) asks a backend to find.
 struct DeviceSpec {
@@ -90,10 +83,13 @@ class Backend {
   /// Whether the open device is still there (its node exists). Called while Connected.
   virtual bool present() const { return true; }
 
+  /// What decodes this device's records (valid after open() returned Connected).
+  const DecoderConfig& decoder_config() const { return config_; }
+
   // ---- frame thread ----
-  /// Reads everything pending without blocking and appends Events (times on the show
-  /// clock). Returns false when the device has gone.
-  virtual bool poll(int64_t now_ns, EventSink& out) = 0;
+  /// Reads everything pending without blocking and appends wire records (times on the show
+  /// clock, `source` set). Returns false when the device has gone.
+  virtual bool poll(int64_t now_ns, WireSink& out) = 0;
   /// Sends MIDI bytes to the device (controller feedback); false when not supported.
   virtual bool send_midi(std::span<const uint8_t>) { return false; }
 
@@ -104,15 +100,18 @@ class Backend {
   const std::string& identity() const { return identity_; }
   const std::string& node() const { return node_; }
   const std::string& problem() const { return problem_; }
-  /// Reports or bytes dropped as malformed since start.
+  /// Reads the backend itself dropped (unreadable, overflowing its ring) since start.
   uint64_t malformed() const { return malformed_.load(std::memory_order_relaxed); }
-  uint64_t events() const { return events_.load(std::memory_order_relaxed); }
+  /// Wire records handed to the frame since start.
+  uint64_t records() const { return records_.load(std::memory_order_relaxed); }
 
  protected:
   void count_malformed(uint64_t n = 1) { malformed_.fetch_add(n, std::memory_order_relaxed); }
-  void count_events(uint64_t n) { events_.fetch_add(n, std::memory_order_relaxed); }
-  /// Feeds one wire record through `dec` into `out`, counting events and malformed input.
-  void decode(WireDecoder& dec, const WireRecord& r, EventSink& out);
+  /// Appends one record to `out`, counting it.
+  void emit(const WireRecord& r, WireSink& out) {
+    out.push(r);
+    records_.fetch_add(1, std::memory_order_relaxed);
+  }
   /// A one-line permission hint for `path`.
   static std::string denied_hint(const std::string& path);
 
@@ -120,9 +119,10 @@ class Backend {
   uint16_t source_ = 0;
   int64_t epoch_ns_ = 0;
   std::string identity_, node_, problem_;
+  DecoderConfig config_;
 
  private:
-  std::atomic<uint64_t> malformed_{0}, events_{0};
+  std::atomic<uint64_t> malformed_{0}, records_{0};
 };
 
 /// Monotonic clock (CLOCK_MONOTONIC, the clock kernel input timestamps use) in ns.
@@ -131,12 +131,17 @@ int64_t monotonic_ns();
 /// Makes the backend for `spec.type`; nullptr with `error` set for an unknown type.
 std::unique_ptr<Backend> make_backend(const DeviceSpec& spec, uint16_t source, std::string* error);
 
-/// The show's hardware devices: polled by the frame, reopened by a background thread.
+/// The show's input sources (hardware backends and in-process simulators): polled by the
+/// frame, reopened by a background thread. Each connection gets a fresh decoder, made on
+/// the reconnect thread from the source's DecoderConfig; the frame thread decodes with it.
 class DeviceSet {
  public:
   struct Status {
     DeviceState state = DeviceState::Waiting;
-    uint64_t unplugs = 0, reconnects = 0, malformed = 0, events = 0;
+    uint64_t unplugs = 0, reconnects = 0;
+    uint64_t records = 0;    ///< wire records read
+    uint64_t events = 0;     ///< events decoded from them (frame thread's count)
+    uint64_t malformed = 0;  ///< records or reads dropped as malformed (backend + decoder)
     double last_outage_ms = 0, max_outage_ms = 0;  ///< unplug detected -> reopened
   };
 
@@ -149,20 +154,44 @@ class DeviceSet {
   /// Tries every device once (so devices present at start are ready for frame 0), then
   /// starts the reconnect thread. `interval_ms`: how often absent devices are looked for.
   void start(int interval_ms = 100);
-  /// Frame thread: polls every connected device. Never blocks or allocates.
-  void poll(int64_t now_ns, EventSink& out);
+  /// Frame thread: polls every connected source for wire records. Never blocks or allocates.
+  void poll(int64_t now_ns, WireSink& out);
+  /// Frame thread: decodes a record polled this frame with its source's decoder (records of
+  /// a source not in the set are counted in `out.dropped`).
+  void decode(const WireRecord& r, EventSink& out);
+  /// Frame thread: what time alone produces (debounced GPIO), for every connected source.
+  void settle(int64_t now_ns, EventSink& out);
+  /// Frame thread, after poll(): whether source `i` connected (again) since the last call,
+  /// and the serialized DecoderConfig of that connection (recordings store it).
+  bool take_connected(size_t i);
+  std::span<const uint8_t> description(size_t i) const;
   size_t size() const { return ports_.size(); }
   Backend& backend(size_t i) { return *ports_[i]->b; }
   const Backend& backend(size_t i) const { return *ports_[i]->b; }
   DeviceState state(size_t i) const { return DeviceState(ports_[i]->shown.load(std::memory_order_acquire)); }
+  /// Counts and state. Decoder counts are read on the frame thread (call it there).
   Status status(size_t i) const;
   /// A copy of the last problem text (taken on the reconnect thread's side).
   std::string problem(size_t i) const;
 
  private:
   enum Phase : uint8_t { Closed, Open, Lost };
+  struct Slot {
+    std::unique_ptr<Decoder> dec;
+    std::vector<uint8_t> info;  ///< serialized DecoderConfig
+  };
   struct Port {
     std::unique_ptr<Backend> b;
+    // A connection's decoder is built in the slot the frame thread is not using; `slot`
+    // is published with phase = Open, so the frame thread never sees a half-built one.
+    Slot slots[2];
+    uint8_t slot = 0;              ///< reconnect thread: the newest connection's slot
+    std::atomic<uint8_t> live{0};  ///< published slot
+    uint8_t polled = 0;            ///< frame thread: slot of the records polled this frame
+    std::atomic<uint64_t> generation{0};
+    uint64_t seen_generation = 0;  ///< frame thread
+    bool polled_once = false;      ///< frame thread: a decoder is in `polled`
+    std::atomic<uint64_t> retired_malformed{0}, retired_events{0};  ///< decoders replaced
     std::atomic<uint8_t> phase{Closed};
     std::atomic<uint8_t> shown{uint8_t(DeviceState::Waiting)};
     std::atomic<bool> gone{false};
@@ -179,6 +208,7 @@ class DeviceSet {
   int64_t epoch_ns_ = 0;
   int interval_ms_ = 100;
   std::vector<std::unique_ptr<Port>> ports_;
+  std::vector<int> port_of_source_;  ///< source -> port index (-1: none)
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -33,7 +33,7 @@ class NotBuiltBackend final : public Backend {
   NotBuiltBackend(const DeviceSpec& s, uint16_t source, std::string why) : Backend(s, source) { problem_ = std::move(why); }
   DeviceState open() override { return DeviceState::Unavailable; }
   void close() override {}
-  bool poll(int64_t, EventSink&) override { return true; }
+  bool poll(int64_t, WireSink&) override { return true; }
 };
 
 #define MAR_BACKEND(type, NAME, make, discover, note)                                                   \

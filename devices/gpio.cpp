@@ -42,7 +42,7 @@ class GpioBackend final : public Backend {
     fds_.clear();
   }
   bool present() const override { return devutil::exists(dev_path_); }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
   struct Edge {
@@ -55,7 +55,6 @@ class GpioBackend final : public Backend {
   std::vector<gpiod_line*> lines_;
   std::vector<pollfd> fds_;
   std::string dev_path_;
-  std::unique_ptr<WireDecoder> dec_;
   Edge edges_[1024];
 };
 
@@ -118,12 +117,14 @@ DeviceState GpioBackend::open() {
     lines_.push_back(l);
     fds_.push_back({gpiod_line_event_get_fd(l), POLLIN, 0});
   }
-  dec_ = WireDecoder::gpio(layout_, source_);
+  config_ = DecoderConfig{};
+  config_.kind = WireKind::GpioEdge;
+  config_.gpio = layout_;
   problem_.clear();
   return DeviceState::Connected;
 }
 
-bool GpioBackend::poll(int64_t now_ns, EventSink& out) {
+bool GpioBackend::poll(int64_t, WireSink& out) {
   if (fds_.empty()) return true;
   if (::poll(fds_.data(), nfds_t(fds_.size()), 0) < 0) return errno == EINTR;
   size_t n = 0;
@@ -136,7 +137,11 @@ bool GpioBackend::poll(int64_t now_ns, EventSink& out) {
       if (errno == EAGAIN) continue;
       return false;
     }
-    for (int k = 0; k < got && n < std::size(edges_); ++k) {
+    for (int k = 0; k < got; ++k) {
+      if (n == std::size(edges_)) {  // more edges in one frame than it can hold: counted, dropped
+        count_malformed(uint64_t(got - k));
+        break;
+      }
       const int64_t ts = int64_t(ev[k].ts.tv_sec) * 1000000000 + ev[k].ts.tv_nsec;
       edges_[n++] = {ts - epoch_ns_, uint8_t(i), uint8_t(ev[k].event_type == GPIOD_LINE_EVENT_RISING_EDGE)};
     }
@@ -147,9 +152,8 @@ bool GpioBackend::poll(int64_t now_ns, EventSink& out) {
     for (size_t j = k; j > 0 && edges_[j].t < edges_[j - 1].t; --j) std::swap(edges_[j], edges_[j - 1]);
   for (size_t k = 0; k < n; ++k) {
     const uint8_t d[2] = {edges_[k].line, edges_[k].level};
-    decode(*dec_, WireRecord::make(edges_[k].t, WireKind::GpioEdge, d, source_), out);
+    emit(WireRecord::make(edges_[k].t, WireKind::GpioEdge, d, source_), out);
   }
-  dec_->settle(now_ns, [&](const Event& e) { out.push(e); });
   return true;
 }
 

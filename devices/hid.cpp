@@ -24,12 +24,11 @@ class HidBackend final : public Backend {
     dev_ = nullptr;
   }
   bool present() const override { return devutil::exists(sys_); }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
   hid_device* dev_ = nullptr;
   std::string sys_;
-  std::unique_ptr<WireDecoder> dec_;
 };
 
 bool matches(const DeviceSpec& s, const hid_device_info& d) {
@@ -92,19 +91,21 @@ DeviceState HidBackend::open() {
     close();
     return DeviceState::Unavailable;
   }
-  dec_ = WireDecoder::hid(std::move(*desc.value), source_);
+  config_ = DecoderConfig{};
+  config_.kind = WireKind::HidReport;
+  config_.hid_descriptor = std::move(bytes);
   problem_.clear();
   return DeviceState::Connected;
 }
 
-bool HidBackend::poll(int64_t, EventSink& out) {
+bool HidBackend::poll(int64_t, WireSink& out) {
   uint8_t buf[WireRecord::kMax];
   for (int k = 0; k < 256; ++k) {  // bounded: a flooding device cannot stall the frame
     const int n = hid_read(dev_, buf, sizeof buf);
     if (n == 0) return true;
     if (n < 0) return false;
     // hidraw has no timestamps: a report is stamped when read.
-    decode(*dec_, WireRecord::make(monotonic_ns() - epoch_ns_, WireKind::HidReport, {buf, size_t(n)}, source_), out);
+    emit(WireRecord::make(monotonic_ns() - epoch_ns_, WireKind::HidReport, {buf, size_t(n)}, source_), out);
   }
   return true;
 }

@@ -1,10 +1,10 @@
 // SDL input in window mode: the mouse and touch screens over the show window, and SDL game
 // controllers (any pad SDL's controller database knows, here or over Bluetooth). State is
-// read each frame and changes become HidValue events with the HID usages a hidraw device
-// would give (X/Y, tip switch, buttons), so the same bindings work.
+// read each frame and each change is a wire record (SdlControl: what, index, value, range);
+// input/sdl_decoder.cpp gives them the HID usages a hidraw device would (X/Y, tip switch,
+// buttons), so the same bindings work.
 #include "devices/backends.h"
 #include "devices/util.h"
-#include "input/hid_usages.h"
 
 #include <SDL.h>
 
@@ -15,8 +15,6 @@ namespace mar {
 namespace {
 
 std::atomic<bool> g_window{false};
-
-constexpr uint32_t kAxisUsage[SDL_CONTROLLER_AXIS_MAX] = {usage::kX, usage::kY, usage::kZ, usage::kRz, usage::kRx, usage::kRy};
 
 class SdlBackend final : public Backend {
  public:
@@ -29,22 +27,13 @@ class SdlBackend final : public Backend {
     if (pad_) SDL_GameControllerClose(pad_);
     pad_ = nullptr;
   }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
-  void put(int64_t t, uint32_t usage, int32_t v, int32_t lo, int32_t hi, int32_t& last, EventSink& out) {
+  void put(int64_t t, SdlWhat what, int index, int32_t v, int32_t lo, int32_t hi, int32_t& last, WireSink& out) {
     if (v == last) return;
     last = v;
-    Event e;
-    e.t_ns = t;
-    e.source = source_;
-    e.kind = ControlKind::HidValue;
-    e.number = usage;
-    e.value = v;
-    e.lo = lo;
-    e.hi = hi;
-    out.push(e);
-    count_events(1);
+    emit(sdl_record(t, what, uint8_t(index), v, lo, hi, source_), out);
   }
   SDL_GameController* pad_ = nullptr;
   SDL_JoystickID id_ = -1;
@@ -53,6 +42,8 @@ class SdlBackend final : public Backend {
 
 DeviceState SdlBackend::open() {
   std::memset(last_, 0x80, sizeof last_);  // nothing seen yet: every first value is reported
+  config_ = DecoderConfig{};
+  config_.kind = WireKind::SdlControl;
   if (spec_.sdl == "mouse" || spec_.sdl == "touch") {
     if (!g_window.load()) {
       problem_ = "the " + spec_.sdl + " is read over the show window: run with a display (not --headless)";
@@ -82,18 +73,17 @@ DeviceState SdlBackend::open() {
   return DeviceState::Waiting;
 }
 
-bool SdlBackend::poll(int64_t t, EventSink& out) {
+bool SdlBackend::poll(int64_t t, WireSink& out) {
   if (pad_) {
     SDL_GameControllerUpdate();
     if (!SDL_GameControllerGetAttached(pad_)) return false;
     for (int a = 0; a < SDL_CONTROLLER_AXIS_MAX; ++a) {
       const bool trigger = a >= SDL_CONTROLLER_AXIS_TRIGGERLEFT;
-      put(t, kAxisUsage[a], SDL_GameControllerGetAxis(pad_, SDL_GameControllerAxis(a)), trigger ? 0 : -32768, 32767,
+      put(t, SdlWhat::PadAxis, a, SDL_GameControllerGetAxis(pad_, SDL_GameControllerAxis(a)), trigger ? 0 : -32768, 32767,
           last_[a], out);
     }
     for (int b = 0; b < SDL_CONTROLLER_BUTTON_MAX; ++b)
-      put(t, usage::button(1 + uint32_t(b)), SDL_GameControllerGetButton(pad_, SDL_GameControllerButton(b)), 0, 1, last_[8 + b],
-          out);
+      put(t, SdlWhat::PadButton, b, SDL_GameControllerGetButton(pad_, SDL_GameControllerButton(b)), 0, 1, last_[8 + b], out);
     return true;
   }
   if (!g_window.load()) return false;
@@ -103,10 +93,10 @@ bool SdlBackend::poll(int64_t t, EventSink& out) {
     int x = 0, y = 0, ww = 1, wh = 1;
     const uint32_t buttons = SDL_GetMouseState(&x, &y);
     SDL_GetWindowSize(w, &ww, &wh);
-    put(t, usage::kX, x, 0, ww - 1, last_[0], out);
-    put(t, usage::kY, y, 0, wh - 1, last_[1], out);
-    put(t, usage::kTipSwitch, (buttons & SDL_BUTTON_LMASK) != 0, 0, 1, last_[2], out);
-    put(t, usage::button(2), (buttons & SDL_BUTTON_RMASK) != 0, 0, 1, last_[3], out);
+    put(t, SdlWhat::MouseX, 0, x, 0, ww - 1, last_[0], out);
+    put(t, SdlWhat::MouseY, 0, y, 0, wh - 1, last_[1], out);
+    put(t, SdlWhat::MouseButton, 0, (buttons & SDL_BUTTON_LMASK) != 0, 0, 1, last_[2], out);
+    put(t, SdlWhat::MouseButton, 1, (buttons & SDL_BUTTON_RMASK) != 0, 0, 1, last_[3], out);
     return true;
   }
   if (SDL_GetNumTouchDevices() == 0) return true;
@@ -114,10 +104,10 @@ bool SdlBackend::poll(int64_t t, EventSink& out) {
   const int fingers = SDL_GetNumTouchFingers(id);
   if (fingers > 0)
     if (SDL_Finger* f = SDL_GetTouchFinger(id, 0)) {
-      put(t, usage::kX, int32_t(f->x * 65535), 0, 65535, last_[0], out);
-      put(t, usage::kY, int32_t(f->y * 65535), 0, 65535, last_[1], out);
+      put(t, SdlWhat::TouchX, 0, int32_t(f->x * 65535), 0, 65535, last_[0], out);
+      put(t, SdlWhat::TouchY, 0, int32_t(f->y * 65535), 0, 65535, last_[1], out);
     }
-  put(t, usage::kTipSwitch, fingers > 0, 0, 1, last_[2], out);
+  put(t, SdlWhat::Touching, 0, fingers > 0, 0, 1, last_[2], out);
   return true;
 }
 

@@ -1,10 +1,11 @@
 // Pen tablets through libevdev: /dev/input/event* nodes with pressure, tilt, proximity
-// and stylus buttons, selected by name or USB ID. Axes become HidValue events with the
-// HID digitizer usages, so pen bindings are the same for evdev and hidraw tablets; the
-// kernel's event timestamps (CLOCK_MONOTONIC) are kept.
+// and stylus buttons, selected by name or USB ID. The node's axis and key events are the
+// wire records (decoded by input/evdev_decoder.cpp into the HID digitizer usages, so pen
+// bindings are the same for evdev and hidraw tablets); the kernel's event timestamps
+// (CLOCK_MONOTONIC) are kept, and the axes' ranges are the decoder's configuration.
 #include "devices/backends.h"
 #include "devices/util.h"
-#include "input/hid_usages.h"
+#include "input/evdev.h"
 
 #include <fcntl.h>
 #include <libevdev/libevdev.h>
@@ -16,30 +17,6 @@
 
 namespace mar {
 namespace {
-
-// evdev code -> HID usage (page << 16 | id).
-uint32_t abs_usage(unsigned code) {
-  switch (code) {
-    case ABS_X: return usage::kX;
-    case ABS_Y: return usage::kY;
-    case ABS_Z: return usage::kZ;
-    case ABS_WHEEL: return usage::kWheel;
-    case ABS_PRESSURE: return usage::kTipPressure;
-    case ABS_TILT_X: return usage::kXTilt;
-    case ABS_TILT_Y: return usage::kYTilt;
-    default: return 0;
-  }
-}
-uint32_t key_usage(unsigned code) {
-  switch (code) {
-    case BTN_TOUCH: return usage::kTipSwitch;      // tip switch
-    case BTN_TOOL_PEN: return usage::kInRange;   // in range (proximity)
-    case BTN_TOOL_RUBBER: return usage::kEraser;  // eraser
-    case BTN_STYLUS: return usage::kBarrelSwitch;     // barrel switch
-    case BTN_STYLUS2: return usage::kSecondaryBarrelSwitch;    // secondary barrel switch
-    default: return code >= BTN_0 && code <= BTN_9 ? usage::button(1 + (code - BTN_0)) : 0;
-  }
-}
 
 class TabletBackend final : public Backend {
  public:
@@ -53,10 +30,10 @@ class TabletBackend final : public Backend {
     fd_ = -1;
   }
   bool present() const override { return devutil::exists(sys_); }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
-  void emit(const input_event& ev, EventSink& out);
+  void put(const input_event& ev, WireSink& out);
   libevdev* dev_ = nullptr;
   int fd_ = -1;
   std::string sys_;
@@ -96,6 +73,12 @@ DeviceState TabletBackend::open() {
       continue;
     }
     libevdev_set_clock_id(d, CLOCK_MONOTONIC);  // older kernels stamp with REALTIME by default
+    config_ = DecoderConfig{};
+    config_.kind = WireKind::EvdevEvent;
+    for (unsigned code = 0; code <= ABS_MAX; ++code)
+      if (evdev::abs_usage(uint16_t(code)) != 0 && libevdev_has_event_code(d, EV_ABS, code))
+        if (const input_absinfo* a = libevdev_get_abs_info(d, code))
+          config_.axes.push_back({uint16_t(code), a->minimum, a->maximum});
     dev_ = d;
     fd_ = fd;
     node_ = node;
@@ -113,30 +96,13 @@ DeviceState TabletBackend::open() {
   return DeviceState::Waiting;
 }
 
-void TabletBackend::emit(const input_event& ev, EventSink& out) {
-  Event e;
-  e.t_ns = int64_t(ev.input_event_sec) * 1000000000 + int64_t(ev.input_event_usec) * 1000 - epoch_ns_;
-  e.source = source_;
-  e.kind = ControlKind::HidValue;
-  e.value = ev.value;
-  if (ev.type == EV_ABS) {
-    e.number = abs_usage(ev.code);
-    if (const input_absinfo* a = libevdev_get_abs_info(dev_, ev.code)) {
-      e.lo = a->minimum;
-      e.hi = a->maximum;
-    }
-  } else if (ev.type == EV_KEY) {
-    e.number = key_usage(ev.code);
-    e.lo = 0;
-    e.hi = 1;
-    e.value = ev.value != 0;
-  }
-  if (e.number == 0) return;
-  out.push(e);
-  count_events(1);
+void TabletBackend::put(const input_event& ev, WireSink& out) {
+  if (ev.type != EV_ABS && ev.type != EV_KEY) return;
+  const int64_t t = int64_t(ev.input_event_sec) * 1000000000 + int64_t(ev.input_event_usec) * 1000 - epoch_ns_;
+  emit(evdev_record(t, ev.type, ev.code, ev.value, source_), out);
 }
 
-bool TabletBackend::poll(int64_t, EventSink& out) {
+bool TabletBackend::poll(int64_t, WireSink& out) {
   input_event ev;
   for (int k = 0; k < 4096; ++k) {
     int rc = libevdev_next_event(dev_, LIBEVDEV_READ_FLAG_NORMAL, &ev);
@@ -144,14 +110,14 @@ bool TabletBackend::poll(int64_t, EventSink& out) {
       // The kernel dropped events: catch up with the device's current state.
       count_malformed();
       while (rc == LIBEVDEV_READ_STATUS_SYNC) {
-        if (ev.type == EV_ABS || ev.type == EV_KEY) emit(ev, out);
+        put(ev, out);
         rc = libevdev_next_event(dev_, LIBEVDEV_READ_FLAG_SYNC, &ev);
       }
       continue;
     }
     if (rc == -EAGAIN) return true;
     if (rc < 0) return false;  // -ENODEV: unplugged
-    if (ev.type == EV_ABS || ev.type == EV_KEY) emit(ev, out);
+    put(ev, out);
   }
   return true;
 }

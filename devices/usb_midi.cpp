@@ -26,7 +26,7 @@ class UsbMidiBackend final : public Backend {
   DeviceState open() override;
   void close() override;
   bool present() const override { return devutil::exists(node_); }
-  bool poll(int64_t now_ns, EventSink& out) override;
+  bool poll(int64_t now_ns, WireSink& out) override;
   bool send_midi(std::span<const uint8_t> bytes) override;
 
  private:
@@ -52,7 +52,6 @@ class UsbMidiBackend final : public Backend {
   nfds_t nfds_ = 0;
   WireRecord ring_[kRing];
   size_t ring_n_ = 0;
-  std::unique_ptr<WireDecoder> dec_;
 };
 
 // The MIDIStreaming interface and its bulk (or interrupt) endpoints.
@@ -148,7 +147,8 @@ DeviceState UsbMidiBackend::open() {
     for (size_t i = 0; pf[i] && nfds_ < std::size(fds_); ++i) fds_[nfds_++] = {pf[i]->fd, pf[i]->events, 0};
     libusb_free_pollfds(pf);
   }
-  dec_ = WireDecoder::midi(WireKind::UsbMidi, source_);
+  config_ = DecoderConfig{};
+  config_.kind = WireKind::UsbMidi;
   problem_.clear();
   return DeviceState::Connected;
 }
@@ -225,13 +225,13 @@ bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
   return true;
 }
 
-bool UsbMidiBackend::poll(int64_t, EventSink& out) {
+bool UsbMidiBackend::poll(int64_t, WireSink& out) {
   for (nfds_t i = 0; i < nfds_; ++i) fds_[i].revents = 0;
   if (nfds_ == 0 || ::poll(fds_, nfds_, 0) > 0) {
     timeval zero{0, 0};
     libusb_handle_events_timeout_completed(ctx_, &zero, nullptr);
   }
-  for (size_t i = 0; i < ring_n_; ++i) decode(*dec_, ring_[i], out);
+  for (size_t i = 0; i < ring_n_; ++i) emit(ring_[i], out);
   ring_n_ = 0;
   return !failed_ && in_flight_ > 0;
 }

@@ -26,6 +26,12 @@ Result<std::vector<uint8_t>> read_descriptor_file(const std::string& path);
 class HidDeviceSim : public SimDevice {
  public:
   WireKind wire() const override { return WireKind::HidReport; }
+  DecoderConfig decoder_config() const override {
+    DecoderConfig c;
+    c.kind = WireKind::HidReport;
+    c.hid_descriptor = bytes_;
+    return c;
+  }
   /// Parses the descriptor and resets every input report to its idle state.
   Result<bool> set_descriptor(std::span<const uint8_t> bytes);
   const HidDescriptor& descriptor() const { return desc_; }

@@ -18,6 +18,16 @@ class KnobBoxSim : public SimDevice {
   explicit KnobBoxSim(double bounce_ms = 0, uint32_t seed = 1) : bounce_ms_(bounce_ms), rng_(seed) {}
   const char* kind() const override { return "knob_box"; }
   WireKind wire() const override { return WireKind::GpioEdge; }
+  /// Knob k (1..4): lines 3(k-1) = A, +1 = B, +2 = its push switch.
+  DecoderConfig decoder_config() const override {
+    DecoderConfig c;
+    c.kind = WireKind::GpioEdge;
+    for (int e = 1; e <= 4; ++e) {
+      c.gpio.encoders.push_back({3 * (e - 1), 3 * (e - 1) + 1, 4});
+      c.gpio.buttons.push_back(3 * (e - 1) + 2);
+    }
+    return c;
+  }
   /// Turns encoder `enc` (1-4) by `detents` (sign = direction) evenly over `dur_s`.
   void turn(int enc, double t_s, int detents, double dur_s);
   /// Presses encoder `enc`'s push button at `t_s` for `hold_s`.

@@ -10,7 +10,7 @@
 #pragma once
 
 #include "geom/result.h"
-#include "input/wire.h"
+#include "input/decoder.h"
 
 #include <memory>
 #include <string>
@@ -25,6 +25,13 @@ class SimDevice {
   virtual const char* kind() const = 0;
   /// The wire kind every record of this device has.
   virtual WireKind wire() const = 0;
+  /// What decodes this device's records, as a receiver connected to it would set it up
+  /// (the receiver may add its own settings, e.g. a debounce time).
+  virtual DecoderConfig decoder_config() const {
+    DecoderConfig c;
+    c.kind = wire();
+    return c;
+  }
 
   /// Runs a timeline script (one action per line, times in seconds from start; see
   /// README). Errors are "line N: ..." and leave the device unchanged.

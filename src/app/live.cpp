@@ -4,7 +4,6 @@
 #include "geom/polygon.h"
 
 #include "character/color.h"
-#include "firmware_sim/hid_device.h"
 #include "render/image.h"
 
 #include <SDL.h>
@@ -33,8 +32,11 @@ bool display_present() {
   return (x && *x) || (wl && *wl);
 }
 
-constexpr char kMagic[8] = {'M', 'A', 'R', 'R', 'E', 'C', '0', '1'};
-constexpr uint8_t kRecWire = 1, kRecFrame = 2;
+// Recording format 02: the magic, then records: wire (type 1: time, source, kind, size,
+// bytes), frame marker (2: time, iterations), device (3: source, length, the serialized
+// DecoderConfig of a connection — before that connection's first wire record).
+constexpr char kMagic[8] = {'M', 'A', 'R', 'R', 'E', 'C', '0', '2'};
+constexpr uint8_t kRecWire = 1, kRecFrame = 2, kRecDevice = 3;
 
 // Recording writes go to a 1 MiB stdio buffer without taking the FILE lock (only this
 // thread uses the file); the buffer is written out when full, which is the one place a
@@ -95,10 +97,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
 
   for (size_t i = 0; i < sh.devices.size(); ++i) {
     ShowDevice& d = sh.devices[i];
-    const uint16_t src = uint16_t(i);
     const bool hardware = d.type != "sim";
-    s->sim_index_.push_back(-1);
-    if (hardware) s->decoders_.push_back(WireDecoder::events(src));  // backends decode themselves
+    s->has_hardware_ = s->has_hardware_ || hardware;
     if (d.sim.empty() || (hardware && !o.simulate)) continue;
     if (d.descriptor_in_corpus && !std::filesystem::exists(d.descriptor)) {
       // The shared corpus is test material that may not be on this machine: the show still
@@ -112,36 +112,20 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     if (!dev.ok()) return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "': " + dev.error);
     if (auto ok = (*dev.value)->load_script(d.script); !ok.ok())
       return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "' script " + ok.error);
-    if (hardware) {  // --simulate: presented at the kernel interface, read by the real backend
-      s->bench_sims_.resize(sh.devices.size());
-      s->bench_sims_[i] = std::move(*dev.value);
-      continue;
-    }
-    if (d.sim == "nanokontrol2") {
-      s->decoders_.push_back(WireDecoder::midi(WireKind::UsbMidi, src));
-    } else if (d.sim == "knob_box") {
-      GpioLayout g;
-      for (int e = 1; e <= 4; ++e) {
-        g.encoders.push_back({3 * (e - 1), 3 * (e - 1) + 1, 4});
-        g.buttons.push_back(3 * (e - 1) + 2);
-      }
-      g.debounce_ns = int64_t(d.debounce_ms * 1e6);
-      s->decoders_.push_back(WireDecoder::gpio(g, src));
-    } else {
-      s->decoders_.push_back(WireDecoder::hid(static_cast<HidDeviceSim&>(**dev.value).descriptor(), src));
-    }
-    s->sim_index_[i] = int(s->sims_.size());
-    s->sims_.push_back(std::move(*dev.value));
+    s->sims_.resize(sh.devices.size());
+    s->sims_[i] = std::move(*dev.value);
   }
-  if (o.replay_path.empty()) {
-    if (std::string err = s->open_hardware(); !err.empty()) return R::failure(err);
-  }
+  s->wires_.resize(4096);
   s->events_.resize(4096);
   s->targets_ = rest;
   s->targets_.push_back(Vec2::Zero());  // the grab handle's target (used while grabbing)
   s->replay_pending_.reserve(1 << 16);
+  s->replay_decoders_.resize(sh.devices.size());
   std::string err;
   if (!s->open_output(&err)) return R::failure(err);
+  // After the window: mouse and touch sources read over it.
+  if (o.replay_path.empty()) err = s->open_devices();
+  if (!err.empty()) return R::failure(err);
   return R::success(std::move(s));
 }
 
@@ -191,21 +175,25 @@ bool LiveShow::open_output(std::string* err) {
   return true;
 }
 
-void LiveShow::on_record(const WireRecord& r) {
-  if (record_) {
-    const uint8_t type = kRecWire;
-    put(&type, 1, record_);
-    put(&r.t_ns, 8, record_);
-    put(&r.source, 2, record_);
-    put(&r.kind, 1, record_);
-    put(&r.size, 1, record_);
-    put(r.data, r.size, record_);
-  }
-  if (r.source >= decoders_.size()) return;
-  decoders_[r.source]->feed(r, [&](const Event& e) {
-    if (n_events_ < events_.size()) events_[n_events_++] = e;
-    else ++dropped_events_;
-  });
+void LiveShow::record_wire(const WireRecord& r) {
+  if (!record_) return;
+  const uint8_t type = kRecWire;
+  put(&type, 1, record_);
+  put(&r.t_ns, 8, record_);
+  put(&r.source, 2, record_);
+  put(&r.kind, 1, record_);
+  put(&r.size, 1, record_);
+  put(r.data, r.size, record_);
+}
+
+void LiveShow::record_device(uint16_t source, std::span<const uint8_t> description) {
+  if (!record_) return;
+  const uint8_t type = kRecDevice;
+  const uint32_t n = uint32_t(description.size());
+  put(&type, 1, record_);
+  put(&source, 2, record_);
+  put(&n, 4, record_);
+  put(description.data(), n, record_);
 }
 
 bool LiveShow::replay_next(int64_t& t_ns, int& iterations) {
@@ -220,6 +208,22 @@ bool LiveShow::replay_next(int64_t& t_ns, int& iterations) {
       iterations = it;
       return true;
     }
+    if (type == kRecDevice) {
+      // A connection's decoder, made from the description the live show recorded.
+      uint16_t src = 0;
+      uint32_t n = 0;
+      if (std::fread(&src, 2, 1, replay_) != 1 || std::fread(&n, 4, 1, replay_) != 1 || n > (1u << 20)) return false;
+      std::vector<uint8_t> bytes(n);
+      if (std::fread(bytes.data(), 1, n, replay_) != n) return false;
+      auto cfg = DecoderConfig::parse(bytes);
+      std::string err;
+      std::unique_ptr<Decoder> dec = cfg.ok() ? make_decoder(*cfg.value, src, &err) : nullptr;
+      if (!dec && !opt_.quiet)
+        std::cerr << "warning: " << opt_.replay_path << ": device " << src << ": " << (cfg.ok() ? err : cfg.error)
+                  << " (its records are dropped)\n";
+      if (src < replay_decoders_.size()) replay_decoders_[src] = std::move(dec);
+      continue;
+    }
     WireRecord r;
     if (type != kRecWire || std::fread(&r.t_ns, 8, 1, replay_) != 1 || std::fread(&r.source, 2, 1, replay_) != 1 ||
         std::fread(&r.kind, 1, 1, replay_) != 1 || std::fread(&r.size, 1, 1, replay_) != 1 ||
@@ -230,29 +234,31 @@ bool LiveShow::replay_next(int64_t& t_ns, int& iterations) {
 }
 
 void LiveShow::drain(int64_t t_ns) {
-  n_events_ = 0;
+  // One input path: every source's wire records (hardware, simulated or recorded) are
+  // recorded as read and decoded by their connection's decoder.
+  EventSink ev{events_.data(), events_.size()};
   if (replay_) {
-    for (const WireRecord& r : replay_pending_) on_record(r);
-  } else {
-    for (size_t i = 0; i < sim_index_.size(); ++i)
-      if (sim_index_[i] >= 0)
-        sims_[size_t(sim_index_[i])]->drain(t_ns, [&](const WireRecord& rec) {
-          WireRecord r = rec;
-          r.source = uint16_t(i);
-          on_record(r);
-        });
-    if (devices_) {
-      EventSink sink{hw_events_.data(), hw_events_.size()};
-      devices_->poll(t_ns, sink);
-      dropped_events_ += sink.dropped;
-      for (size_t k = 0; k < sink.n; ++k) on_record(WireRecord::of(hw_events_[k]));
-      feedback();
+    for (const WireRecord& r : replay_pending_) {
+      if (r.source < replay_decoders_.size() && replay_decoders_[r.source]) replay_decoders_[r.source]->feed(r, ev);
+      else ++dropped_events_;  // a record with no device description before it
     }
+    for (auto& d : replay_decoders_)
+      if (d) d->settle(t_ns, ev);
+  } else {
+    WireSink ws{wires_.data(), wires_.size()};
+    devices_->poll(t_ns, ws);
+    dropped_records_ += ws.dropped;
+    for (size_t i = 0; i < devices_->size(); ++i)
+      if (devices_->take_connected(i)) record_device(devices_->backend(i).source(), devices_->description(i));
+    for (size_t k = 0; k < ws.n; ++k) {
+      record_wire(wires_[k]);
+      devices_->decode(wires_[k], ev);
+    }
+    devices_->settle(t_ns, ev);
   }
-  for (auto& d : decoders_)
-    d->settle(t_ns, [&](const Event& e) {
-      if (n_events_ < events_.size()) events_[n_events_++] = e;
-    });
+  n_events_ = ev.n;
+  dropped_events_ += ev.dropped;
+  if (!replay_) feedback();
 }
 
 void LiveShow::regrab(bool down) {
@@ -425,7 +431,7 @@ void LiveShow::draw_hud() {
   for (size_t i = 0; i < show_.devices.size(); ++i) {
     // Device status: green connected (or simulated), amber waiting, red unplugged or
     // denied, grey unavailable.
-    const DeviceState st = hw_index_.size() > i && hw_index_[i] >= 0 ? devices_->state(size_t(hw_index_[i])) : DeviceState::Connected;
+    const DeviceState st = devices_ ? devices_->state(i) : DeviceState::Connected;
     static constexpr uint8_t kColour[][3] = {{230, 170, 40},   // waiting
                                              {60, 180, 60},    // connected
                                              {220, 50, 50},    // unplugged
@@ -441,9 +447,8 @@ void LiveShow::draw_hud() {
 int LiveShow::run() {
   const bool learn = !opt_.learn.empty();
   int64_t end_ns = 0;
-  bool scripted = !sims_.empty();
-  for (const auto& s : sims_) end_ns = std::max(end_ns, s->end_ns());
-  for (const auto& s : bench_sims_)
+  bool scripted = false;
+  for (const auto& s : sims_)
     if (s) {
       end_ns = std::max(end_ns, s->end_ns());
       scripted = true;
@@ -452,13 +457,13 @@ int LiveShow::run() {
   // Headless: until the scripts end (+ half a second for the last events to arrive from
   // the bench); a headless show of real hardware alone runs until interrupted.
   if (limit < 0 && opt_.headless && !replay_ && scripted)
-    limit = long(std::ceil((double(end_ns) * 1e-9 + (devices_ ? 0.5 : 0)) / period_s_)) + 1;
+    limit = long(std::ceil((double(end_ns) * 1e-9 + (has_hardware_ ? 0.5 : 0)) / period_s_)) + 1;
   if (!opt_.quiet)
     std::cout << (replay_ ? "replaying " : "running ") << show_.path << (opt_.headless ? " headless" : " in a window")
               << " at " << std::lround(1.0 / period_s_) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
               << std::endl;
   const auto start = std::chrono::steady_clock::now();
-  if (!devices_) epoch_ns_ = monotonic_ns();  // with hardware: set when the devices opened
+  if (!has_hardware_) epoch_ns_ = monotonic_ns();  // with hardware: set when the devices opened
   install_quit_handler();
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || frames_ < limit)) {
     int64_t t = int64_t(std::llround(double(frames_) * period_s_ * 1e9));

@@ -59,41 +59,39 @@ class LiveShow {
   /// Heap allocations counted after warm-up (needs an allocation counter).
   uint64_t allocations_after_warmup() const { return allocs_; }
   bool learned() const { return learned_; }
-  /// Hardware devices (nullptr when the show has none); index = show device index.
+  /// The show's input sources, index = show device index (nullptr when replaying).
   DeviceSet* devices() { return devices_.get(); }
-  /// Show device index -> DeviceSet index (-1: simulated in-process).
-  int hardware_index(size_t device) const { return device < hw_index_.size() ? hw_index_[device] : -1; }
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
   /// Whether frames follow the wall clock (a window, or hardware devices).
-  bool realtime() const { return !opt_.headless || devices_ != nullptr; }
+  bool realtime() const { return !opt_.headless || has_hardware_; }
 
  private:
   LiveShow() = default;
   bool open_output(std::string* err);
   void drain(int64_t t_ns);
-  void on_record(const WireRecord& r);
+  void record_wire(const WireRecord& r);
+  void record_device(uint16_t source, std::span<const uint8_t> description);
   void regrab(bool down);
   void refactor();
   void draw_hud();
   bool replay_next(int64_t& t_ns, int& iterations);
-  std::string open_hardware();
+  std::string open_devices();
   void feedback();
 
   RunOptions opt_;
   ShowConfig show_;
   std::unique_ptr<Puppet> puppet_;
   Mapping mapping_;
-  std::vector<std::unique_ptr<SimDevice>> sims_;   ///< in-process sims (index = show device)
-  std::vector<int> sim_index_;                     ///< show device -> sims_ index (-1: hardware)
+  std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
   std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
-  std::vector<std::unique_ptr<SimDevice>> bench_sims_;
-  std::unique_ptr<DeviceSet> devices_;
-  std::vector<int> hw_index_;
-  std::vector<Event> hw_events_;
+  std::unique_ptr<DeviceSet> devices_;             ///< every show device as a source (not when replaying)
+  bool has_hardware_ = false;
   int64_t epoch_ns_ = 0;                           ///< CLOCK_MONOTONIC at show time 0
   std::atomic<bool> stop_{false};
-  std::vector<std::unique_ptr<WireDecoder>> decoders_;
+  std::vector<WireRecord> wires_;  ///< this frame's wire records (capacity fixed)
+  uint64_t dropped_records_ = 0;
+  std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
   std::vector<Event> events_;   ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0;

@@ -2,6 +2,7 @@
 // simulators presented at the kernel interface (app/simulate.h).
 #include "app/live.h"
 #include "devices/backends.h"
+#include "app/sim_source.h"
 #include "app/simulate.h"
 
 #include <atomic>
@@ -22,38 +23,41 @@ void install_quit_handler() {
 }
 bool quit_requested() { return g_quit.load(); }
 
-std::string LiveShow::open_hardware() {
-  std::vector<size_t> hw;
-  for (size_t i = 0; i < show_.devices.size(); ++i)
-    if (show_.devices[i].type != "sim") hw.push_back(i);
-  if (hw.empty()) return {};
-  epoch_ns_ = monotonic_ns();
-  if (opt_.simulate) {
+std::string LiveShow::open_devices() {
+  // Every show device is a source in one DeviceSet (source = show device index): hardware
+  // backends, and in-process simulators for `type = "sim"` devices. With --simulate the
+  // hardware devices' simulators are presented at the kernel interface instead, and the
+  // real backends read them.
+  if (has_hardware_) epoch_ns_ = monotonic_ns();
+  if (opt_.simulate && has_hardware_) {
     std::string err;
     if (!(simulation_ = make_simulation(&err))) return err;
-    for (size_t i : hw) {
+    for (size_t i = 0; i < show_.devices.size(); ++i) {
       const ShowDevice& d = show_.devices[i];
-      SimDevice* sim = i < bench_sims_.size() ? bench_sims_[i].get() : nullptr;
+      if (d.type == "sim") continue;
+      SimDevice* sim = i < sims_.size() ? sims_[i].get() : nullptr;
       const std::string note = sim ? simulation_->present(d, *sim) : "has no sim = ...: nothing presents it";
       if (!note.empty() && !opt_.quiet) std::cerr << "note: device '" << d.name << "': " << note << "\n";
     }
   }
   devices_ = std::make_unique<DeviceSet>(epoch_ns_);
-  hw_index_.assign(show_.devices.size(), -1);
-  for (size_t i : hw) {
+  for (size_t i = 0; i < show_.devices.size(); ++i) {
+    const ShowDevice& d = show_.devices[i];
+    if (d.type == "sim") {
+      devices_->add(std::make_unique<SimSource>(*sims_[i], d.hw, uint16_t(i), int64_t(d.debounce_ms * 1e6)));
+      continue;
+    }
     std::string err;
-    auto b = make_backend(show_.devices[i].hw, uint16_t(i), &err);
-    if (!b) return show_.path + ":" + std::to_string(show_.devices[i].line) + ": " + err;
-    hw_index_[i] = int(devices_->size());
+    auto b = make_backend(d.hw, uint16_t(i), &err);
+    if (!b) return show_.path + ":" + std::to_string(d.line) + ": " + err;
     devices_->add(std::move(b));
   }
-  hw_events_.resize(4096);
   devices_->start();
-  for (size_t i : hw) {
-    const DeviceState st = devices_->state(size_t(hw_index_[i]));
+  for (size_t i = 0; i < show_.devices.size(); ++i) {
+    const DeviceState st = devices_->state(i);
     if (st != DeviceState::Connected && !opt_.quiet)
-      std::cerr << "device '" << show_.devices[i].name << "': " << device_state_name(st) << ": "
-                << devices_->problem(size_t(hw_index_[i])) << (st == DeviceState::Waiting ? " (waiting for it)" : "") << "\n";
+      std::cerr << "device '" << show_.devices[i].name << "': " << device_state_name(st) << ": " << devices_->problem(i)
+                << (st == DeviceState::Waiting ? " (waiting for it)" : "") << "\n";
   }
   if (simulation_) simulation_->play(epoch_ns_);
   sdl_input_window(canvas_ && canvas_->is_window());
@@ -64,13 +68,13 @@ void LiveShow::feedback() {
   // Controllers with feedback = true get their note/CC input echoed back (button LEDs follow).
   for (size_t k = 0; k < n_events_; ++k) {
     const Event& e = events_[k];
-    if (e.source >= hw_index_.size() || hw_index_[e.source] < 0 || !show_.devices[e.source].hw.feedback) continue;
+    if (e.source >= show_.devices.size() || !show_.devices[e.source].hw.feedback) continue;
     uint8_t m[3] = {0, uint8_t(e.number & 0x7F), uint8_t(e.value & 0x7F)};
     if (e.kind == ControlKind::MidiCC) m[0] = uint8_t(0xB0 | e.channel);
     else if (e.kind == ControlKind::MidiNoteOn) m[0] = uint8_t(0x90 | e.channel);
     else if (e.kind == ControlKind::MidiNoteOff) m[0] = uint8_t(0x80 | e.channel);
     else continue;
-    devices_->backend(size_t(hw_index_[e.source])).send_midi(m);
+    devices_->backend(e.source).send_midi(m);
   }
 }
 

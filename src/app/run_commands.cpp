@@ -14,21 +14,30 @@ std::string LiveShow::stats_json() const {
     return json{{"p50", h.quantile(0.5)}, {"p99", h.quantile(0.99)}, {"max", h.max()}};
   };
   json devices = json::array();
-  for (size_t i = 0; i < decoders_.size(); ++i) {
-    const WireStats& w = decoders_[i]->stats();
-    json d = {{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim},
-              {"status", "present"}, {"records", w.records}, {"events", w.events}, {"malformed", w.malformed}};
-    if (const int h = hardware_index(i); h >= 0) {
+  for (size_t i = 0; i < show_.devices.size(); ++i) {
+    json d = {{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim}};
+    if (devices_) {
       const DeviceSet& set = *devices_;
-      const DeviceSet::Status st = set.status(size_t(h));
-      d["status"] = device_state_name(st.state);
-      d["identity"] = set.backend(size_t(h)).identity();
-      d["node"] = set.backend(size_t(h)).node();
-      d["problem"] = set.problem(size_t(h));
-      d["unplugs"] = st.unplugs;
-      d["reconnects"] = st.reconnects;
-      d["max_outage_ms"] = st.max_outage_ms;
-      d["malformed"] = st.malformed + w.malformed;
+      const DeviceSet::Status st = set.status(i);
+      d["status"] = show_.devices[i].type == "sim" ? "present" : device_state_name(st.state);
+      d["records"] = st.records;
+      d["events"] = st.events;
+      d["malformed"] = st.malformed;
+      if (show_.devices[i].type != "sim") {
+        d["identity"] = set.backend(i).identity();
+        d["node"] = set.backend(i).node();
+        d["problem"] = set.problem(i);
+        d["unplugs"] = st.unplugs;
+        d["reconnects"] = st.reconnects;
+        d["max_outage_ms"] = st.max_outage_ms;
+      }
+    } else {  // a replay: the recording's decoders
+      const Decoder* dec = i < replay_decoders_.size() ? replay_decoders_[i].get() : nullptr;
+      const WireStats w = dec ? dec->stats() : WireStats{};
+      d["status"] = dec ? "replayed" : "not in the recording";
+      d["records"] = w.records;
+      d["events"] = w.events;
+      d["malformed"] = w.malformed;
     }
     devices.push_back(d);
   }
@@ -45,7 +54,8 @@ std::string LiveShow::stats_json() const {
       {"latency_us", {{"p50", st_.latency.quantile(0.5)}, {"p99", st_.latency.quantile(0.99)}, {"max", st_.latency.max()},
                       {"events", st_.latency.count()}}},
       {"events", {{"mapped", mapping_.stats().matched}, {"total", mapping_.stats().events},
-                  {"dropped", dropped_events_}, {"takeover_waits", mapping_.stats().takeover_waits}}},
+                  {"dropped", dropped_events_}, {"records_dropped", dropped_records_},
+                  {"takeover_waits", mapping_.stats().takeover_waits}}},
       {"refactorizations", {{"count", refactorizations_}, {"p50_us", refactor_us_.quantile(0.5)}, {"max_us", refactor_us_.max()},
                              {"heap_allocations", refactor_allocs_}}},
       {"quality", {{"unit", "% of character height"},

@@ -5,7 +5,7 @@
 #include "devices/device.h"
 #include "devices/discover.h"
 #include "input/mapping.h"
-#include "input/wire_decoder.h"
+#include "input/decoder.h"
 
 #include <string>
 #include <vector>

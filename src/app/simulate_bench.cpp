@@ -15,7 +15,7 @@ namespace mar {
 namespace {
 
 // A pen simulator's HID reports as evdev events (the bench's evdev node).
-void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int64_t epoch, WireDecoder& dec,
+void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int64_t epoch, Decoder& dec,
                           const VirtualBench::Evdev& geom) {
   dec.feed(r, [&](const Event& e) {
     if (e.kind != ControlKind::HidValue) return;
@@ -50,13 +50,21 @@ class BenchSimulation final : public HardwareSimulation {
     } else if (d.type == "gpio" && d.sim == "knob_box") {
       VirtualBench::Gpio g;
       g.label = h.chip;
-      // The knob box's lines 3(k-1) = A, +1 = B, +2 = switch, named as the show names them.
-      for (int k = 0; k < 4; ++k) {
-        const bool enc = size_t(k) < h.encoders.size(), sw = size_t(k) < h.buttons.size();
-        g.lines.push_back(enc ? h.encoders[size_t(k)].a : "UNUSED" + std::to_string(3 * k));
-        g.lines.push_back(enc ? h.encoders[size_t(k)].b : "UNUSED" + std::to_string(3 * k + 1));
-        g.lines.push_back(sw ? h.buttons[size_t(k)] : "UNUSED" + std::to_string(3 * k + 2));
+      // The chip's lines are the knob box's, named as the show names them (the box's own
+      // layout says which line is which encoder phase or switch).
+      const GpioLayout lay = sim.decoder_config().gpio;
+      auto name = [&](int line, const std::string& given) {
+        if (size_t(line) >= g.lines.size()) g.lines.resize(size_t(line) + 1);
+        g.lines[size_t(line)] = given;
+      };
+      for (size_t e = 0; e < lay.encoders.size(); ++e) {
+        const bool have = e < h.encoders.size();
+        name(lay.encoders[e].line_a, have ? h.encoders[e].a : "");
+        name(lay.encoders[e].line_b, have ? h.encoders[e].b : "");
       }
+      for (size_t b = 0; b < lay.buttons.size(); ++b) name(lay.buttons[b], b < h.buttons.size() ? h.buttons[b] : "");
+      for (size_t l = 0; l < g.lines.size(); ++l)
+        if (g.lines[l].empty()) g.lines[l] = "UNUSED" + std::to_string(l);
       played_.push_back({bench_.add_gpio(g), &sim, false});
     } else if (d.type == "tablet" && d.sim == "pen_tablet") {
       VirtualBench::Evdev e;
@@ -77,7 +85,7 @@ class BenchSimulation final : public HardwareSimulation {
       // Pen reports are re-expressed as evdev events by a feeder thread per tablet.
       auto& pen = static_cast<HidDeviceSim&>(*p.sim);
       feeders_.emplace_back([this, dev = p.dev, &pen, epoch] {
-        auto dec = WireDecoder::hid(pen.descriptor(), 0);
+        auto dec = make_hid_decoder(pen.descriptor(), 0);
         VirtualBench::Evdev geom;
         pen.drain(INT64_MAX, [&](const WireRecord& r) {
           while (!stop_ && monotonic_ns() < epoch + r.t_ns) std::this_thread::sleep_for(std::chrono::microseconds(500));

@@ -1,12 +1,12 @@
 // Raw device output as it crosses the wire, with its timestamp: what backends read, what
-// simulated devices write, what --record stores and replay feeds back. Fixed size, so a
+// simulated devices write, what --record stores and replay feeds back (decoded only in
+// src/input, by input/decoder.h). Fixed size, so a
 // frame can queue them without allocating.
 #pragma once
 
 #include <cstdint>
 #include <cstring>
 #include <span>
-#include <type_traits>
 
 #include "input/event.h"
 
@@ -17,11 +17,19 @@ enum class WireKind : uint8_t {
   MidiBytes = 2,  ///< a MIDI 1.0 byte stream chunk (serial, ALSA raw)
   HidReport = 3,  ///< one HID input report (report-ID byte first when numbered)
   GpioEdge = 4,   ///< data[0] = line index in the device, data[1] = level after the edge
-  Event = 5,      ///< an Event decoded by a hardware backend (data = the Event's bytes)
+  // 5 was "an Event decoded by a backend" (recordings before MARREC02)
+  EvdevEvent = 6, ///< one input_event: u16 type, u16 code, i32 value (little-endian host order)
+  OscMessage = 7, ///< one OSC message (bundles are split into their messages)
+  SdlControl = 8, ///< an SDL control that changed: u8 what (SdlWhat), u8 index, i32 value, lo, hi
 };
 
+/// What an SdlControl record reports.
+enum class SdlWhat : uint8_t { PadAxis = 0, PadButton = 1, MouseX = 2, MouseY = 3, MouseButton = 4, TouchX = 5, TouchY = 6, Touching = 7 };
+
+const char* wire_kind_name(WireKind k);
+
 struct WireRecord {
-  static constexpr size_t kMax = 64;
+  static constexpr size_t kMax = 96;
   int64_t t_ns = 0;
   uint16_t source = 0;
   WireKind kind = WireKind::UsbMidi;
@@ -37,16 +45,16 @@ struct WireRecord {
     std::memcpy(r.data, b.data(), r.size);
     return r;
   }
-  /// Wraps an Event decoded by a backend, so recording and replay see it like wire data.
-  static WireRecord of(const Event& e) {
-    static_assert(std::is_trivially_copyable_v<Event> && sizeof(Event) <= kMax);
-    WireRecord r;
-    r.t_ns = e.t_ns;
-    r.kind = WireKind::Event;
-    r.source = e.source;
-    r.size = sizeof(Event);
-    std::memcpy(r.data, &e, sizeof(Event));
-    return r;
+};
+
+/// One frame's wire records: fixed capacity, never allocates; overflow is counted.
+struct WireSink {
+  WireRecord* data = nullptr;
+  size_t cap = 0, n = 0;
+  uint64_t dropped = 0;
+  void push(const WireRecord& r) {
+    if (n < cap) data[n++] = r;
+    else ++dropped;
   }
 };
 

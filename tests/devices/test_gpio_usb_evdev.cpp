@@ -141,7 +141,7 @@ TEST(UsbMidiBackend, FaderAndButtonsArriveAndFeedbackGoesOut) {
   ASSERT_TRUE(sim.load_script("0.02 move fader1 0\n0.05 move fader1 1 over 0.3\n0.4 press solo2 for 0.05\n").ok());
   std::vector<Event> want;
   {
-    auto dec = WireDecoder::midi(WireKind::UsbMidi, 0);
+    auto dec = make_midi_decoder(WireKind::UsbMidi, 0);
     sim.drain(INT64_MAX, [&](const WireRecord& r) { dec->feed(r, [&](const Event& e) { want.push_back(e); }); });
     sim.rewind();
   }

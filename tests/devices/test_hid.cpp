@@ -29,7 +29,7 @@ DeviceSpec pad_spec() {
 
 // The events the program's decoder makes of the simulator's reports, straight.
 std::vector<Event> expected_events(SimDevice& sim, const HidDescriptor& d) {
-  auto dec = WireDecoder::hid(d, 0);
+  auto dec = make_hid_decoder(d, 0);
   std::vector<Event> out;
   sim.drain(INT64_MAX, [&](const WireRecord& r) { dec->feed(r, [&](const Event& e) { out.push_back(e); }); });
   sim.rewind();
