@@ -1,20 +1,25 @@
-// The live show: one monotonic clock; per frame drain every device without blocking,
-// decode, map, filter, set targets, solve (fixed iterations, warm start), render, present.
-// Window and headless modes share this code; headless advances a fixed-rate virtual clock.
+// The live show. Each frame runs the design's stages in order —
+//   inputs -> map -> poses -> motion -> solve -> render -> present
+// — each a short method below, built from small units with their own tests (app/loop/:
+// recording, run stats and run_hash, budget governor, pen grab, HUD, learn, pacing). One
+// monotonic clock; window and headless modes share this code (headless advances a
+// fixed-rate virtual clock).
 #pragma once
 
+#include "app/loop/governor.h"
+#include "app/loop/grab.h"
+#include "app/loop/pacing.h"
+#include "app/loop/recording.h"
+#include "app/loop/run_stats.h"
 #include "app/puppet.h"
 #include "app/show.h"
-#include "app/stats.h"
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
 
-#include <cstdio>
+#include <atomic>
 #include <memory>
 #include <string>
-#include <thread>
-#include <atomic>
 
 namespace mar {
 
@@ -39,10 +44,6 @@ bool quit_requested();
 using AllocationCounter = uint64_t (*)();
 void set_allocation_counter(AllocationCounter f);
 
-struct StageTimes {
-  Histogram drain, map, solve, render, present, frame, latency;
-};
-
 class LiveShow {
  public:
   static Result<std::unique_ptr<LiveShow>> load(const std::string& show_path, const RunOptions& o);
@@ -51,8 +52,8 @@ class LiveShow {
   void frame(int64_t t_ns);
   /// Runs the whole show per the options; returns the exit code.
   int run();
-  uint64_t run_hash() const { return hash_; }
-  long frames() const { return frames_; }
+  uint64_t run_hash() const { return stats_.hash.value(); }
+  long frames() const { return stats_.frames; }
   const Mapping& mapping() const { return mapping_; }
   const Puppet& puppet() const { return *puppet_; }
   std::string stats_json() const;
@@ -69,60 +70,67 @@ class LiveShow {
  private:
   LiveShow() = default;
   bool open_output(std::string* err);
-  void drain(int64_t t_ns);
-  void record_wire(const WireRecord& r);
-  void record_device(uint16_t source, std::span<const uint8_t> description);
-  void regrab(bool down);
-  void refactor();
-  void draw_hud();
-  bool replay_next(int64_t& t_ns, int& iterations);
   std::string open_devices();
+
+  // The stages of a frame.
+  void inputs(int64_t t_ns);
+  void map(int64_t t_ns);
+  void poses() {}   ///< key-pose interpolation (later): the base pose under the handles
+  void motion() {}  ///< secondary motion (later): springs and dangle at a fixed sub-step
+  void solve();
+  void render();
+  void present();
+  void finish(int64_t t_ns, double compute_us);
+
+  void apply_settings();
   void feedback();
+  void replay_device(uint16_t source, std::span<const uint8_t> description);
+  bool handle_window_events();
+  bool learn_from_events();
 
   RunOptions opt_;
   ShowConfig show_;
   std::unique_ptr<Puppet> puppet_;
   Mapping mapping_;
+  // inputs
   std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
   std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
   std::unique_ptr<DeviceSet> devices_;             ///< every show device as a source (not when replaying)
   bool has_hardware_ = false;
-  int64_t epoch_ns_ = 0;                           ///< CLOCK_MONOTONIC at show time 0
-  std::atomic<bool> stop_{false};
-  std::vector<WireRecord> wires_;  ///< this frame's wire records (capacity fixed)
-  uint64_t dropped_records_ = 0;
-  std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
-  std::vector<Event> events_;   ///< this frame's events (capacity fixed)
+  std::vector<WireRecord> wires_;                  ///< this frame's wire records (capacity fixed)
+  std::vector<Event> events_;                      ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;
-  uint64_t dropped_events_ = 0;
-  std::vector<Vec2> targets_;   ///< handles, then the grab handle's target
+  uint64_t dropped_events_ = 0, dropped_records_ = 0;
+  std::unique_ptr<Recorder> recorder_;
+  std::unique_ptr<Playback> playback_;
+  std::vector<WireRecord> replay_wires_;
+  std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
+  // map
+  int setting_iterations_ = 0;                     ///< Mapping setting: the solver's iteration count
+  int setting_solver_ = 0;                         ///< first of the solver's parameters
+  std::vector<double> solver_params_;              ///< as last given to the solver
+  Governor governor_{8, 2};
+  Grab grab_;
+  std::vector<Vec2> targets_;                      ///< handles, then the grab handle's target
+  size_t n_targets_ = 0;
+  double last_compute_ms_ = 0;
+  int64_t last_t_ = 0;
+  long refactorizations_ = 0;
+  uint64_t refactor_allocs_ = 0;
+  Histogram refactor_us_;
+  // render, present
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;
   Rgba background_{244, 241, 234, 255};
-  double period_s_ = 1.0 / 60;
-  int iterations_ = 8;
-  long frames_ = 0;
-  uint64_t hash_ = 1469598103934665603ull;
-  StageTimes st_;
-  long overruns_ = 0, governor_steps_ = 0, iter_sum_ = 0;
-  int iter_min_ = 1 << 30, iter_max_ = 0;
+  std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
+  bool hud_ = true;
+  // the run
+  Pacer pacer_{1.0 / 60, false};
+  RunStats stats_;
   uint64_t allocs_ = 0, alloc_base_ = 0;
-  double last_compute_ms_ = 0;
-  int64_t last_t_ = 0;
-  bool grabbing_ = false;
-  long refactorizations_ = 0;
-  uint64_t refactor_allocs_ = 0;
-  Histogram refactor_us_;
-  Histogram quality_;           ///< worst-part distortion per frame, 0.001 % of the height
-  int grab_handle_ = -1;        ///< the rig handle a pen grab took over (-1: an extra handle)
-  Vec2 grab_offset_ = Vec2::Zero();
-  long grabs_ = 0;              ///< pen downs and ups (rank-2 updates, no re-factorisation)
-  Histogram grab_us_;
-  bool hud_ = true, quit_ = false, learned_ = false;
-  std::FILE* record_ = nullptr;
-  std::FILE* replay_ = nullptr;
-  std::vector<WireRecord> replay_pending_;
+  std::atomic<bool> stop_{false};
+  bool quit_ = false, learned_ = false;
 };
 
 }  // namespace mar

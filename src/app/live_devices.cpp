@@ -28,7 +28,7 @@ std::string LiveShow::open_devices() {
   // backends, and in-process simulators for `type = "sim"` devices. With --simulate the
   // hardware devices' simulators are presented at the kernel interface instead, and the
   // real backends read them.
-  if (has_hardware_) epoch_ns_ = monotonic_ns();
+  if (has_hardware_) pacer_.set_epoch(monotonic_ns());  // device timestamps are on this clock
   if (opt_.simulate && has_hardware_) {
     std::string err;
     if (!(simulation_ = make_simulation(&err))) return err;
@@ -40,7 +40,7 @@ std::string LiveShow::open_devices() {
       if (!note.empty() && !opt_.quiet) std::cerr << "note: device '" << d.name << "': " << note << "\n";
     }
   }
-  devices_ = std::make_unique<DeviceSet>(epoch_ns_);
+  devices_ = std::make_unique<DeviceSet>(pacer_.epoch());
   for (size_t i = 0; i < show_.devices.size(); ++i) {
     const ShowDevice& d = show_.devices[i];
     if (d.type == "sim") {
@@ -59,7 +59,7 @@ std::string LiveShow::open_devices() {
       std::cerr << "device '" << show_.devices[i].name << "': " << device_state_name(st) << ": " << devices_->problem(i)
                 << (st == DeviceState::Waiting ? " (waiting for it)" : "") << "\n";
   }
-  if (simulation_) simulation_->play(epoch_ns_);
+  if (simulation_) simulation_->play(pacer_.epoch());
   sdl_input_window(canvas_ && canvas_->is_window());
   return {};
 }

@@ -13,6 +13,9 @@ std::string LiveShow::stats_json() const {
   auto stage = [](const Histogram& h) {
     return json{{"p50", h.quantile(0.5)}, {"p99", h.quantile(0.99)}, {"max", h.max()}};
   };
+  json stages = json::object();
+  for (size_t k = 0; k < size_t(Stage::Count); ++k) stages[stage_name(Stage(k))] = stage(stats_.stage[k]);
+  stages["frame"] = stage(stats_.frame);
   json devices = json::array();
   for (size_t i = 0; i < show_.devices.size(); ++i) {
     json d = {{"name", show_.devices[i].name}, {"type", show_.devices[i].type}, {"sim", show_.devices[i].sim}};
@@ -43,31 +46,31 @@ std::string LiveShow::stats_json() const {
   }
   json j = {
       {"show", show_.path},
-      {"frames", frames_},
-      {"rate_hz", 1.0 / period_s_},
-      {"stages_us", {{"drain", stage(st_.drain)}, {"map", stage(st_.map)}, {"solve", stage(st_.solve)},
-                     {"render", stage(st_.render)}, {"present", stage(st_.present)}, {"frame", stage(st_.frame)}}},
-      {"overruns", overruns_},
-      {"iterations", {{"configured", show_.iterations}, {"floor", show_.min_iterations}, {"min", frames_ ? iter_min_ : 0},
-                      {"max", iter_max_}, {"mean", frames_ ? double(iter_sum_) / double(frames_) : 0.0},
-                      {"governor_reductions", governor_steps_}}},
-      {"latency_us", {{"p50", st_.latency.quantile(0.5)}, {"p99", st_.latency.quantile(0.99)}, {"max", st_.latency.max()},
-                      {"events", st_.latency.count()}}},
+      {"frames", stats_.frames},
+      {"rate_hz", 1.0 / pacer_.period_s()},
+      {"stages_us", stages},
+      {"overruns", stats_.overruns},
+      {"iterations", {{"configured", show_.iterations}, {"floor", show_.min_iterations},
+                      {"min", stats_.frames ? stats_.iter_min : 0}, {"max", stats_.iter_max}, {"mean", stats_.iter_mean()},
+                      {"governor_reductions", governor_.reductions()}}},
+      {"latency_us", {{"p50", stats_.latency.quantile(0.5)}, {"p99", stats_.latency.quantile(0.99)},
+                      {"max", stats_.latency.max()}, {"events", stats_.latency.count()}}},
       {"events", {{"mapped", mapping_.stats().matched}, {"total", mapping_.stats().events},
                   {"dropped", dropped_events_}, {"records_dropped", dropped_records_},
                   {"takeover_waits", mapping_.stats().takeover_waits}}},
       {"refactorizations", {{"count", refactorizations_}, {"p50_us", refactor_us_.quantile(0.5)}, {"max_us", refactor_us_.max()},
                              {"heap_allocations", refactor_allocs_}}},
       {"quality", {{"unit", "% of character height"},
-                   {"worst_part_distortion", {{"p50", quality_.quantile(0.5) / 1000}, {"p99", quality_.quantile(0.99) / 1000},
-                                              {"max", quality_.max() / 1000}}}}},
-      {"grabs", {{"count", grabs_}, {"p50_us", grab_us_.quantile(0.5)}, {"max_us", grab_us_.max()}}},
+                   {"worst_part_distortion", {{"p50", stats_.quality.quantile(0.5) / 1000},
+                                              {"p99", stats_.quality.quantile(0.99) / 1000},
+                                              {"max", stats_.quality.max() / 1000}}}}},
+      {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
       {"warmup_frames", opt_.warmup},
       {"devices", devices},
       {"run_hash", [&] {
          char buf[20];
-         std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hash_));
+         std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(run_hash()));
          return std::string(buf);
        }()},
   };

@@ -175,7 +175,7 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   return R::success(true);
 }
 
-Result<bool> parse_target(const std::string& t, const ShowConfig& s, TargetKind& kind, int& index) {
+Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowRig& rig, TargetKind& kind, int& index) {
   using R = Result<bool>;
   auto find = [](const auto& list, const std::string& name) {
     for (size_t i = 0; i < list.size(); ++i)
@@ -187,17 +187,18 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, TargetKind&
     index = 0;
     return R::success(true);
   }
-  if (t == "solver.iterations") {
-    kind = TargetKind::Iterations;
-    index = 0;
-    return R::success(true);
-  }
-  for (auto [name, i] : {std::pair{"solver.rigidity", 0}, {"solver.coupling", 1}, {"solver.position", 2}})
-    if (t == name) {
-      kind = TargetKind::Weight;
-      index = i;
-      return R::success(true);
+  if (t.rfind("solver.", 0) == 0) {
+    std::string names;
+    for (size_t i = 0; i < rig.settings.size(); ++i) {
+      if ("solver." + rig.settings[i].name == t) {
+        kind = TargetKind::Setting;
+        index = int(i);
+        return R::success(true);
+      }
+      names += (i ? ", solver." : "solver.") + rig.settings[i].name;
     }
+    return R::failure("unknown setting '" + t + "' (this rig's solver offers " + names + ")");
+  }
   const auto dot = t.find('.');
   const std::string head = t.substr(0, dot), rest = dot == std::string::npos ? "" : t.substr(dot + 1);
   if (head == "handle") {
@@ -207,7 +208,7 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, TargetKind&
       kind = name.back() == 'x' ? TargetKind::HandleX : TargetKind::HandleY;
       name.resize(name.size() - 2);
     }
-    index = find(s.handle_names, name);
+    index = find(rig.handles, name);
     if (index < 0) return R::failure("the rig has no handle '" + name + "'");
     return R::success(true);
   }
@@ -227,30 +228,34 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, TargetKind&
     if (index < 0) return R::failure("no [[pose]] named '" + rest + "'");
     return R::success(true);
   }
-  return R::failure("unknown target '" + t + "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, "
-                    "solver.iterations, solver.rigidity|coupling|position)");
+  return R::failure("unknown target '" + t + "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, solver.SETTING)");
 }
 
-Result<ShowConfig> load_show_header(const std::string& path) {
-  try {
-    ShowConfig s;
-    s.path = path;
-    read_header(path, parse_file(path), s);
-    return Result<ShowConfig>::success(std::move(s));
-  } catch (const ShowError& e) {
-    return Result<ShowConfig>::failure(e.message);
-  }
+ShowConfig default_show() {
+  ShowConfig s;
+  s.rate_hz = 60;
+  s.iterations = 8;
+  s.min_iterations = 2;
+  s.width = 800;
+  s.height = 600;
+  s.fullscreen = false;
+  s.hud = true;
+  s.background = "#f4f1ea";
+  return s;
 }
 
-Result<ShowConfig> load_show(const std::string& path, const std::vector<std::string>& handles,
-                             const std::vector<Vec2>& rest, double diag) {
+Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig) {
   try {
-    ShowConfig s;
+    ShowConfig s = default_show();
     s.path = path;
-    const toml::table root = parse_file(path);
+    const toml::table root = parse_file(path);  // the one parse of the file
     read_header(path, root, s);
-    s.handle_names = handles;
-    s.handle_rest = rest;
+    auto loaded = load_rig(s);
+    if (!loaded.ok()) return Result<ShowConfig>::failure(loaded.error);
+    const ShowRig& rig = *loaded.value;
+    const std::vector<std::string>& handles = rig.handles;
+    const std::vector<Vec2>& rest = rig.rest;
+    const double diag = rig.diag;
     if (const toml::array* devs = array_of_tables(path, root, "device")) {
       for (const toml::node& dn : *devs) {
         const toml::table& t = *dn.as_table();
@@ -359,7 +364,7 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
         b.control.device = uint16_t(di);
         if (auto r = parse_control(device_control(s.devices[size_t(di)], text(path, *ctl, "control")), b.control); !r.ok())
           throw ShowError{at(path, *ctl) + ": " + r.error};
-        if (auto r = parse_target(text(path, *tgt, "target"), s, b.target, b.index); !r.ok())
+        if (auto r = parse_target(text(path, *tgt, "target"), s, rig, b.target, b.index); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};
         Transform& tf = b.tf;
         // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
@@ -371,9 +376,8 @@ Result<ShowConfig> load_show(const std::string& path, const std::vector<std::str
         } else if (b.target == TargetKind::Rotate) {
           tf.lo = -90;
           tf.hi = 90;
-        } else if (b.target == TargetKind::Iterations) {
-          tf.lo = s.min_iterations;
-          tf.hi = s.iterations;
+        } else if (b.target == TargetKind::Setting && rig.settings[size_t(b.index)].default_range) {
+          std::tie(tf.lo, tf.hi) = *rig.settings[size_t(b.index)].default_range;
         }
         if (auto* n = t.get("range")) {
           std::tie(tf.lo, tf.hi) = pair_of(path, *n, "range");

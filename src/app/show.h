@@ -7,6 +7,8 @@
 #include "input/mapping.h"
 #include "input/decoder.h"
 
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,29 +29,46 @@ struct ShowDevice {
   int line = 0;
 };
 
+/// A parsed, validated show file. Every default lives in default_show().
 struct ShowConfig {
   std::string path;             ///< the show file
   std::string character, rig;   ///< resolved paths (character empty: the rig's own)
-  double rate_hz = 60;
-  int iterations = 8, min_iterations = 2;
-  int width = 800, height = 600;
-  bool fullscreen = false, hud = true;
-  std::string background = "#f4f1ea";
+  // (no defaults here: default_show() has them all)
+  double rate_hz = 0;
+  int iterations = 0, min_iterations = 0;
+  int width = 0, height = 0;
+  bool fullscreen = false, hud = false;
+  std::string background;
   std::vector<ShowDevice> devices;
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;
-  std::vector<std::string> handle_names;
-  std::vector<Vec2> handle_rest;
 };
 
-/// Parses and checks a show file. Handles, groups and poses are resolved with the rig's
-/// handle names and rest positions (`handles`, `rest`); `diag` (the character's bounding
-/// box diagonal) sets default ranges. Errors name file:line.
-Result<ShowConfig> load_show(const std::string& path, const std::vector<std::string>& handles,
-                             const std::vector<Vec2>& rest, double diag);
-/// Reads only the [show] table (character and rig paths) so the caller can load the puppet.
-Result<ShowConfig> load_show_header(const std::string& path);
+/// The defaults of every show key (rate 60 Hz, 8 iterations, floor 2, 800x600, HUD on...).
+ShowConfig default_show();
+
+/// What a show's names are resolved against, known once its rig is loaded: the rig's handles
+/// (names, rest positions), the character's diagonal (default ranges) and the settings a
+/// binding may drive as `solver.NAME` (the loop's `iterations`, the solver's parameters).
+struct ShowRig {
+  std::vector<std::string> handles;
+  std::vector<Vec2> rest;
+  double diag = 1;
+  struct SettingName {
+    std::string name;
+    std::optional<std::pair<double, double>> default_range;  ///< a binding's range when it gives none
+  };
+  std::vector<SettingName> settings;  ///< index = Mapping setting index
+};
+/// Loads the rig a show names (called with the [show] table read: character and rig paths,
+/// iterations); an error is returned as is.
+using RigLoader = std::function<Result<ShowRig>(const ShowConfig& header)>;
+
+/// Parses the show file once and validates it: the [show] table first, then `rig(header)`,
+/// then devices, groups, poses and bindings resolved against what it returns. Errors name
+/// file:line.
+Result<ShowConfig> load_show(const std::string& path, const RigLoader& rig);
 
 /// Parses a control ("cc 7", "cc 7 ch 2", "cc14 1", "nrpn 300", "note 36", "pitchbend",
 /// "usage x", "usage 0x0d0030", "button 3", "encoder 2", "pointer") into `out`.
@@ -57,8 +76,9 @@ Result<bool> parse_control(const std::string& text, ControlSpec& out);
 /// The control grammar's text for a control: parse_control(format_control(c)) gives c back.
 std::string format_control(const ControlSpec& c);
 /// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME", "grab",
-/// "solver.iterations", "solver.rigidity|coupling|position").
-Result<bool> parse_target(const std::string& text, const ShowConfig& show, TargetKind& kind, int& index);
+/// "solver.SETTING" for a setting `rig` offers) against the show's groups and poses.
+Result<bool> parse_target(const std::string& text, const ShowConfig& show, const ShowRig& rig, TargetKind& kind,
+                          int& index);
 
 /// A binding's control text with the device profile's names replaced ("left-x" -> "usage x");
 /// OSC controls ("osc /fader/1") are numbered per device here.

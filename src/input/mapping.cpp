@@ -180,7 +180,7 @@ void Mapping::absolute(Binding& b, double n, int64_t t) {
   if (b.tf.invert) n = 1 - n;
   if (b.tf.curve != 1) n = std::pow(n, b.tf.curve);
   n = b.tf.one_euro.filter(n, t);
-  const bool takeover = b.tf.takeover && b.target != TargetKind::Iterations;
+  const bool takeover = b.tf.takeover && !(b.target == TargetKind::Setting && settings_[size_t(b.index)].integer);
   if (takeover && !b.engaged) {
     // Soft takeover: the control picks the target up when it reaches or crosses the
     // target's current value, so a fader that was moved elsewhere cannot make it jump.
@@ -203,8 +203,7 @@ double Mapping::current_norm(const Binding& b) const {
     case TargetKind::HandleX: v = goal_[size_t(b.index)].x(); break;
     case TargetKind::HandleY: v = goal_[size_t(b.index)].y(); break;
     case TargetKind::Rotate: v = angle_goal_[size_t(b.index)]; break;
-    case TargetKind::Iterations: v = iterations_; break;
-    case TargetKind::Weight: v = weights_[b.index]; break;
+    case TargetKind::Setting: v = settings_[size_t(b.index)].value; break;
     default: return 0;
   }
   return b.tf.hi != b.tf.lo ? (v - b.tf.lo) / (b.tf.hi - b.tf.lo) : 0;
@@ -222,16 +221,25 @@ void Mapping::set_target(Binding& b, double v) {
     case TargetKind::HandleX: goal_[i].x() = v; break;
     case TargetKind::HandleY: goal_[i].y() = v; break;
     case TargetKind::Rotate: angle_goal_[i] = v; break;
-    case TargetKind::Iterations: iterations_ = std::clamp(int(std::lround(v)), it_lo_, it_hi_); break;
-    case TargetKind::Weight:
-      if (v > 0 && std::isfinite(v) && weights_[i] != v) {
-        weights_[i] = v;
-        weights_changed_ = true;
-      }
-      break;
+    case TargetKind::Setting: put_setting(i, v); break;
     default: return;
   }
   written_by(&b, b.target, b.index);
+}
+
+int Mapping::add_setting(Setting s) {
+  settings_.push_back(s);
+  return int(settings_.size()) - 1;
+}
+
+void Mapping::put_setting(size_t i, double v) {
+  Setting& s = settings_[i];
+  if (!std::isfinite(v)) return;
+  v = std::clamp(v, s.lo, s.hi);
+  if (s.integer) v = std::round(v);
+  if (v == s.value) return;
+  s.value = v;
+  settings_changed_ = true;
 }
 
 void Mapping::relative(Binding& b, double d) {
@@ -241,12 +249,9 @@ void Mapping::relative(Binding& b, double d) {
     case TargetKind::HandleX: goal_[i].x() += step; break;
     case TargetKind::HandleY: goal_[i].y() += step; break;
     case TargetKind::Rotate: angle_goal_[i] += step; break;
-    case TargetKind::Iterations: iterations_ = std::clamp(iterations_ + int(d), it_lo_, it_hi_); break;
-    case TargetKind::Weight:
-      if (weights_[i] + step > 0) {
-        weights_[i] += step;
-        weights_changed_ = true;
-      }
+    case TargetKind::Setting:
+      // An integer setting moves one unit per tick; others by the binding's step.
+      put_setting(i, settings_[i].value + (settings_[i].integer ? std::trunc(d) : step));
       break;
     default: return;
   }

@@ -1,4 +1,6 @@
-// Mapping: Events -> handle targets, rotations, poses, solver settings.
+// Mapping: Events -> handle targets, rotations, poses and named settings. A setting is a
+// number the loop or the solver reads (the show names them solver.iterations,
+// solver.rigidity, ...); the mapping only keeps it within its range and says when it moved.
 //
 // A binding listens to one control of one device and drives one target through its
 // transforms. Absolute controls: normalise by the control's range, deadzone (about the
@@ -32,7 +34,13 @@ struct ControlSpec {
   std::string text;     ///< as written (for messages and learn)
 };
 
-enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Iterations, Weight, Pose, Grab };
+enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab };
+
+/// A named number a binding may drive (its meaning belongs to whoever reads it).
+struct Setting {
+  double value = 0, lo = 0, hi = 1;
+  bool integer = false;  ///< rounded; stepped, so absolute controls set it without soft takeover
+};
 
 struct Transform {
   double lo = 0, hi = 1;       ///< output range (target units; degrees for rotations)
@@ -52,7 +60,7 @@ struct Transform {
 struct Binding {
   ControlSpec control;
   TargetKind target = TargetKind::HandleX;
-  int index = 0;  ///< handle, group, pose or weight index
+  int index = 0;  ///< handle, group, pose or setting index
   Transform tf;
   int line = 0;   ///< show-file line (messages)
   // state
@@ -92,8 +100,8 @@ class Mapping {
   int pose_index(const std::string& name) const;
   void add_binding(Binding b);
   std::vector<Binding>& bindings() { return bindings_; }
-  void set_iterations(int it, int lo, int hi) { iterations_ = it; it_lo_ = lo; it_hi_ = hi; }
-  void set_weights(double r, double c, double p) { weights_[0] = r; weights_[1] = c; weights_[2] = p; }
+  /// Adds a setting; returns its index.
+  int add_setting(Setting s);
 
   /// Updates goals from one event. Returns true when some binding used it.
   bool apply(const Event& e);
@@ -103,9 +111,10 @@ class Mapping {
   std::span<const Vec2> targets() const { return targets_; }
   Vec2 goal(int handle) const { return goal_[size_t(handle)]; }
   double angle(int group) const { return angle_[size_t(group)]; }
-  int iterations() const { return iterations_; }
-  const double* weights() const { return weights_; }
-  bool weights_changed() { bool c = weights_changed_; weights_changed_ = false; return c; }
+  double setting(int i) const { return settings_[size_t(i)].value; }
+  size_t setting_count() const { return settings_.size(); }
+  /// Whether any setting changed since the last call.
+  bool take_settings_changed() { bool c = settings_changed_; settings_changed_ = false; return c; }
   /// Grab-and-drag: a pointer with its tip down (position in character units).
   bool grab_active() const { return grab_active_; }
   Vec2 grab_point() const { return grab_point_; }
@@ -126,9 +135,9 @@ class Mapping {
   std::vector<RotationGroup> groups_;
   std::vector<Pose> poses_;
   std::vector<Binding> bindings_;
-  int iterations_ = 8, it_lo_ = 1, it_hi_ = 64;
-  double weights_[3] = {1, 1, 100};
-  bool weights_changed_ = false;
+  void put_setting(size_t i, double v);
+  std::vector<Setting> settings_;
+  bool settings_changed_ = false;
   bool grab_active_ = false;
   Vec2 grab_point_ = Vec2::Zero();
   MappingStats stats_;

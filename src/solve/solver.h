@@ -4,8 +4,8 @@
 // method (`solver = "feature_frame"`, the default); Puppet holds whichever it names.
 //
 // Shapes: handles are given by rest points on the character (#h); targets are #h points,
-// plus one while a temporary grab handle is set. Everything but prepare() and set_weights()
-// allocates nothing.
+// plus one while a temporary grab handle is set. Everything but prepare(), parameters() and
+// set_parameters() allocates nothing.
 #pragma once
 
 #include "character/rig.h"
@@ -18,6 +18,13 @@
 
 namespace mar {
 
+/// A number of the method a performer may turn live (a binding's `solver.NAME` target).
+struct SolverParameter {
+  std::string name;
+  double value = 0;       ///< the rig's value
+  double lo = 0, hi = 1;  ///< what the method accepts
+};
+
 class Solver {
  public:
   virtual ~Solver() = default;
@@ -27,8 +34,11 @@ class Solver {
   /// so call it before preparing render meshes) and factorises for handles at `handle_rest`.
   virtual bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
                        std::string* error) = 0;
-  /// New weights, keeping the pose (re-factorises: may allocate).
-  virtual bool set_weights(const SolverWeights& w, std::string* error) = 0;
+  /// The method's live parameters and their current values (load time).
+  virtual std::vector<SolverParameter> parameters() const = 0;
+  /// New values for parameters(), in its order, keeping the pose (may re-factorise and
+  /// allocate: not a per-frame call).
+  virtual bool set_parameters(std::span<const double> values, std::string* error) = 0;
 
   /// A fixed number of iterations from the current pose toward `targets`.
   virtual void solve(std::span<const Vec2> targets, int iterations) = 0;
@@ -61,7 +71,11 @@ class FeatureFrameMethod final : public Solver {
   std::string_view name() const override { return "feature_frame"; }
   bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
                std::string* error) override;
-  bool set_weights(const SolverWeights& w, std::string* error) override;
+  /// rigidity (w_r), coupling (w_c) and position (w_p) weights.
+  std::vector<SolverParameter> parameters() const override;
+  bool set_parameters(std::span<const double> values, std::string* error) override;
+  /// New weights, keeping the pose (re-factorises).
+  bool set_weights(const SolverWeights& w, std::string* error);
   void solve(std::span<const Vec2> targets, int iterations) override { s_.solve(targets, iterations); }
   void initial_guess(std::span<const Vec2> targets) override { s_.initial_guess(targets); }
   void reset_to_rest() override { s_.reset_to_rest(); }
@@ -82,6 +96,7 @@ class FeatureFrameMethod final : public Solver {
   FeatureFrame frame_;
   std::vector<ShapeParam> bindings_;
   FeatureFrameSolver s_;
+  SolverWeights weights_;
 };
 
 }  // namespace mar

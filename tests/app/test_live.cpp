@@ -217,7 +217,7 @@ TEST(Live, StatsJsonHasEveryField) {
   std::ifstream f(dir / "s.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_EQ(j["frames"], 90);
-  for (const char* st : {"drain", "map", "solve", "render", "present"})
+  for (const char* st : {"inputs", "map", "poses", "motion", "solve", "render", "present", "frame"})
     for (const char* q : {"p50", "p99", "max"}) {
       EXPECT_GE(j["stages_us"][st][q].get<double>(), 0.0) << st << q;
     }

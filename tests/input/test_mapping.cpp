@@ -176,5 +176,52 @@ TEST(Takeover, AnotherWriterMakesTheFaderPickUpAgain) {
   EXPECT_GE(m.stats().takeover_waits, 1u);
 }
 
+// Settings are numbers the mapping keeps in range without knowing what they mean (the loop
+// reads one as the iteration count, the solver others as its parameters).
+TEST(Settings, AControlSetsANamedNumberWithinItsRange) {
+  Mapping m = one_handle();
+  const int it = m.add_setting({8, 2, 200, true});
+  const int w = m.add_setting({1.0, 1e-6, 1e9, false});
+  Binding a = bind(ControlSpec::CC, 1, TargetKind::Setting, 2, 12);
+  a.index = it;
+  m.add_binding(a);
+  Binding b = bind(ControlSpec::CC, 2, TargetKind::Setting, -5, 10);
+  b.index = w;
+  m.add_binding(b);
+  EXPECT_FALSE(m.take_settings_changed());
+  m.apply(cc(1, 64));
+  EXPECT_EQ(m.setting(it), 7.0);  // 2 + 64/127 x 10 = 7.04, rounded: an integer setting
+  EXPECT_TRUE(m.take_settings_changed());
+  EXPECT_FALSE(m.take_settings_changed());
+  m.apply(cc(1, 64));
+  EXPECT_FALSE(m.take_settings_changed()) << "the same value is no change";
+  m.apply(cc(2, 0));
+  EXPECT_EQ(m.setting(w), 1e-6) << "clamped to the setting's own range";
+  m.apply(cc(2, 127));
+  EXPECT_DOUBLE_EQ(m.setting(w), 10.0);
+}
+
+TEST(Settings, EncodersStepIntegerSettingsByOne) {
+  Mapping m = one_handle();
+  const int it = m.add_setting({8, 2, 10, true});
+  Binding b = bind(ControlSpec::Encoder, 1, TargetKind::Setting);
+  b.index = it;
+  b.tf.relative = RelativeMode::Delta;
+  b.tf.step = 0.25;  // ignored for an integer setting: one tick, one iteration
+  m.add_binding(b);
+  Event e;
+  e.kind = ControlKind::EncoderDelta;
+  e.number = 1;
+  e.value = 1;
+  m.apply(e);
+  EXPECT_EQ(m.setting(it), 9.0);
+  e.value = 5;
+  m.apply(e);
+  EXPECT_EQ(m.setting(it), 10.0);  // the top of the range
+  e.value = -20;
+  m.apply(e);
+  EXPECT_EQ(m.setting(it), 2.0);
+}
+
 }  // namespace
 }  // namespace mar

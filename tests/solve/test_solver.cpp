@@ -51,5 +51,34 @@ TEST(Solver, FeatureFrameBehindTheSeamPosesAndGrabs) {
   for (size_t h = 0; h < 3; ++h) EXPECT_LT((s->handle_point(h) - rest[h]).norm(), 1e-9);
 }
 
+// Live parameters go through the seam: named, ranged, and set keeping the pose.
+TEST(Solver, ParametersAreNamedAndSettingThemKeepsThePose) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  const std::vector<Vec2> rest{{150, 190}, {150, 280}, {245, 250}};
+  std::unique_ptr<Solver> s = make_solver("feature_frame");
+  SolverWeights w;
+  w.rigidity = 2;
+  std::string err;
+  ASSERT_TRUE(s->prepare(c, default_rig(), rest, w, &err)) << err;
+  const auto params = s->parameters();
+  ASSERT_EQ(params.size(), 3u);
+  EXPECT_EQ(params[0].name, "rigidity");
+  EXPECT_EQ(params[0].value, 2.0);
+  EXPECT_EQ(params[1].name, "coupling");
+  EXPECT_EQ(params[2].name, "position");
+  EXPECT_GT(params[0].lo, 0.0);
+  std::vector<Vec2> targets = rest;
+  targets[2] += Vec2(20, -10);
+  s->solve(targets, 8);
+  const Vec2 before = s->handle_point(2);
+  ASSERT_TRUE(s->set_parameters(std::vector<double>{4.0, 1.0, 100.0}, &err)) << err;
+  EXPECT_LT((s->handle_point(2) - before).norm(), 1e-9) << "re-factorising keeps the pose";
+  EXPECT_EQ(s->parameters()[0].value, 4.0);
+  EXPECT_FALSE(s->set_parameters(std::vector<double>{1.0}, &err));
+  EXPECT_NE(err.find("3 parameters"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace mar
