@@ -32,73 +32,7 @@ std::unique_ptr<LiveShow> run_steady(const std::string& path) {
 
 TEST(LiveAlloc, SteadyFramesAllocateNothing) {
   set_allocation_counter(&heap_allocation_count);
-  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
-  const std::string path = test::write_temp("alloc.toml", "[show]\nrig = \"" + rig + R"("
-rate = 120
-[display]
-width = 200
-height = 240
-[[device]]
-name = "korg"
-sim = "nanokontrol2"
-script = """
-0.0 move fader1 0.0
-0.1 move fader1 1 over 1.5
-0.2 move knob1 1 over 1.0
-1.0 press solo1 for 0.1
-loop 2.0
-"""
-[[device]]
-name = "knobs"
-sim = "knob_box"
-bounce_ms = 2
-script = """
-0.0 turn 1 10 over 1.0
-1.0 turn 1 -10 over 1.0
-loop 2.0
-"""
-[[device]]
-name = "pad"
-sim = "gamepad"
-script = """
-0.0 stick left 1,0.5 over 0.8
-1.0 stick left -1,-0.5 over 0.8
-loop 2.0
-"""
-[[group]]
-name = "head"
-handles = ["head"]
-pivot_handle = "chest"
-[[pose]]
-name = "p"
-handles = { right-hand = [260.0, 140.0] }
-[[binding]]
-device = "korg"
-control = "cc 0"
-target = "handle.left-hand.y"
-range = [250.0, 110.0]
-filter = { min_cutoff = 1.0, beta = 0.3 }
-slew = 400.0
-[[binding]]
-device = "korg"
-control = "cc 16"
-target = "rotate.head"
-[[binding]]
-device = "korg"
-control = "cc 32"
-target = "pose.p"
-[[binding]]
-device = "knobs"
-control = "encoder 1"
-target = "handle.hips.x"
-mode = "delta"
-step = 1.5
-[[binding]]
-device = "pad"
-control = "usage x"
-target = "handle.left-foot.x"
-deadzone = 0.1
-)");
+  const std::string path = (test::source_dir() / "tests/data/shows/every_sim_looping.toml").string();
   const std::unique_ptr<LiveShow> s = run_steady(path);
   ASSERT_TRUE(s);
   LiveShow& show = *s;
@@ -109,25 +43,7 @@ deadzone = 0.1
 // a rank-2 update of the factorisation) allocate nothing either, and re-factorise nothing.
 TEST(LiveAlloc, PenGrabsAndReleasesAllocateNothing) {
   set_allocation_counter(&heap_allocation_count);
-  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
-  const std::string path = test::write_temp("grab.toml", "[show]\nrig = \"" + rig + R"("
-rate = 120
-[display]
-width = 200
-height = 240
-[[device]]
-name = "pen"
-sim = "pen_tablet"
-script = """
-0.1 stroke 0.5,0.45 0.62,0.42 0.7,0.5 over 0.4 pressure 0.7
-0.7 stroke 0.38,0.8 0.3,0.85 over 0.4 pressure 0.6
-loop 1.2
-"""
-[[binding]]
-device = "pen"
-control = "pointer"
-target = "grab"
-)");
+  const std::string path = (test::source_dir() / "tests/data/shows/pen_grab_looping.toml").string();
   const std::unique_ptr<LiveShow> s = run_steady(path);
   ASSERT_TRUE(s);
   LiveShow& show = *s;

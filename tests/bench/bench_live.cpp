@@ -8,63 +8,15 @@
 #include <nlohmann/json.hpp>
 
 #include <cstdlib>
-#include <filesystem>
-#include <fstream>
 
 namespace {
 
-std::string write_show() {
-  const auto dir = std::filesystem::temp_directory_path() / "marionette-bench";
-  std::filesystem::create_directories(dir);
-  const auto path = dir / "bench_live.toml";
-  std::ofstream(path) << "[show]\nrig = \"" MARIONETTE_SOURCE_DIR "/config/rigs/figure.toml\"\n" << R"(rate = 120
-iterations = 8
-min_iterations = 3
-[display]
-width = 320
-height = 400
-[[device]]
-name = "korg"
-sim = "nanokontrol2"
-script = """
-0.0 move fader1 0
-0.001 move fader1 1 over 0.127
-0.128 move fader1 0 over 0.127
-loop 0.256
-"""
-[[device]]
-name = "knobs"
-sim = "knob_box"
-bounce_ms = 1
-script = """
-0.0 turn 1 50 over 1.0
-1.0 turn 1 -50 over 1.0
-loop 2.0
-"""
-[[group]]
-name = "head"
-handles = ["head"]
-pivot_handle = "chest"
-[[binding]]
-device = "korg"
-control = "cc 0"
-target = "handle.left-hand.y"
-range = [250.0, 110.0]
-filter = { min_cutoff = 1.0, beta = 0.2 }
-[[binding]]
-device = "knobs"
-control = "encoder 1"
-target = "rotate.head"
-mode = "delta"
-step = 0.5
-)";
-  return path.string();
-}
+std::string show_path() { return MARIONETTE_SOURCE_DIR "/tests/data/shows/bench_live.toml"; }
 
 void BM_Live120HzWith1kHzInput(benchmark::State& state) {
   const char* env = std::getenv("MARIONETTE_BENCH_FRAMES");
   const long frames = env ? std::atol(env) : 100000;
-  const std::string show = write_show();
+  const std::string show = show_path();
   for (auto _ : state) {
     mar::RunOptions o;
     o.headless = true;

@@ -20,21 +20,7 @@ TEST(LiveHotplug, UnplugReplug100TimesDuringAShow) {
   ASSERT_TRUE(sim.ok());
   auto& pad = static_cast<HidDeviceSim&>(**sim.value);
   const int dev = bench.add_hid({0x054c, 0x09cc, "Wireless Controller", "", pad.descriptor_bytes()});
-  const auto show = test::write_temp("hotplug.toml", std::string(R"([show]
-rig = ")") + test::source_dir().string() + R"(/config/rigs/figure.toml"
-rate = 60
-[[device]]
-name = "pad"
-type = "hid"
-vid = 0x054c
-pid = 0x09cc
-[[binding]]
-device = "pad"
-control = "usage x"
-target = "handle.hips.x"
-range = [100.0, 200.0]
-takeover = false
-)");
+  const auto show = (test::source_dir() / "tests/data/shows/hotplug_pad.toml").string();
   set_allocation_counter(&heap_allocation_count);  // this thread runs the frames
   RunOptions o;
   o.headless = true;
