@@ -17,16 +17,8 @@
 
 namespace mar {
 
-/// A frame's decoded events: fixed capacity, never allocates; overflow is counted.
-struct EventSink {
-  Event* data = nullptr;
-  size_t cap = 0, n = 0;
-  uint64_t dropped = 0;
-  void push(const Event& e) {
-    if (n < cap) data[n++] = e;
-    else ++dropped;
-  }
-};
+/// A frame's decoded events.
+using EventSink = FixedSink<Event>;
 
 struct WireStats {
   uint64_t records = 0, events = 0, malformed = 0;

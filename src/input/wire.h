@@ -9,6 +9,7 @@
 #include <span>
 
 #include "input/event.h"
+#include "input/sink.h"
 
 namespace mar {
 
@@ -47,15 +48,7 @@ struct WireRecord {
   }
 };
 
-/// One frame's wire records: fixed capacity, never allocates; overflow is counted.
-struct WireSink {
-  WireRecord* data = nullptr;
-  size_t cap = 0, n = 0;
-  uint64_t dropped = 0;
-  void push(const WireRecord& r) {
-    if (n < cap) data[n++] = r;
-    else ++dropped;
-  }
-};
+/// One frame's wire records.
+using WireSink = FixedSink<WireRecord>;
 
 }  // namespace mar
