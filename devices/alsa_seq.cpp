@@ -8,6 +8,8 @@
 
 #include <alsa/asoundlib.h>
 
+#include <poll.h>
+
 #include <cerrno>
 
 namespace mar {
@@ -35,6 +37,7 @@ class AlsaSeqBackend final : public Backend {
     if (seq_) snd_seq_close(seq_);
     codec_ = nullptr;
     seq_ = nullptr;
+    fds_.clear();
   }
   bool present() const override { return devutil::exists("/dev/snd/seq"); }
   bool poll(int64_t now_ns, WireSink& out) override;
@@ -76,6 +79,10 @@ DeviceState AlsaSeqBackend::open() {
     }
     identity_ += " <- " + spec_.alsa_source;
   }
+  fds_.clear();
+  pollfd pfd[4];
+  const int n = snd_seq_poll_descriptors(seq_, pfd, 4, POLLIN);
+  for (int k = 0; k < n; ++k) fds_.push_back(pfd[k].fd);
   snd_midi_event_new(256, &codec_);
   snd_midi_event_no_status(codec_, 1);  // full status bytes: the stream decoder owns running status
   config_ = DecoderConfig{};

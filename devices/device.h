@@ -83,6 +83,9 @@ class Backend {
   /// Whether the open device is still there (its node exists). Called while Connected.
   virtual bool present() const { return true; }
 
+  /// File descriptors that become readable when the open device has input (for a loop that
+  /// waits for input; the frame never blocks on them). Empty: poll it each frame.
+  std::span<const int> pollable_fds() const { return fds_; }
   /// What decodes this device's records (valid after open() returned Connected).
   const DecoderConfig& decoder_config() const { return config_; }
 
@@ -120,6 +123,7 @@ class Backend {
   int64_t epoch_ns_ = 0;
   std::string identity_, node_, problem_;
   DecoderConfig config_;
+  std::vector<int> fds_;  ///< set by open(), cleared by close()
 
  private:
   std::atomic<uint64_t> malformed_{0}, records_{0};

@@ -39,6 +39,7 @@ class GpioBackend final : public Backend {
     if (chip_) gpiod_chip_close(chip_);  // releases the requested lines too
     chip_ = nullptr;
     lines_.clear();
+    pfds_.clear();
     fds_.clear();
   }
   bool present() const override { return devutil::exists(dev_path_); }
@@ -53,7 +54,7 @@ class GpioBackend final : public Backend {
   std::vector<std::string> names_;
   gpiod_chip* chip_ = nullptr;
   std::vector<gpiod_line*> lines_;
-  std::vector<pollfd> fds_;
+  std::vector<pollfd> pfds_;
   std::string dev_path_;
   Edge edges_[1024];
 };
@@ -96,6 +97,7 @@ DeviceState GpioBackend::open() {
     problem_ = "GPIO chip '" + spec_.chip + "' not found";
     return DeviceState::Waiting;
   }
+  fds_.clear();
   dev_path_ = std::string("/dev/") + gpiod_chip_name(chip_);
   node_ = dev_path_;
   identity_ = std::string(gpiod_chip_name(chip_)) + " '" + gpiod_chip_label(chip_) + "'";
@@ -115,7 +117,8 @@ DeviceState GpioBackend::open() {
       return e == EACCES || e == EPERM ? DeviceState::Denied : DeviceState::Waiting;
     }
     lines_.push_back(l);
-    fds_.push_back({gpiod_line_event_get_fd(l), POLLIN, 0});
+    pfds_.push_back({gpiod_line_event_get_fd(l), POLLIN, 0});
+    fds_.push_back(pfds_.back().fd);
   }
   config_ = DecoderConfig{};
   config_.kind = WireKind::GpioEdge;
@@ -125,14 +128,14 @@ DeviceState GpioBackend::open() {
 }
 
 bool GpioBackend::poll(int64_t, WireSink& out) {
-  if (fds_.empty()) return true;
-  if (::poll(fds_.data(), nfds_t(fds_.size()), 0) < 0) return errno == EINTR;
+  if (pfds_.empty()) return true;
+  if (::poll(pfds_.data(), nfds_t(pfds_.size()), 0) < 0) return errno == EINTR;
   size_t n = 0;
-  for (size_t i = 0; i < fds_.size(); ++i) {
-    if (fds_[i].revents & (POLLERR | POLLHUP | POLLNVAL)) return false;
-    if (!(fds_[i].revents & POLLIN)) continue;
+  for (size_t i = 0; i < pfds_.size(); ++i) {
+    if (pfds_[i].revents & (POLLERR | POLLHUP | POLLNVAL)) return false;
+    if (!(pfds_[i].revents & POLLIN)) continue;
     gpiod_line_event ev[64];
-    const int got = gpiod_line_event_read_fd_multiple(fds_[i].fd, ev, 64);
+    const int got = gpiod_line_event_read_fd_multiple(pfds_[i].fd, ev, 64);
     if (got < 0) {
       if (errno == EAGAIN) continue;
       return false;

@@ -28,6 +28,7 @@ class TabletBackend final : public Backend {
     if (fd_ >= 0) ::close(fd_);
     dev_ = nullptr;
     fd_ = -1;
+    fds_.clear();
   }
   bool present() const override { return devutil::exists(sys_); }
   bool poll(int64_t now_ns, WireSink& out) override;
@@ -81,6 +82,7 @@ DeviceState TabletBackend::open() {
           config_.axes.push_back({uint16_t(code), a->minimum, a->maximum});
     dev_ = d;
     fd_ = fd;
+    fds_ = {fd};
     node_ = node;
     sys_ = "/sys/class/input/" + name;
     identity_ = devutil::vid_pid(libevdev_get_id_vendor(d), libevdev_get_id_product(d)) + " '" + dname + "'";

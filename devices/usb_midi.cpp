@@ -48,7 +48,7 @@ class UsbMidiBackend final : public Backend {
   int in_flight_ = 0;
   bool in_active_[kInTransfers] = {};  ///< libusb owns in_[i] (submitted, not yet finished)
   bool failed_ = false;
-  pollfd fds_[16];
+  pollfd pfds_[16];
   nfds_t nfds_ = 0;
   WireRecord ring_[kRing];
   size_t ring_n_ = 0;
@@ -144,7 +144,9 @@ DeviceState UsbMidiBackend::open() {
   if (ep_out_) out_ = libusb_alloc_transfer(0);
   nfds_ = 0;
   if (const libusb_pollfd** pf = libusb_get_pollfds(ctx_)) {
-    for (size_t i = 0; pf[i] && nfds_ < std::size(fds_); ++i) fds_[nfds_++] = {pf[i]->fd, pf[i]->events, 0};
+    for (size_t i = 0; pf[i] && nfds_ < std::size(pfds_); ++i) pfds_[nfds_++] = {pf[i]->fd, pf[i]->events, 0};
+    fds_.clear();
+    for (nfds_t i = 0; i < nfds_; ++i) fds_.push_back(pfds_[i].fd);
     libusb_free_pollfds(pf);
   }
   config_ = DecoderConfig{};
@@ -167,6 +169,7 @@ void UsbMidiBackend::close() {
   libusb_release_interface(h_, iface_);
   libusb_close(h_);
   h_ = nullptr;
+  fds_.clear();
   for (int i = 0; i < kInTransfers; ++i) {
     if (in_[i]) libusb_free_transfer(in_[i]);
     in_[i] = nullptr;
@@ -226,8 +229,8 @@ bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
 }
 
 bool UsbMidiBackend::poll(int64_t, WireSink& out) {
-  for (nfds_t i = 0; i < nfds_; ++i) fds_[i].revents = 0;
-  if (nfds_ == 0 || ::poll(fds_, nfds_, 0) > 0) {
+  for (nfds_t i = 0; i < nfds_; ++i) pfds_[i].revents = 0;
+  if (nfds_ == 0 || ::poll(pfds_, nfds_, 0) > 0) {
     timeval zero{0, 0};
     libusb_handle_events_timeout_completed(ctx_, &zero, nullptr);
   }

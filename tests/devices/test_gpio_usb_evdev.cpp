@@ -7,6 +7,7 @@
 #include "devices/vbench.h"
 
 #include <gtest/gtest.h>
+#include <poll.h>
 #include <linux/gpio.h>
 #include <linux/input.h>
 
@@ -218,6 +219,11 @@ TEST(TabletBackend, PenStrokeWithPressureAndTiltKeepsTheKernelTimestamps) {
   bench.evdev_event(dev, EV_ABS, ABS_PRESSURE, 512, t0 + 5'000'000);
   bench.evdev_event(dev, EV_ABS, ABS_TILT_X, -20, t0 + 5'000'000);
   bench.evdev_event(dev, EV_SYN, SYN_REPORT, 0, t0 + 5'000'000);
+  // The device's fd says there is input (a loop may wait on it; the frame never does).
+  const auto fds = set.backend(0).pollable_fds();
+  ASSERT_EQ(fds.size(), 1u);
+  pollfd pf{fds[0], POLLIN, 0};
+  EXPECT_EQ(::poll(&pf, 1, 10000), 1);
   std::vector<Event> got;
   ASSERT_TRUE(test::poll_until(set, epoch, got, [&] { return got.size() >= 6; }, 2000));
   ASSERT_EQ(got.size(), 6u);

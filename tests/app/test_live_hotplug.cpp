@@ -3,7 +3,7 @@
 // reconnected by VID/PID within 1 s, and its binding still moves the handle.
 #include "app/alloc_count.h"
 #include "app/live.h"
-#include "bench_util.h"
+#include "devices/bench_util.h"
 #include "devices/vbench.h"
 #include "firmware_sim/hid_device.h"
 #include "test_util.h"
