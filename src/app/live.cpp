@@ -122,6 +122,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   s->targets_.push_back(Vec2::Zero());  // the grab handle's target (used while grabbing)
   s->replay_wires_.reserve(1 << 16);
   s->replay_decoders_.resize(sh.devices.size());
+  s->replay_retired_.resize(sh.devices.size());
   s->device_states_.assign(sh.devices.size(), DeviceState::Connected);
   std::string err;
   if (!s->open_output(&err)) return R::failure(err);
@@ -318,7 +319,13 @@ void LiveShow::replay_device(uint16_t src, std::span<const uint8_t> description)
   if (!dec && !opt_.quiet)
     std::cerr << "warning: " << opt_.replay_path << ": device " << src << ": " << (cfg.ok() ? err : cfg.error)
               << " (its records are dropped)\n";
-  if (src < replay_decoders_.size()) replay_decoders_[src] = std::move(dec);
+  if (src >= replay_decoders_.size()) return;
+  if (const Decoder* old = replay_decoders_[src].get()) {  // a reconnection: keep the counts
+    replay_retired_[src].records += old->stats().records;
+    replay_retired_[src].events += old->stats().events;
+    replay_retired_[src].malformed += old->stats().malformed;
+  }
+  replay_decoders_[src] = std::move(dec);
 }
 
 bool LiveShow::handle_window_events() {

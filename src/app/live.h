@@ -105,6 +105,7 @@ class LiveShow {
   std::unique_ptr<Playback> playback_;
   std::vector<WireRecord> replay_wires_;
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
+  std::vector<WireStats> replay_retired_;                  ///< counts of a source's earlier connections
   // map
   int setting_iterations_ = 0;                     ///< Mapping setting: the solver's iteration count
   int setting_solver_ = 0;                         ///< first of the solver's parameters

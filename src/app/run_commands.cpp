@@ -36,7 +36,12 @@ std::string LiveShow::stats_json() const {
       }
     } else {  // a replay: the recording's decoders
       const Decoder* dec = i < replay_decoders_.size() ? replay_decoders_[i].get() : nullptr;
-      const WireStats w = dec ? dec->stats() : WireStats{};
+      WireStats w = i < replay_retired_.size() ? replay_retired_[i] : WireStats{};
+      if (dec) {
+        w.records += dec->stats().records;
+        w.events += dec->stats().events;
+        w.malformed += dec->stats().malformed;
+      }
       d["status"] = dec ? "replayed" : "not in the recording";
       d["records"] = w.records;
       d["events"] = w.events;

@@ -3,11 +3,13 @@
 namespace mar {
 
 bool SubShape::closed() const {
-  if (contours.empty()) return false;
+  bool any = false;
   for (const Contour& c : contours) {
+    if (c.count == 1) continue;  // an interior point (a solver's mesh vertex), not a contour
     if (!c.closed) return false;
+    any = true;
   }
-  return true;
+  return any;
 }
 
 Bounds SubShape::bounds() const {

@@ -68,7 +68,8 @@ struct SubShape {
   Fill fill;
   Stroke stroke;
 
-  /// True when every contour is closed.
+  /// True when every contour is closed (one-point contours, interior points a solver
+  /// added, do not count).
   bool closed() const;
   Bounds bounds() const;
   std::vector<Ring> rings() const;

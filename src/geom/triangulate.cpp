@@ -59,9 +59,13 @@ FillMesh triangulate_fill(std::span<const Vec2> points, std::span<const Ring> ri
   FillMesh mesh;
   CDTP cdt;
   for (const Ring& r : rings) {
-    if (r.count < 3 || r.begin < 0 || static_cast<size_t>(r.begin + r.count) > points.size()) {
+    if (r.begin < 0 || static_cast<size_t>(r.begin + r.count) > points.size()) continue;
+    if (r.count == 1) {  // an interior point: a vertex of the fill, no edge
+      const Vec2& p = points[static_cast<size_t>(r.begin)];
+      if (p.allFinite()) cdt.insert(K::Point_2(p.x(), p.y()))->info().index = r.begin + 1;
       continue;
     }
+    if (r.count < 3) continue;
     std::vector<VH> handles;
     handles.reserve(static_cast<size_t>(r.count));
     for (int k = 0; k < r.count; ++k) {

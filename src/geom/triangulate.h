@@ -18,7 +18,8 @@ struct Ring {
   int count = 0;
 };
 
-/// Triangles covering the filled region of the contours.
+/// Triangles covering the filled region of the contours. A one-point ring is an interior
+/// point: a vertex of the mesh (where it lies in the filled region), no edge.
 /// Every mesh vertex is expressed through the input points as
 /// lerp(points[src_a], points[src_b], src_t), so the same mesh follows a deformed
 /// copy of the points: input vertices have src_a == src_b, intersection points of

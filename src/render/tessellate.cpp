@@ -227,6 +227,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity);
       begin_batch(out, nullptr);
       for (const Contour& c : s.contours) {
+        if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));
         for (int k = 0; k < c.count; ++k) out.scratch[static_cast<size_t>(k)] = view.apply(pts[static_cast<size_t>(c.begin + k)]);
         stroke_polyline(out.scratch, c.closed, st, col, out);

@@ -157,22 +157,14 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
   }
   Eigen::SparseMatrix<double> A(static_cast<Eigen::Index>(2 * q), static_cast<Eigen::Index>(2 * q));
   A.setFromTriplets(t.begin(), t.end());
-  ldlt_.compute(A);
-  if (ldlt_.info() != Eigen::Success) {
+  if (!factor_.compute(A)) {
     if (error) *error = "the system matrix could not be factorised";
     return false;
   }
   rhs_.setZero(static_cast<Eigen::Index>(2 * q));
   x_.setZero(static_cast<Eigen::Index>(2 * q));
   work_.setZero(static_cast<Eigen::Index>(2 * q));
-  diag_ = ldlt_.vectorD();
-  // (P b)[perm[i]] = b[i], Eigen's convention for PermutationMatrix * vector.
-  const auto& P = ldlt_.permutationP().indices();
-  perm_.assign(P.data(), P.data() + P.size());
-  if (perm_.empty()) {
-    perm_.resize(2 * q);
-    std::iota(perm_.begin(), perm_.end(), 0);
-  }
+  perm_ = factor_.perm();
   perm_inv_.assign(perm_.size(), 0);
   for (size_t i = 0; i < perm_.size(); ++i) perm_inv_[static_cast<size_t>(perm_[i])] = static_cast<int>(i);
   line_c_.assign(frame.lines.size(), 1.0);
@@ -392,27 +384,7 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
   }
 }
 
-// Solve L D L^T y = b in place on the factor's raw arrays (L unit lower, column-major,
-// diagonal not stored): the factor is very sparse, so Eigen's generic per-column iterator
-// overhead would dominate.
-void FeatureFrameSolver::factor_solve(double* y) const {
-  const auto& L = ldlt_.matrixL().nestedExpression();
-  const int* col = L.outerIndexPtr();
-  const int* row = L.innerIndexPtr();
-  const double* val = L.valuePtr();
-  const double* D = diag_.data();
-  const int n = static_cast<int>(work_.size());
-  for (int j = 0; j < n; ++j) {
-    const double yj = y[j];
-    for (int p = col[j]; p < col[j + 1]; ++p) y[row[p]] -= val[p] * yj;
-  }
-  for (int j = 0; j < n; ++j) y[j] /= D[j];
-  for (int j = n - 1; j >= 0; --j) {
-    double sum = y[j];
-    for (int p = col[j]; p < col[j + 1]; ++p) sum -= val[p] * y[row[p]];
-    y[j] = sum;
-  }
-}
+void FeatureFrameSolver::factor_solve(double* y) const { factor_.solve_permuted(y); }
 
 Vec2 FeatureFrameSolver::extra_eval(const double* y) const {
   const HandleCoeff k = coeff(extra_);

@@ -16,6 +16,8 @@
 #include "frame/feature_frame.h"
 
 #include <Eigen/Sparse>
+
+#include "solve/ldlt.h"
 #include <Eigen/SparseCholesky>
 
 #include <span>
@@ -105,7 +107,7 @@ class FeatureFrameSolver {
   long anderson_accepted() const { return aa_accepted_; }
   long anderson_rejected() const { return aa_rejected_; }
   /// Non-zeros of the factor L (diagnostics, benchmarks).
-  long factor_nonzeros() const { return ldlt_.matrixL().nestedExpression().nonZeros(); }
+  long factor_nonzeros() const { return factor_.nonzeros(); }
   size_t handle_count() const { return handles_.size(); }
   const FeatureFrame* frame() const { return frame_; }
 
@@ -171,8 +173,8 @@ class FeatureFrameSolver {
   bool any_free_ = false;
   std::vector<char> free_;            ///< vertex is in a component without a handle
   double eps_ = 0;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
-  Eigen::VectorXd rhs_, x_, work_, diag_;  ///< diag_: D of the factor (vectorD() copies)
+  PrefactoredLdlt factor_;
+  Eigen::VectorXd rhs_, x_, work_;
   std::vector<int> perm_, perm_inv_;  ///< factor's fill-reducing permutation and inverse
   std::vector<Vec2> v_, anchor_;
   std::vector<double> line_c_, line_s_;  ///< R_j as cos/sin (feature lines)

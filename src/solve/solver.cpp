@@ -1,11 +1,13 @@
 #include "solve/solver.h"
+#include "solve/arap.h"
 
 namespace mar {
 
-bool solver_known(std::string_view name) { return name == "feature_frame"; }
+bool solver_known(std::string_view name) { return name == "feature_frame" || name == "arap"; }
 
 std::unique_ptr<Solver> make_solver(std::string_view name) {
   if (name == "feature_frame") return std::make_unique<FeatureFrameMethod>();
+  if (name == "arap") return std::make_unique<OutlineArap>();
   return nullptr;
 }
 

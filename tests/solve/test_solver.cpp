@@ -8,8 +8,10 @@
 namespace mar {
 namespace {
 
-TEST(make_solver, KnowsTheFeatureFrameAndNothingElseYet) {
+TEST(make_solver, KnowsTheFeatureFrameAndTheOutlineArapBaseline) {
   EXPECT_TRUE(solver_known("feature_frame"));
+  EXPECT_TRUE(solver_known("arap"));
+  EXPECT_EQ(make_solver("arap")->name(), "arap");
   EXPECT_FALSE(solver_known("rigid_grid"));
   auto s = make_solver("feature_frame");
   ASSERT_NE(s, nullptr);

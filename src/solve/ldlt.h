@@ -1,0 +1,30 @@
+// A sparse LDL^T factorisation (Eigen's SimplicialLDLT) solved in place on its raw arrays:
+// the per-frame solve of every prefactored solver. The factor is very sparse, so Eigen's
+// generic per-column iterators would dominate; this allocates nothing.
+#pragma once
+
+#include <Eigen/Sparse>
+
+#include <vector>
+
+namespace mar {
+
+class PrefactoredLdlt {
+ public:
+  /// Factorises A (symmetric positive definite); false when it cannot.
+  bool compute(const Eigen::SparseMatrix<double>& A);
+  /// Solves A x = b in place: `y` holds b in permuted order (y[perm()[i]] = b[i]) and
+  /// returns x in the same order.
+  void solve_permuted(double* y) const;
+  /// The fill-reducing permutation: unknown i sits at perm()[i].
+  const std::vector<int>& perm() const { return perm_; }
+  int size() const { return int(perm_.size()); }
+  long nonzeros() const { return ldlt_.matrixL().nestedExpression().nonZeros(); }
+
+ private:
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+  Eigen::VectorXd diag_;  ///< D of the factor (vectorD() copies)
+  std::vector<int> perm_;
+};
+
+}  // namespace mar
