@@ -1,5 +1,6 @@
 // inspect --rig and pose: the feature-frame commands.
 #include "app/commands.h"
+#include "solve/arap.h"
 #include "app/puppet.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
@@ -34,6 +35,8 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list);
   if (overlay) {
     if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
+    if (const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get()))
+      append_mesh_overlay(arap->vertices(), arap->triangles(), handle_points, view, list);
   }
   if (std::string err = c.draw(list); !err.empty()) {
     std::cerr << "error: " << err << "\n";
@@ -53,6 +56,57 @@ std::pair<int, int> doc_size(const Character& ch) {
 
 }  // namespace
 
+// inspect --rig for a mesh solver (the outline ARAP baseline): its triangulation, handles
+// and the cost of preparing it and of 12 iterations.
+int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
+  const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get());
+  if (!arap) {
+    std::cerr << "error: inspect --rig cannot show solver '" << p.rig.solver << "' yet\n";
+    return kExitBadInput;
+  }
+  const std::vector<Vec2> targets = p.rest_targets();
+  std::vector<double> pre{p.prefactor_ms}, sol;
+  for (int k = 0; k < 7; ++k) {
+    auto reloaded = load_puppet(a.input, a.rig);  // prepare inserts interior points: start from the file
+    if (!reloaded.ok()) break;
+    Puppet& q = **reloaded.value;
+    pre.push_back(q.prefactor_ms);
+    const auto t0 = std::chrono::steady_clock::now();
+    q.solver->solve(targets, 12);
+    sol.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  size_t interior = 0;
+  for (const SubShape& s : p.character.shapes)
+    for (const Contour& c : s.contours) interior += c.count == 1 ? 1 : 0;
+  if (a.json) {
+    nlohmann::ordered_json j = inspect_json(p.character);
+    j["mesh"] = {{"solver", p.rig.solver},
+                 {"vertices", arap->rest().size()},
+                 {"triangles", arap->triangles().size()},
+                 {"interior_points", interior},
+                 {"PRE_ms", median(pre)},
+                 {"SOL_ms", median(sol)}};
+    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
+    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
+    j["handles"] = hs;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_inspect_text(p.character);
+    std::printf("\noutline ARAP mesh (rig %s)\n", p.rig.path.c_str());
+    std::printf("%9s %9s %9s %9s %9s\n", "vertices", "triangles", "interior", "PRE ms", "SOL ms");
+    std::printf("%9zu %9zu %9zu %9.3f %9.3f\n", arap->rest().size(), arap->triangles().size(), interior, median(pre),
+                median(sol));
+    std::printf("handles:");
+    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
+    std::printf("\n");
+  }
+  if (!a.overlay.empty()) {
+    const auto [w2, h2] = doc_size(p.character);
+    return write_picture(p, a.overlay, w2, h2, Rgba{1, 1, 1, 1}, true, targets);
+  }
+  return kExitOk;
+}
+
 int cmd_inspect_rig(const InspectArgs& a) {
   if (!a.mask.empty()) {
     std::cerr << "error: --mask with --rig is not supported yet\n";
@@ -65,10 +119,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
   }
   Puppet& p = **loaded.value;
   const FeatureFrameMethod* ff = p.feature_frame();
-  if (!ff) {
-    std::cerr << "error: inspect --rig shows the feature frame; " << p.rig.path << " uses solver '" << p.rig.solver << "'\n";
-    return kExitBadInput;
-  }
+  if (!ff) return inspect_mesh_rig(a, p);
   // PRE and SOL: medians of 7 runs (the first prepare happened in load_puppet).
   std::vector<double> pre{p.prefactor_ms}, sol;
   const SolverWeights w = p.weights();

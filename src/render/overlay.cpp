@@ -2,6 +2,17 @@
 
 namespace mar {
 
+namespace {
+// The overlay's triangles as one untextured batch (merged into the last if it is one).
+void close_batch(DrawList& out, int first) {
+  if (!out.batches.empty() && out.batches.back().texture == nullptr) {
+    out.batches.back().index_count = static_cast<int>(out.indices.size()) - out.batches.back().first_index;
+  } else {
+    out.batches.push_back({nullptr, first, static_cast<int>(out.indices.size()) - first});
+  }
+}
+}  // namespace
+
 void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, std::span<const Vec2> handles,
                           const Affine2& view, DrawList& out) {
   const int first = static_cast<int>(out.indices.size());
@@ -45,11 +56,37 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
     seg[0] = seg[1] = view.apply(h);
     stroke_polyline(seg, false, ring, handle, out);
   }
-  if (!out.batches.empty() && out.batches.back().texture == nullptr) {
-    out.batches.back().index_count = static_cast<int>(out.indices.size()) - out.batches.back().first_index;
-  } else {
-    out.batches.push_back({nullptr, first, static_cast<int>(out.indices.size()) - first});
+  close_batch(out, first);
+}
+
+void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,
+                         std::span<const Vec2> handles, const Affine2& view, DrawList& out) {
+  const int first = static_cast<int>(out.indices.size());
+  StrokeStyle edge, dot, ring;
+  edge.half_width = 0.6;
+  dot.half_width = 1.5;
+  dot.cap = edge.cap = LineCap::Round;
+  ring.half_width = 6.0;
+  ring.cap = LineCap::Round;
+  const SDL_Color line{90, 90, 110, 200}, point{20, 20, 20, 255}, handle{0, 170, 80, 200};
+  Vec2 seg[2];
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)];
+      if (a > b) continue;  // each shared edge once (its other triangle has it the other way round)
+      seg[0] = view.apply(v[size_t(a)]);
+      seg[1] = view.apply(v[size_t(b)]);
+      stroke_polyline(seg, false, edge, line, out);
+    }
+  for (const Vec2& p : v) {
+    seg[0] = seg[1] = view.apply(p);
+    stroke_polyline(seg, false, dot, point, out);
   }
+  for (const Vec2& h : handles) {
+    seg[0] = seg[1] = view.apply(h);
+    stroke_polyline(seg, false, ring, handle, out);
+  }
+  close_batch(out, first);
 }
 
 }  // namespace mar

@@ -6,10 +6,17 @@
 #include "frame/feature_frame.h"
 #include "render/tessellate.h"
 
+#include <array>
+
 namespace mar {
 
 /// Appends the overlay for frame vertices `v` (#q) and handle positions, mapped by `view`.
 void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, std::span<const Vec2> handles,
                           const Affine2& view, DrawList& out);
+
+/// Appends a triangle mesh (a solver's: edges grey, vertices black) and handle positions
+/// (green rings), mapped by `view`.
+void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,
+                         std::span<const Vec2> handles, const Affine2& view, DrawList& out);
 
 }  // namespace mar

@@ -3,6 +3,8 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 namespace mar {
@@ -219,6 +221,36 @@ TEST(cli_pose, BadTargetsAndRigsExitTwo) {
   r = test::run_cli("pose " + character("figure") + " --rig " + q(unknown));
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_NE(r.err.find("unknown.toml:2: unknown solver 'magic'"), std::string::npos) << r.err;
+}
+
+// A raster character (PNG) rigged for the outline ARAP baseline: inspect shows its mesh,
+// pose moves the drawing with it.
+TEST(cli_raster, InspectShowsTheMeshAndPoseMovesTheDrawing) {
+  const std::string png = q(test::characters_dir() / "boy.png"), r = rig("boy_raster");
+  const auto dir = test::temp_dir("raster");
+  auto in = test::run_cli("inspect " + png + " --rig " + r + " --json -o " + q(dir / "mesh.png"));
+  ASSERT_EQ(in.exit_code, 0) << in.err;
+  const auto j = nlohmann::json::parse(in.out);
+  EXPECT_EQ(j["mesh"]["solver"], "arap");
+  EXPECT_GT(j["mesh"]["interior_points"].get<int>(), 100);  // the inside is meshed, not only the outline
+  EXPECT_GT(j["mesh"]["triangles"].get<int>(), j["mesh"]["vertices"].get<int>());
+  EXPECT_EQ(j["handles"].size(), 7u);
+  EXPECT_TRUE(read_png_image((dir / "mesh.png").string()).ok());
+  auto rest = test::run_cli("pose " + png + " --rig " + r + " -o " + q(dir / "rest.png"));
+  ASSERT_EQ(rest.exit_code, 0) << rest.err;
+  auto up = test::run_cli("pose " + png + " --rig " + r + " --target right-hand=260,90 -o " + q(dir / "up.png") + " --dump " +
+                          q(dir / "up.json"));
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  std::ifstream f(dir / "up.json");
+  const auto d = nlohmann::json::parse(f);
+  EXPECT_LT(d["handle_residuals"]["right-hand"].get<double>(), 8.0);
+  // The raised arm's pixels: opaque above the shoulder on the right, where the rest pose has none.
+  auto a = read_png_image((dir / "rest.png").string());
+  auto b = read_png_image((dir / "up.png").string());
+  ASSERT_TRUE(a.ok() && b.ok());
+  auto alpha = [](const Image& im, int x, int y) { return im.rgba[(size_t(y) * size_t(im.width) + size_t(x)) * 4 + 3]; };
+  EXPECT_EQ(alpha(*a.value, 245, 110), 0);
+  EXPECT_GT(alpha(*b.value, 245, 110) + alpha(*b.value, 240, 120) + alpha(*b.value, 250, 100), 0);
 }
 
 }  // namespace

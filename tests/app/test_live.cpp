@@ -407,5 +407,32 @@ TEST(Live, DemoShowPrintsNoWarning) {
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
 }
 
+// The raster example show: a PNG character, the outline ARAP baseline, a fader, a knob and a
+// pen grab; the hand follows the fader and steady frames allocate nothing.
+TEST(Live, RasterShowPosesAPngWithTheArapBaseline) {
+  const auto dir = test::temp_dir("raster-show");
+  auto r = test::run_cli("run " + (test::source_dir() / "config/shows/raster.toml").string() + " --headless --stats " +
+                         (dir / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  std::ifstream f(dir / "s.json");
+  const auto j = nlohmann::json::parse(f);
+  EXPECT_GT(j["frames"].get<int>(), 200);
+  EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
+  EXPECT_GE(j["grabs"]["count"].get<int>(), 2);
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.frames = 90;  // 1.5 s: the fader has raised the hand
+  auto s = LiveShow::load((test::source_dir() / "config/shows/raster.toml").string(), o);
+  ASSERT_TRUE(s.ok()) << s.error;
+  ASSERT_EQ((*s.value)->run(), 0);
+  const Puppet& p = (*s.value)->puppet();
+  EXPECT_EQ(p.solver->name(), "arap");
+  const int hand = p.rig.find_handle("right-hand");
+  ASSERT_GE(hand, 0);
+  EXPECT_LT(p.solver->handle_point(size_t(hand)).y(), 130.0);  // from 248 at rest toward 90
+}
+
 }  // namespace
 }  // namespace mar
