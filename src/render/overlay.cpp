@@ -11,6 +11,20 @@ void close_batch(DrawList& out, int first) {
     out.batches.push_back({nullptr, first, static_cast<int>(out.indices.size()) - first});
   }
 }
+
+// Vertices as dots, then handles as rings over them.
+void dots_and_rings(std::span<const Vec2> v, const StrokeStyle& dot, SDL_Color point, std::span<const Vec2> handles,
+                    const StrokeStyle& ring, SDL_Color handle, const Affine2& view, DrawList& out) {
+  Vec2 seg[2];
+  for (const Vec2& p : v) {
+    seg[0] = seg[1] = view.apply(p);
+    stroke_polyline(seg, false, dot, point, out);
+  }
+  for (const Vec2& h : handles) {
+    seg[0] = seg[1] = view.apply(h);
+    stroke_polyline(seg, false, ring, handle, out);
+  }
+}
 }  // namespace
 
 void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, std::span<const Vec2> handles,
@@ -48,14 +62,7 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
     seg[0] = seg[1] = view.apply(v[static_cast<size_t>(jt.va)]);
     stroke_polyline(seg, false, hinge, joint, out);
   }
-  for (const Vec2& p : v) {
-    seg[0] = seg[1] = view.apply(p);
-    stroke_polyline(seg, false, dot, point, out);
-  }
-  for (const Vec2& h : handles) {
-    seg[0] = seg[1] = view.apply(h);
-    stroke_polyline(seg, false, ring, handle, out);
-  }
+  dots_and_rings(v, dot, point, handles, ring, handle, view, out);
   close_batch(out, first);
 }
 
@@ -78,14 +85,7 @@ void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int
       seg[1] = view.apply(v[size_t(b)]);
       stroke_polyline(seg, false, edge, line, out);
     }
-  for (const Vec2& p : v) {
-    seg[0] = seg[1] = view.apply(p);
-    stroke_polyline(seg, false, dot, point, out);
-  }
-  for (const Vec2& h : handles) {
-    seg[0] = seg[1] = view.apply(h);
-    stroke_polyline(seg, false, ring, handle, out);
-  }
+  dots_and_rings(v, dot, point, handles, ring, handle, view, out);
   close_batch(out, first);
 }
 
