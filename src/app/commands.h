@@ -44,6 +44,7 @@ struct PoseArgs {
   std::string size;
   std::string background;
   bool overlay = false;
+  std::string mask;                  ///< PNG character: mask image (non-black = figure)
 };
 int cmd_pose(const PoseArgs& a);
 

@@ -67,7 +67,7 @@ int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
   const std::vector<Vec2> targets = p.rest_targets();
   std::vector<double> pre{p.prefactor_ms}, sol;
   for (int k = 0; k < 7; ++k) {
-    auto reloaded = load_puppet(a.input, a.rig);  // prepare inserts interior points: start from the file
+    auto reloaded = load_puppet(a.input, a.rig, a.mask);  // prepare inserts interior points: start from the file
     if (!reloaded.ok()) break;
     Puppet& q = **reloaded.value;
     pre.push_back(q.prefactor_ms);
@@ -108,11 +108,7 @@ int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
 }
 
 int cmd_inspect_rig(const InspectArgs& a) {
-  if (!a.mask.empty()) {
-    std::cerr << "error: --mask with --rig is not supported yet\n";
-    return kExitBadInput;
-  }
-  auto loaded = load_puppet(a.input, a.rig);
+  auto loaded = load_puppet(a.input, a.rig, a.mask);
   if (!loaded.ok()) {
     std::cerr << "error: " << loaded.error << "\n";
     return kExitBadInput;
@@ -180,7 +176,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
 }
 
 int cmd_pose(const PoseArgs& a) {
-  auto loaded = load_puppet(a.input, a.rig);
+  auto loaded = load_puppet(a.input, a.rig, a.mask);
   if (!loaded.ok()) {
     std::cerr << "error: " << loaded.error << "\n";
     return kExitBadInput;

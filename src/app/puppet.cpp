@@ -21,7 +21,8 @@ SolverWeights Puppet::weights() const {
   return w;
 }
 
-Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path) {
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
+                                            const std::string& mask_path) {
   using R = Result<std::unique_ptr<Puppet>>;
   Result<Rig> rig = load_rig(rig_path);
   if (!rig.ok()) return R::failure(rig.error);
@@ -30,10 +31,12 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, c
   p->solver = make_solver(p->rig.solver);
   if (!p->solver) {
     return R::failure(p->rig.path + ":" + std::to_string(std::max(1, p->rig.solver_line)) + ": unknown solver '" + p->rig.solver +
-                      "' (known: feature_frame)");
+                      "' (known: feature_frame, arap)");
   }
   const std::string path = character_path.empty() ? p->rig.character_path() : character_path;
-  Result<Character> ch = load_character(path);
+  LoadOptions lo;
+  lo.mask_path = mask_path;
+  Result<Character> ch = load_character(path, lo);
   if (!ch.ok()) return R::failure(ch.error);
   p->character = std::move(*ch.value);
   const Bounds b = p->character.bounds();

@@ -31,6 +31,8 @@ struct Puppet {
 
 /// Loads the rig, then the character (`character_path`, or the rig's own when empty).
 /// Errors are bad input (file:line).
-Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path);
+/// `mask_path`: a PNG character's mask (non-black = figure); empty: its alpha.
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
+                                            const std::string& mask_path = "");
 
 }  // namespace mar

@@ -253,5 +253,39 @@ TEST(cli_raster, InspectShowsTheMeshAndPoseMovesTheDrawing) {
   EXPECT_GT(alpha(*b.value, 245, 110) + alpha(*b.value, 240, 120) + alpha(*b.value, 250, 100), 0);
 }
 
+// A scan without alpha plus a mask rigs and poses like the PNG with alpha it was made from.
+TEST(cli_raster, AnOpaqueScanWithAMaskRigsLikeItsAlphaVersion) {
+  const auto dir = test::temp_dir("raster-mask");
+  auto src = read_png_image((test::characters_dir() / "boy.png").string());
+  ASSERT_TRUE(src.ok());
+  Image opaque = *src.value, mask = *src.value;
+  for (size_t i = 0; i < opaque.rgba.size(); i += 4) {
+    const uint8_t a = src.value->rgba[i + 3];
+    for (int k = 0; k < 3; ++k) opaque.rgba[i + size_t(k)] = uint8_t((opaque.rgba[i + size_t(k)] * a + 255 * (255 - a)) / 255);
+    opaque.rgba[i + 3] = 255;  // white paper
+    for (int k = 0; k < 3; ++k) mask.rgba[i + size_t(k)] = a;
+    mask.rgba[i + 3] = 255;
+  }
+  ASSERT_EQ(write_png((dir / "scan.png").string(), opaque), "");
+  ASSERT_EQ(write_png((dir / "mask.png").string(), mask), "");
+  const std::string r = rig("boy_raster");
+  auto with_alpha = test::run_cli("inspect " + q(test::characters_dir() / "boy.png") + " --rig " + r + " --json");
+  auto with_mask = test::run_cli("inspect " + q(dir / "scan.png") + " --mask " + q(dir / "mask.png") + " --rig " + r + " --json");
+  ASSERT_EQ(with_alpha.exit_code, 0) << with_alpha.err;
+  ASSERT_EQ(with_mask.exit_code, 0) << with_mask.err;
+  const auto a = nlohmann::json::parse(with_alpha.out), m = nlohmann::json::parse(with_mask.out);
+  EXPECT_NEAR(m["mesh"]["vertices"].get<double>(), a["mesh"]["vertices"].get<double>(), 0.05 * a["mesh"]["vertices"].get<double>());
+  EXPECT_EQ(m["mesh"]["interior_points"], a["mesh"]["interior_points"]);
+  auto up = test::run_cli("pose " + q(dir / "scan.png") + " --mask " + q(dir / "mask.png") + " --rig " + r +
+                          " --target right-hand=260,90 --dump " + q(dir / "up.json"));
+  ASSERT_EQ(up.exit_code, 0) << up.err;
+  std::ifstream f(dir / "up.json");
+  EXPECT_LT(nlohmann::json::parse(f)["handle_residuals"]["right-hand"].get<double>(), 8.0);
+  // Without the mask the opaque scan is one rectangle: a different character.
+  auto plain = test::run_cli("inspect " + q(dir / "scan.png") + " --rig " + r + " --json");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_NE(nlohmann::json::parse(plain.out)["mesh"]["interior_points"], a["mesh"]["interior_points"]);
+}
+
 }  // namespace
 }  // namespace mar
