@@ -1,5 +1,6 @@
 #include "solve/arap.h"
 
+#include "geom/polygon.h"
 #include "geom/triangulate.h"
 
 #include <algorithm>
@@ -15,29 +16,13 @@ namespace {
 // the part's own deformation.
 constexpr double kFreePull = 1e-4;
 
-// Even-odd inside test of one closed contour.
-bool inside(std::span<const Vec2> poly, const Vec2& q) {
-  bool in = false;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vec2 &a = poly[i], &b = poly[j];
-    if ((a.y() > q.y()) != (b.y() > q.y()) && q.x() < (b.x() - a.x()) * (q.y() - a.y()) / (b.y() - a.y()) + a.x()) in = !in;
-  }
-  return in;
-}
-
 // Inside a sub-shape: even-odd over its closed contours (an outline and its holes).
 bool inside_shape(const SubShape& s, const Vec2& q) {
   bool in = false;
   for (const Contour& c : s.contours)
-    if (c.closed && c.count >= 3 && inside(std::span(s.points).subspan(size_t(c.begin), size_t(c.count)), q)) in = !in;
+    if (c.closed && c.count >= 3 && winding_number(std::span(s.points).subspan(size_t(c.begin), size_t(c.count)), q) % 2 != 0)
+      in = !in;
   return in;
-}
-
-double segment_distance(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 d = b - a;
-  const double len2 = d.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(d) / len2, 0.0, 1.0) : 0.0;
-  return (p - (a + t * d)).norm();
 }
 
 // Interior points on a square lattice of spacing h (one lattice for the whole character,
@@ -62,7 +47,7 @@ void add_interior_points(Character& ch, double h) {
         const Vec2 p(x, y);
         if (!inside_shape(s, p)) continue;
         bool clear = true;
-        for (size_t k = 0; k < lines.size() && clear; ++k) clear = segment_distance(p, lines[k].first, lines[k].second) >= 0.5 * h;
+        for (size_t k = 0; k < lines.size() && clear; ++k) clear = point_segment_distance(p, lines[k].first, lines[k].second) >= 0.5 * h;
         if (!clear) continue;
         s.contours.push_back({int(s.points.size()), 1, false});
         s.points.push_back(p);
@@ -224,14 +209,15 @@ bool OutlineArap::factorise(std::string* error) {
   std::vector<char> held(n, 0);
   for (const Bary& h : handles_) held[size_t(find(h.v[0]))] = 1;
   std::vector<Eigen::Triplet<double>> t;
+  pull_.assign(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     double d = 0;
     for (int p = nb_start_[i]; p < nb_start_[i + 1]; ++p) {
       t.emplace_back(int(i), nb_[size_t(p)], -2 * nb_w_[size_t(p)]);
       d += 2 * nb_w_[size_t(p)];
     }
-    if (!held[size_t(find(int(i)))]) d += kFreePull * (1 + d);
-    t.emplace_back(int(i), int(i), d);
+    if (!held[size_t(find(int(i)))]) pull_[i] = kFreePull * (1 + d);
+    t.emplace_back(int(i), int(i), d + pull_[i]);
   }
   for (const Bary& h : handles_)
     for (int a = 0; a < 3; ++a)
@@ -242,8 +228,6 @@ bool OutlineArap::factorise(std::string* error) {
     if (error) *error = "arap: the system matrix could not be factorised";
     return false;
   }
-  free_.assign(n, 0);
-  for (size_t i = 0; i < n; ++i) free_[i] = !held[size_t(find(int(i)))];
   return true;
 }
 
@@ -324,12 +308,8 @@ void OutlineArap::global_step(std::span<const Vec2> targets) {
       bx += w * (c * r.x() - s * r.y());
       by += w * (s * r.x() + c * r.y());
     }
-    if (free_[i]) {
-      double d = 0;
-      for (int p = nb_start_[i]; p < nb_start_[i + 1]; ++p) d += 2 * nb_w_[size_t(p)];
-      bx += kFreePull * (1 + d) * x_[i].x();
-      by += kFreePull * (1 + d) * x_[i].y();
-    }
+    bx += pull_[i] * x_[i].x();
+    by += pull_[i] * x_[i].y();
     bx_[size_t(perm[i])] = bx;
     by_[size_t(perm[i])] = by;
   }

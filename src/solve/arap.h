@@ -56,7 +56,7 @@ class OutlineArap final : public Solver {
   std::vector<int> nb_start_, nb_;  ///< one-ring (CSR); each undirected edge appears in both rings
   std::vector<double> nb_w_;        ///< cotangent weight of the edge
   std::vector<double> rc_, rs_;     ///< per-vertex rotation (cos, sin)
-  std::vector<char> free_;          ///< vertex of a part no handle reaches
+  std::vector<double> pull_;        ///< pull toward the current pose of a part no handle reaches (0: held)
   std::vector<std::vector<Bary>> binds_;  ///< per shape, per point
   std::vector<Bary> handles_;
   double position_ = 100;
