@@ -1,6 +1,7 @@
 // inspect --rig and pose: the feature-frame commands.
 #include "app/commands.h"
 #include "solve/arap.h"
+#include "solve/rigid_grid.h"
 #include "app/puppet.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
@@ -37,6 +38,8 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
     if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
     if (const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get()))
       append_mesh_overlay(arap->vertices(), arap->triangles(), handle_points, view, list);
+    if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get()))
+      append_grid_overlay(grid->nodes(), grid->grid_nodes(), grid->grid_edges(), grid->junction_triangles(), handle_points, view, list);
   }
   if (std::string err = c.draw(list); !err.empty()) {
     std::cerr << "error: " << err << "\n";

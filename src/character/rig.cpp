@@ -40,7 +40,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part"},
+                            "part", "grid", "stiffness"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -215,6 +215,56 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         r.parts.push_back(p);
       }
     }
+    if (const toml::node* gn = root.get("grid")) {
+      const toml::table* t = gn->as_table();
+      if (!t) throw RigError{at(path, *gn) + ": [grid] must be a table"};
+      check_keys(path, *t, {"cell", "half_width", "weights", "junction"}, "[grid]");
+      if (const toml::node* n = t->get("junction")) {
+        const auto v = n->value<std::string>();
+        if (!v || (*v != "triangles" && *v != "mvc")) throw RigError{at(path, *n) + ": junction must be \"triangles\" or \"mvc\""};
+        r.grid_junction_term = *v;
+      }
+      if (const toml::node* n = t->get("cell")) {
+        r.grid_cell = number(path, *n, "cell");
+        if (!(r.grid_cell > 0)) throw RigError{at(path, *n) + ": cell must be positive (character units)"};
+      }
+      if (const toml::node* n = t->get("half_width")) {
+        const auto v = n->value<int64_t>();
+        if (!v || *v < 1 || *v > 32) throw RigError{at(path, *n) + ": half_width must be a whole number 1..32 (cells)"};
+        r.grid_half_width = static_cast<int>(*v);
+      }
+      if (const toml::node* n = t->get("weights")) {
+        const toml::table* w = n->as_table();
+        if (!w) throw RigError{at(path, *n) + ": weights must be { rigidity = 6.0, junction = 1.0 }"};
+        check_keys(path, *w, {"rigidity", "junction"}, "[grid] weights");
+        if (const toml::node* x = w->get("rigidity")) r.grid_rigidity = number(path, *x, "rigidity");
+        if (const toml::node* x = w->get("junction")) r.grid_junction = number(path, *x, "junction");
+        if (!(r.grid_rigidity > 0) || !(r.grid_junction > 0)) throw RigError{at(path, *n) + ": grid weights must be positive"};
+      }
+    }
+    if (const toml::node* sn = root.get("stiffness")) {
+      const toml::array* a = sn->as_array();
+      if (!a) throw RigError{at(path, *sn) + ": use [[stiffness]] tables"};
+      for (const toml::node& node : *a) {
+        const toml::table* t = node.as_table();
+        if (!t) throw RigError{at(path, node) + ": a stiffness region must be a table"};
+        check_keys(path, *t, {"name", "center", "radius", "weight"}, "[[stiffness]]");
+        RigStiffness s;
+        s.line = static_cast<int>(node.source().begin.line);
+        const toml::node* c = t->get("center");
+        const toml::node* rad = t->get("radius");
+        const toml::node* w = t->get("weight");
+        if (!c || !rad || !w) throw RigError{at(path, node) + ": a stiffness region needs center = [x, y], radius and weight"};
+        if (const toml::node* nm = t->get("name")) s.name = nm->value<std::string>().value_or("");
+        s.center = point(path, *c, "center");
+        s.radius = number(path, *rad, "radius");
+        s.weight = number(path, *w, "weight");
+        if (!(s.radius > 0) || !(s.weight > 0)) throw RigError{at(path, node) + ": radius and weight must be positive"};
+        for (const RigStiffness& o : r.stiffness)
+          if (!s.name.empty() && o.name == s.name) throw RigError{at(path, node) + ": stiffness region '" + s.name + "' defined twice"};
+        r.stiffness.push_back(s);
+      }
+    }
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
     return Result<Rig>::failure(e.message);
@@ -267,6 +317,19 @@ std::string write_rig(const Rig& r) {
   }
   for (const RigPart& p : r.parts) {
     o << "\n[[part]]\nid = " << toml::value<std::string>(p.id) << "\nstiffness = " << p.stiffness << "\n";
+  }
+  const Rig d = default_rig();
+  if (r.grid_cell != d.grid_cell || r.grid_half_width != d.grid_half_width || r.grid_rigidity != d.grid_rigidity ||
+      r.grid_junction != d.grid_junction || r.grid_junction_term != d.grid_junction_term) {
+    o << "\n[grid]\n";
+    if (r.grid_cell > 0) o << "cell = " << r.grid_cell << "\n";
+    o << "half_width = " << r.grid_half_width << "\njunction = " << toml::value<std::string>(r.grid_junction_term)
+      << "\nweights = { rigidity = " << r.grid_rigidity << ", junction = " << r.grid_junction << " }\n";
+  }
+  for (const RigStiffness& s : r.stiffness) {
+    o << "\n[[stiffness]]\n";
+    if (!s.name.empty()) o << "name = " << toml::value<std::string>(s.name) << "\n";
+    o << "center = " << pt(s.center) << "\nradius = " << s.radius << "\nweight = " << s.weight << "\n";
   }
   return o.str();
 }

@@ -49,6 +49,15 @@ struct RigPart {
   int line = 0;
 };
 
+/// A region of local stiffness for the rigid grid: nodes within `radius` of `center` get
+/// weight `weight` (w_i); a named one is a live setting `solver.stiffness.NAME`.
+struct RigStiffness {
+  std::string name;
+  Vec2 center = Vec2::Zero();
+  double radius = 0, weight = 1;
+  int line = 0;
+};
+
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
@@ -65,6 +74,14 @@ struct Rig {
   bool auto_stiffness = true; ///< bigger parts stiffer
   std::vector<RigJoint> joints;
   std::vector<RigPart> parts;
+  // The rigid grid (solver = "rigid_grid"): [grid] and [[stiffness]].
+  double grid_cell = 0;        ///< cell size, character units (0: the diagonal / 40)
+  int grid_half_width = 3;     ///< w, whole cells: the global stiffness
+  double grid_rigidity = 6, grid_junction = 6;  ///< w_r, w_s (seed 003: 6, 1 with its Eq. 4 term)
+  /// "triangles": each junction triangle as rigid as possible; "mvc": seed 003's Eq. 4
+  /// (mean-value coordinates + rest lengths along the current directions).
+  std::string grid_junction_term = "triangles";
+  std::vector<RigStiffness> stiffness;
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;

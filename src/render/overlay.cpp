@@ -89,4 +89,31 @@ void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int
   close_batch(out, first);
 }
 
+void append_grid_overlay(std::span<const Vec2> v, size_t grid_count, std::span<const std::array<int, 2>> grid_edges,
+                         std::span<const std::array<int, 3>> junction_triangles, std::span<const Vec2> handles,
+                         const Affine2& view, DrawList& out) {
+  const int first = static_cast<int>(out.indices.size());
+  StrokeStyle edge, dot, ring;
+  edge.half_width = 0.6;
+  dot.half_width = 1.4;
+  dot.cap = edge.cap = LineCap::Round;
+  ring.half_width = 6.0;
+  ring.cap = LineCap::Round;
+  const SDL_Color grid{40, 90, 220, 220}, junction{235, 120, 20, 200}, boundary{150, 20, 30, 255}, handle{0, 170, 80, 200};
+  Vec2 seg[2];
+  for (const auto& t : junction_triangles)
+    for (int k = 0; k < 3; ++k) {
+      seg[0] = view.apply(v[size_t(t[size_t(k)])]);
+      seg[1] = view.apply(v[size_t(t[size_t((k + 1) % 3)])]);
+      stroke_polyline(seg, false, edge, junction, out);
+    }
+  for (const auto& e : grid_edges) {
+    seg[0] = view.apply(v[size_t(e[0])]);
+    seg[1] = view.apply(v[size_t(e[1])]);
+    stroke_polyline(seg, false, edge, grid, out);
+  }
+  dots_and_rings(v.subspan(std::min(grid_count, v.size())), dot, boundary, handles, ring, handle, view, out);
+  close_batch(out, first);
+}
+
 }  // namespace mar

@@ -19,4 +19,11 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
 void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,
                          std::span<const Vec2> handles, const Affine2& view, DrawList& out);
 
+/// Appends the rigid grid's hybrid representation like seed 003 Figs. 1(e-f) and 2: the
+/// interior grid (blue cell edges), the junction triangles (orange edges), the boundary
+/// curve nodes (dark red dots; nodes [grid_count, ...) of `v`) and handles (green rings).
+void append_grid_overlay(std::span<const Vec2> v, size_t grid_count, std::span<const std::array<int, 2>> grid_edges,
+                         std::span<const std::array<int, 3>> junction_triangles, std::span<const Vec2> handles,
+                         const Affine2& view, DrawList& out);
+
 }  // namespace mar

@@ -185,6 +185,62 @@ stiffness = 3.5
   EXPECT_EQ(write_rig(*back.value), write_rig(a));
 }
 
+TEST(parse_rig, GridAndStiffnessRoundTrip) {
+  const char* text = R"toml(character = "c.png"
+solver = "rigid_grid"
+[grid]
+cell = 8.5
+half_width = 4
+junction = "mvc"
+weights = { rigidity = 5.0, junction = 2.0 }
+
+[[stiffness]]
+name = "arm"
+center = [10, 20]
+radius = 15
+weight = 3.0
+
+[[stiffness]]
+center = [1, 2]
+radius = 4
+weight = 0.5
+)toml";
+  auto a = parse_rig(text, "g.toml");
+  ASSERT_TRUE(a.ok()) << a.error;
+  const Rig& r = *a.value;
+  EXPECT_EQ(r.grid_cell, 8.5);
+  EXPECT_EQ(r.grid_half_width, 4);
+  EXPECT_EQ(r.grid_junction_term, "mvc");
+  EXPECT_EQ(r.grid_rigidity, 5.0);
+  EXPECT_EQ(r.grid_junction, 2.0);
+  ASSERT_EQ(r.stiffness.size(), 2u);
+  EXPECT_EQ(r.stiffness[0].name, "arm");
+  EXPECT_EQ(r.stiffness[0].center, Vec2(10, 20));
+  EXPECT_EQ(r.stiffness[1].weight, 0.5);
+  auto back = parse_rig(write_rig(r), "g.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
+  EXPECT_EQ(write_rig(*back.value), write_rig(r));
+  EXPECT_EQ(back.value->stiffness.size(), 2u);
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"character = \"a.png\"\n[grid]\nhalf_width = 0\n", "r.toml:3: half_width must be a whole number"},
+      {"character = \"a.png\"\n[grid]\ncell = -2\n", "r.toml:3: cell must be positive"},
+      {"character = \"a.png\"\n[grid]\njunction = \"glue\"\n", "r.toml:3: junction must be"},
+      {"character = \"a.png\"\n[grid]\nsize = 3\n", "r.toml:3: unknown key 'size'"},
+      {"character = \"a.png\"\n[[stiffness]]\ncenter = [1, 2]\nradius = 3\n", "r.toml:2: a stiffness region needs"},
+      {"character = \"a.png\"\n[[stiffness]]\nname = \"a\"\ncenter = [1, 2]\nradius = 3\nweight = 1\n[[stiffness]]\nname = \"a\"\ncenter = [1, 2]\nradius = 3\nweight = 1\n",
+       "r.toml:7: stiffness region 'a' defined twice"},
+  };
+  for (const Case& c : cases) {
+    auto e = parse_rig(c.text, "r.toml");
+    ASSERT_FALSE(e.ok()) << c.text;
+    EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
+  }
+}
+
 TEST(load_rig, ExampleRigsLoad) {
   for (const char* name : {"butterfly", "figure", "koi", "boy", "candle"}) {
     auto r = load_rig((test::source_dir() / "config" / "rigs" / (std::string(name) + ".toml")).string());

@@ -2,6 +2,7 @@
 #include "character/load.h"
 #include "solve/arap.h"
 #include "solve/feature_frame.h"
+#include "solve/rigid_grid.h"
 #include "alloc_counter.h"
 #include "test_util.h"
 
@@ -57,6 +58,34 @@ TEST(OutlineArap, SteadyStateSolveAndGrabAllocateNothing) {
   const long before = test::allocation_count();
   for (int k = 10; k < 210; ++k) frame(k);
   EXPECT_EQ(test::allocation_count() - before, 0);
+}
+
+TEST(RigidGrid, SteadyStateSolveAndGrabAllocateNothing) {
+  for (const bool fast : {true, false}) {
+    auto ch = load_character((test::characters_dir() / "boy.png").string());
+    ASSERT_TRUE(ch.ok());
+    Character c = *ch.value;
+    const std::vector<Vec2> rest{{150, 60}, {110, 410}, {190, 410}, {214, 248}};
+    RigidGrid s;
+    std::string err;
+    ASSERT_TRUE(s.prepare(c, default_rig(), rest, SolverWeights{}, &err)) << err;
+    s.set_fast_summation(fast);
+    std::vector<Points> shapes;
+    for (const SubShape& sh : c.shapes) shapes.push_back(sh.points);
+    std::vector<Vec2> targets = rest;
+    targets.push_back(Vec2(150, 200));
+    auto frame = [&](int k) {
+      targets[3] = rest[3] + Vec2(std::sin(k * 0.1) * 40, std::cos(k * 0.13) * 40);
+      if (k % 50 == 0) s.grab(Vec2(150, 200));
+      if (k % 50 == 25) s.release();
+      s.solve(std::span<const Vec2>(targets.data(), s.grabbing() ? targets.size() : rest.size()), 8);
+      s.shape_points(shapes);
+    };
+    for (int k = 1; k < 10; ++k) frame(k);
+    const long before = test::allocation_count();
+    for (int k = 10; k < 210; ++k) frame(k);
+    EXPECT_EQ(test::allocation_count() - before, 0) << (fast ? "fast summation" : "plain sums");
+  }
 }
 
 }  // namespace

@@ -1,0 +1,212 @@
+// The topology-aware rigid grid (seed 003; ALGORITHMS.md §4).
+//
+// Representation. The character's filled region gets a regular grid trimmed to
+// the cells wholly inside it (the interior grid; cell = the global resolution).
+// Every contour — outline, hole or open stroke — is resampled into a boundary
+// curve with edges of at most one cell, every contour point kept as a node (V¹
+// exact). A constrained Delaunay triangulation of all nodes (curves as
+// constraints) is the triangular mesh; its interior vertices are the grid nodes
+// (V², a bilinear combination with one weight), and points where contours cross
+// are free vertices (V³). Junction triangles: the mesh triangles outside the
+// interior cells or in a border cell (a cell missing one of its eight
+// neighbours).
+//
+// Energy (Eq. 1-5), minimised by alternating local and global steps:
+//   w_r Σ_i (w_i / #R_i) Σ_{j∈R_i} |(q_j − q_c) − A_i (p_j − p_c)|²        (rigid regions)
+// + w_s E_s                                                                   (junction)
+// + w_p Σ_h |a_h · q − target_h|²                                             (handles)
+// R_i of a grid node: the nodes within w of it reached along its column of interior-cell
+// edges, then along a row (lattice-shape-matching bars: cells across a gap are never reached,
+// and the region sums separate, so each costs O(nodes) whatever w — the fast summation).
+// R_i of a curve node: the 2w̃+1 nodes around it on its curve, w̃ = round(w h / l_b).
+// Centre c = node i, or the handle node in R_i nearest to i (Eq. 2). w is the global
+// stiffness, w_i (from [[stiffness]] regions) the local one.
+// The junction term E_s ties curves to the grid over the junction triangles, one of:
+//  - "mvc", seed 003's Eq. 4: Σ_{v∈V} |v − Σ_j λ_vj v_j|² + Σ_{edges ij} |(v_i − v_j) − l̄_ij u_ij|²,
+//    λ the rest mean-value coordinates of the vertices whose one-ring is all junction
+//    triangles, u_ij the current direction of edge ij;
+//  - "triangles" (default): Σ_t Σ_{edges ij of t} |(v_i − v_j) − R_t (p_i − p_j)|², each
+//    junction triangle turned by its own best rotation. Eq. 4 keeps lengths but lets a thin
+//    triangle shear and turn over; with a whole outline of such triangles (a raster
+//    character's hand, ear or hem) that showed as smeared texture at w = 3 and 6 under a
+//    performer's drag, which per-triangle rotations do not (pictures: issue 12's note).
+// Both weigh w_s = 6 by default (the seed's 6 : 1 left the curves loose for the same reason).
+// Open strokes are curves of the same solve (boundary regions only), and strokes sharing an
+// end point share its node: a stick figure (Eq. 6). Handles are soft constraints at their
+// rest points (bilinear in a cell, or barycentric in a mesh triangle). The system matrix
+// depends on the rest shape only: factorised once.
+#pragma once
+
+#include <array>
+
+#include "solve/ldlt.h"
+#include "solve/solver.h"
+
+namespace mar {
+
+class RigidGrid final : public Solver {
+ public:
+  std::string_view name() const override { return "rigid_grid"; }
+  bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+               std::string* error) override;
+  /// half_width (w, whole cells), rigidity (w_r), junction (w_s), position
+  /// (w_p), then one `stiffness.NAME` per named [[stiffness]] region of the
+  /// rig. A change rebuilds the regions and factorises again on the calling
+  /// thread (it allocates; see refactor_us).
+  std::vector<SolverParameter> parameters() const override;
+  bool set_parameters(std::span<const double> values, std::string* error) override;
+  void solve(std::span<const Vec2> targets, int iterations) override;
+  void initial_guess(std::span<const Vec2> targets) override;
+  void reset_to_rest() override;
+  void shape_points(std::vector<Points>& out) const override;
+  Vec2 handle_point(size_t h) const override { return eval(handles_[h]); }
+  size_t handle_count() const override { return handles_.size(); }
+  void grab(const Vec2& rest_point) override;
+  void release() override { grab_active_ = false; }
+  bool grabbing() const override { return grab_active_; }
+
+  // --- views for tests, inspect and overlays ---
+  size_t grid_nodes() const { return grid_count_; }
+  size_t boundary_nodes() const { return curve_count_; }
+  size_t free_vertices() const { return rest_.size() - grid_count_ - curve_count_; }
+  /// Vertices of the triangular mesh (seed 003 Table 1's VER).
+  size_t mesh_vertices() const { return mesh_vertex_count_; }
+  const Points& rest() const { return rest_; }
+  const Points& nodes() const { return x_; }
+  std::span<const std::array<int, 3>> mesh_triangles() const { return tris_; }
+  std::span<const char> junction() const { return junction_; }  ///< per mesh triangle
+  double cell() const { return h_; }
+  int half_width() const { return half_width_; }
+  /// Regions: one per grid node, then one per position on each curve.
+  size_t regions() const { return reg_center_.size(); }
+  std::span<const int> region(size_t r) const { return {reg_.data() + reg_start_[r], size_t(reg_start_[r + 1] - reg_start_[r])}; }
+  int region_center(size_t r) const { return reg_center_[r]; }
+  long factor_nonzeros() const { return factor_.nonzeros(); }
+  /// The edges of the interior cells (pairs of grid nodes), for overlays.
+  std::vector<std::array<int, 2>> grid_edges() const;
+  /// The junction triangles, for overlays.
+  std::vector<std::array<int, 3>> junction_triangles() const;
+  /// Where a rest point of the character is now (embedded as a handle would
+  /// be).
+  Vec2 point_at(const Vec2& rest_point) const { return eval(embed(rest_point)); }
+
+  /// The energy of the current pose with the best rotations and edge directions
+  /// for it, plus the handle term for `targets`.
+  double energy(std::span<const Vec2> targets) const;
+
+  /// Region sums Σ_{j∈R_r} f_j for every region r (one value per node in, one
+  /// per region out), by the fast summation or by visiting every member; and
+  /// the transpose, Σ_{r: j∈R_r} g_r (one per region in, one per node out).
+  void region_sums(std::span<const double> f, std::span<double> out, bool fast) const;
+  void region_scatter(std::span<const double> g, std::span<double> out, bool fast) const;
+
+  /// Fast summation in the solve (default) or the plain sums (seed 003 Table 1
+  /// OPT2).
+  void set_fast_summation(bool on) { fast_ = on && !plain_; }
+  bool fast_summation() const { return fast_; }
+  /// Square regions of every grid node within w, ignoring reachability: the
+  /// plain regular grid the seed compares against (tests only; rebuilds and
+  /// factorises).
+  bool set_plain_regions(bool plain, std::string* error);
+
+ private:
+  struct Embed {  ///< a point as a combination of up to 4 nodes (bilinear or
+                  ///< barycentric)
+    int n = 1;
+    int v[4] = {0, 0, 0, 0};
+    double w[4] = {1, 0, 0, 0};
+  };
+  Vec2 eval(const Embed& e) const {
+    Vec2 p = Vec2::Zero();
+    for (int k = 0; k < e.n; ++k) p += e.w[k] * x_[size_t(e.v[k])];
+    return p;
+  }
+  Embed embed(const Vec2& p) const;
+  bool cell_inside(int ci, int cj) const {
+    return ci >= 0 && cj >= 0 && ci < nx_ && cj < ny_ && cell_in_[size_t(cj) * size_t(nx_) + size_t(ci)];
+  }
+  int corner_node(int i, int j) const { return node_of_corner_[size_t(j) * size_t(nx_ + 1) + size_t(i)]; }
+  void build_runs();
+  void build_regions();
+  bool factorise(std::string* error);
+  /// Windowed sums along runs of nodes (C channels interleaved): out[idx] = Σ
+  /// over the run positions within `w` of idx's position.
+  struct Runs {
+    std::vector<int> start{0};  ///< CSR over `idx`
+    std::vector<int> idx;       ///< node (or region) indices in run order
+    std::vector<char> closed;   ///< per run: a closed curve (windows wrap)
+    std::vector<int> half;      ///< per run: window half-width
+  };
+  void window_pass(const Runs& runs, const double* in, const std::vector<int>* in_map, double* out,
+                   const std::vector<int>* out_map, bool accumulate, int channels) const;
+  void gather(const double* f, double* out, int channels,
+              bool fast) const;  // per node → per region
+  void scatter(const double* g, double* out, int channels,
+               bool fast) const;  // per region → per node
+  void local_step();
+  void global_step(std::span<const Vec2> targets);
+
+  // parameters
+  double h_ = 1;
+  int half_width_ = 3;
+  double w_r_ = 6, w_s_ = 1, w_p_ = 100;
+  bool fast_ = true, plain_ = false, tri_mode_ = false;
+  struct Stiff {
+    std::string name;
+    Vec2 center;
+    double radius, weight;
+  };
+  std::vector<Stiff> stiff_;
+  // grid
+  Vec2 origin_ = Vec2::Zero();           ///< the grid's corner (0, 0)
+  Vec2 mid_ = Vec2::Zero();              ///< the character's centre: sums are taken relative to it
+  int nx_ = 0, ny_ = 0;                  ///< cells
+  std::vector<char> cell_in_;            ///< nx * ny
+  std::vector<int> node_of_corner_;      ///< (nx+1) * (ny+1): node index or -1
+  std::vector<std::array<int, 2>> gxy_;  ///< per grid node: its lattice corner
+  size_t grid_count_ = 0, curve_count_ = 0;
+  struct Curve {
+    int first, count;  ///< positions in cnode_
+    bool closed;
+    double spacing;  ///< mean node spacing l_b
+  };
+  std::vector<Curve> curves_;
+  std::vector<int> cnode_;  ///< per curve position: its node
+  Runs rows_, cols_,
+      curve_runs_;                 ///< grid rows and columns of interior-cell edges; curves
+  std::vector<int> curve_region_;  ///< per curve position: its region index
+  // nodes and regions
+  Points rest_, x_;
+  Points p_;                          ///< rest_ − mid_
+  std::vector<double> node_w_;        ///< local stiffness w_i per node
+  std::vector<int> reg_start_, reg_;  ///< region members (CSR)
+  std::vector<int> reg_center_;       ///< centre node (Eq. 2)
+  std::vector<int> reg_size_;         ///< #R_i
+  std::vector<Vec2> reg_psum_;        ///< Σ_{j∈R_i} p_j (relative to mid_)
+  std::vector<double> reg_k_;         ///< w_r w_i / #R_i
+  std::vector<double> rc_, rs_;       ///< per region rotation
+  // junction
+  std::vector<std::array<int, 3>> tris_;  ///< mesh triangles (node indices)
+  std::vector<char> junction_;
+  size_t mesh_vertex_count_ = 0;
+  std::vector<std::array<int, 2>> edges_;  ///< junction edges
+  std::vector<double> edge_len_;
+  std::vector<int> mvc_start_,
+      mvc_node_;               ///< per MVC vertex: itself first, then its ring
+  std::vector<double> mvc_w_;  ///< 1, then −λ_vj
+  // shape points and handles
+  std::vector<std::vector<Embed>> binds_;
+  std::vector<Embed> handles_;
+  std::vector<int> handle_node_;
+  std::vector<double> pull_;  ///< per node: the pull of a part no handle reaches (0: held)
+  PrefactoredLdlt factor_;
+  // per-iteration buffers
+  mutable std::vector<double> ch_in_, ch_mid_, ch_out_, prefix_;
+  std::vector<double> bx_, by_;
+  bool grab_active_ = false;
+  Embed grab_;
+  std::vector<double> grab_z_;
+  double grab_den_ = 1;
+};
+
+}  // namespace mar

@@ -1,0 +1,345 @@
+// The topology-aware rigid grid (seed 003) behind the solver seam
+// (solve/rigid_grid.h).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "character/load.h"
+#include "solve/rigid_grid.h"
+#include "test_util.h"
+
+namespace mar {
+namespace {
+
+// A filled polygon as a one-part character.
+Character polygon(const std::vector<Vec2>& outline) {
+  Character c;
+  SubShape s;
+  s.id = "shape";
+  s.points = outline;
+  s.contours.push_back({0, int(outline.size()), true});
+  s.fill.enabled = true;
+  c.shapes.push_back(s);
+  c.width = c.bounds().hi.x();
+  c.height = c.bounds().hi.y();
+  return c;
+}
+
+Rig grid_rig(double cell, int w) {
+  Rig r = default_rig();
+  r.solver = "rigid_grid";
+  r.grid_cell = cell;
+  r.grid_half_width = w;
+  return r;
+}
+
+struct Figure {
+  Character c;
+  std::vector<Vec2> rest{{150, 60}, {150, 190}, {150, 280}, {55, 250}, {245, 250}, {95, 395}, {205, 395}};
+  RigidGrid s;
+  bool ok = false;
+  explicit Figure(int w = 3, const char* file = "figure.svg", const char* junction = "triangles") {
+    auto ch = load_character((test::characters_dir() / file).string());
+    if (!ch.ok()) return;
+    c = *ch.value;
+    Rig r = default_rig();
+    r.grid_half_width = w;
+    r.grid_junction_term = junction;
+    std::string err;
+    ok = s.prepare(c, r, rest, SolverWeights{}, &err);
+    EXPECT_TRUE(ok) << err;
+  }
+  std::vector<Points> shapes() const {
+    std::vector<Points> out;
+    for (const SubShape& sh : c.shapes) out.push_back(sh.points);
+    s.shape_points(out);
+    return out;
+  }
+};
+
+TEST(RigidGrid, GridCurvesAndJunctionOverTheCharacterWithEveryPointBound) {
+  for (const char* file : {"figure.svg", "boy.png"}) {
+    Figure f(3, file);
+    ASSERT_TRUE(f.ok) << file;
+    EXPECT_GT(f.s.grid_nodes(), 100u) << file;
+    EXPECT_GT(f.s.boundary_nodes(), 100u) << file;
+    size_t junction = 0;
+    for (char j : f.s.junction()) junction += j ? 1 : 0;
+    EXPECT_GT(junction, 50u) << file;
+    EXPECT_LT(junction, f.s.mesh_triangles().size()) << file << ": triangles deep inside the grid are not junction triangles";
+    const auto shapes = f.shapes();
+    for (size_t k = 0; k < shapes.size(); ++k)
+      for (size_t i = 0; i < shapes[k].size(); ++i)
+        ASSERT_LT((shapes[k][i] - f.c.shapes[k].points[i]).norm(), 1e-9) << file << " " << k << " " << i;
+    for (size_t h = 0; h < f.rest.size(); ++h) EXPECT_LT((f.s.handle_point(h) - f.rest[h]).norm(), 1e-9) << file;
+  }
+}
+
+TEST(RigidGrid, ARigidMotionOfTheHandlesMovesEveryNodeRigidly) {
+  for (const char* junction : {"triangles", "mvc"}) {
+    Figure f(3, "figure.svg", junction);
+    ASSERT_TRUE(f.ok);
+    const double a = 0.7, c = std::cos(a), s = std::sin(a);
+    auto move = [&](const Vec2& p) { return Vec2(c * p.x() - s * p.y() + 30, s * p.x() + c * p.y() - 12); };
+    std::vector<Vec2> t;
+    for (const Vec2& p : f.rest) t.push_back(move(p));
+    f.s.initial_guess(t);
+    f.s.solve(t, 5);
+    const double size = 400;
+    for (size_t i = 0; i < f.s.rest().size(); ++i)
+      ASSERT_LT((f.s.nodes()[i] - move(f.s.rest()[i])).norm(), 1e-9 * size) << junction << " " << i;
+  }
+}
+
+TEST(RigidGrid, LocalGlobalStepsNeverRaiseTheEnergy) {
+  for (const char* junction : {"triangles", "mvc"})
+    for (int w : {1, 3, 6}) {
+      Figure f(w, "figure.svg", junction);
+      ASSERT_TRUE(f.ok);
+      std::vector<Vec2> t = f.rest;
+      t[4] = Vec2(290, 120);  // right hand up
+      t[5] = Vec2(60, 420);
+      double last = INFINITY;
+      for (int k = 0; k < 30; ++k) {
+        f.s.solve(t, 1);
+        const double e = f.s.energy(t);
+        ASSERT_TRUE(std::isfinite(e));
+        EXPECT_LE(e, last * (1 + 1e-9) + 1e-9) << junction << " w " << w << " iteration " << k;
+        last = e;
+      }
+    }
+}
+
+TEST(RigidGrid, FastSummationEqualsVisitingEveryMember) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1000, 1000);
+  for (int w : {1, 3, 6, 9}) {
+    Figure f(w, "boy.png");
+    ASSERT_TRUE(f.ok);
+    const size_t n = f.s.rest().size(), R = f.s.regions();
+    std::vector<double> v(n), fast(R), naive(R);
+    for (double& x : v) x = u(rng);
+    f.s.region_sums(v, fast, true);
+    f.s.region_sums(v, naive, false);
+    for (size_t r = 0; r < R; ++r) {
+      double scale = 0;
+      for (int j : f.s.region(r)) scale += std::abs(v[size_t(j)]);
+      ASSERT_NEAR(fast[r], naive[r], 1e-12 * scale) << "w " << w << " region " << r;
+    }
+    std::vector<double> g(R), tf(n), tn(n);
+    for (double& x : g) x = u(rng);
+    f.s.region_scatter(g, tf, true);
+    f.s.region_scatter(g, tn, false);
+    for (size_t j = 0; j < n; ++j) ASSERT_NEAR(tf[j], tn[j], 1e-12 * 1000 * double(R)) << "w " << w << " node " << j;
+    // The solve gives the same pose either way.
+    std::vector<Vec2> t = f.rest;
+    t[4] = Vec2(260, 90);
+    f.s.solve(t, 6);
+    const Points a = f.s.nodes();
+    f.s.reset_to_rest();
+    f.s.set_fast_summation(false);
+    f.s.solve(t, 6);
+    for (size_t i = 0; i < n; ++i) ASSERT_LT((f.s.nodes()[i] - a[i]).norm(), 1e-9) << "w " << w << " node " << i;
+  }
+}
+
+// A U whose arms are half a cell apart: dragging one arm must leave the other
+// where it is, where a plain regular grid (square regions) drags it along.
+TEST(RigidGrid, ArmsCloserThanACellAreNotNeighbours) {
+  const Character c = polygon({{0, 0}, {62, 0}, {62, 200}, {67, 200}, {67, 0}, {127, 0}, {127, 260}, {0, 260}});
+  const std::vector<Vec2> rest{{20, 240}, {107, 240}, {30, 10}};
+  std::vector<Vec2> t = rest;
+  t[2] = Vec2(-40, 30);  // arm A's top, out to the left
+  auto arm_b_moves = [&](bool plain) {
+    Character ch = c;
+    RigidGrid s;
+    std::string err;
+    EXPECT_TRUE(s.prepare(ch, grid_rig(10, 3), rest, SolverWeights{}, &err)) << err;
+    if (plain) {
+      EXPECT_TRUE(s.set_plain_regions(true, &err)) << err;
+    }
+    s.solve(t, 60);
+    std::vector<Points> out{ch.shapes[0].points};
+    s.shape_points(out);
+    double most = 0;
+    for (size_t i = 0; i < ch.shapes[0].points.size(); ++i) {
+      const Vec2 p = ch.shapes[0].points[i];
+      if (p.x() > 66 && p.y() < 150) most = std::max(most, (out[0][i] - p).norm());
+    }
+    return most;
+  };
+  const double aware = arm_b_moves(false), plain = arm_b_moves(true);
+  EXPECT_LT(aware, 2.0) << "arm B moved with arm A";
+  EXPECT_GT(plain, 10.0) << "the plain grid should tie the arms";
+}
+
+TEST(RigidGrid, AWiderHalfWidthBendsLessUnderTheSameDrag) {
+  const Character c = polygon({{0, 0}, {300, 0}, {300, 40}, {0, 40}});
+  const std::vector<Vec2> rest{{5, 5}, {5, 35}, {295, 20}};
+  std::vector<Vec2> t = rest;
+  t[2] = Vec2(295, 120);
+  double last = INFINITY;
+  for (int w : {1, 2, 3, 6}) {
+    Character ch = c;
+    RigidGrid s;
+    SolverWeights sw;
+    sw.position = 1;  // soft handles: the bar's stiffness decides how far it follows
+    std::string err;
+    ASSERT_TRUE(s.prepare(ch, grid_rig(10, w), rest, sw, &err)) << err;
+    s.solve(t, 300);
+    const double bend = s.handle_point(2).y() - 20;
+    EXPECT_LT(bend, last) << "w " << w;
+    EXPECT_GT(bend, 0) << "w " << w;
+    last = bend;
+  }
+}
+
+TEST(RigidGrid, StickFigureStrokesShareTheirJointAndKeepTheirLength) {
+  Character c;
+  for (const auto& [a, b] :
+       std::vector<std::pair<Vec2, Vec2>>{{{100, 100}, {100, 0}}, {{100, 100}, {20, 180}}, {{100, 100}, {180, 180}}}) {
+    SubShape s;
+    s.id = "stroke" + std::to_string(c.shapes.size());
+    for (int k = 0; k <= 10; ++k) s.points.push_back(a + (b - a) * (k / 10.0));
+    s.contours.push_back({0, 11, false});
+    s.stroke.enabled = true;
+    c.shapes.push_back(s);
+  }
+  const std::vector<Vec2> rest{{100, 0}, {20, 180}, {180, 180}};
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, grid_rig(10, 2), rest, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(s.grid_nodes(), 0u);
+  std::vector<Vec2> t = rest;
+  t[0] = Vec2(150, 20);  // the top stroke's end to the right
+  s.solve(t, 100);
+  std::vector<Points> out;
+  for (const SubShape& sh : c.shapes) out.push_back(sh.points);
+  s.shape_points(out);
+  EXPECT_LT((out[0][0] - out[1][0]).norm(), 1e-9) << "the joint came apart";
+  EXPECT_LT((out[0][0] - out[2][0]).norm(), 1e-9);
+  EXPECT_GT((out[0][0] - Vec2(100, 100)).norm(), 1.0) << "the joint should follow";
+  for (const Points& p : out) {
+    double len = 0;
+    for (size_t k = 1; k < p.size(); ++k) len += (p[k] - p[k - 1]).norm();
+    EXPECT_NEAR(len, (p.back() - p.front()).norm(), 0.05 * len) << "a stroke bent";  // straight: rigid
+  }
+}
+
+TEST(RigidGrid, AGrabPullsItsPointAndReleasingItGivesThePoseWithoutIt) {
+  Figure f, never;
+  ASSERT_TRUE(f.ok && never.ok);
+  const Vec2 grab_rest(130, 230), grab_to(100, 260);
+  std::vector<Vec2> t = f.rest;
+  t[4] = Vec2(260, 200);
+  f.s.grab(grab_rest);
+  ASSERT_TRUE(f.s.grabbing());
+  std::vector<Vec2> tg = t;
+  tg.push_back(grab_to);
+  f.s.solve(tg, 30);
+  // A soft pull against a stiff body whose neck and hips are held: most of the
+  // way.
+  EXPECT_LT((f.s.point_at(grab_rest) - grab_to).norm(), 0.25 * (grab_rest - grab_to).norm());
+  f.s.release();
+  EXPECT_FALSE(f.s.grabbing());
+  f.s.solve(t, 300);
+  never.s.solve(t, 300);
+  // (The local/global iterations approach the same pose slowly: within a few
+  // tenths of a unit on a 400-unit figure after 300.)
+  double sq = 0, worst = 0;
+  for (size_t i = 0; i < f.s.nodes().size(); ++i) {
+    const double d = (f.s.nodes()[i] - never.s.nodes()[i]).norm();
+    sq += d * d;
+    worst = std::max(worst, d);
+  }
+  EXPECT_LT(std::sqrt(sq / double(f.s.nodes().size())), 0.5);
+  EXPECT_LT(worst, 3.0);
+}
+
+TEST(RigidGrid, DegenerateInputGivesNoNaN) {
+  Figure f;
+  ASSERT_TRUE(f.ok);
+  auto finite = [&] {
+    for (const Vec2& v : f.s.nodes())
+      if (!v.allFinite()) return false;
+    for (const Points& p : f.shapes())
+      for (const Vec2& v : p)
+        if (!v.allFinite()) return false;
+    return true;
+  };
+  std::vector<Vec2> t(f.rest.size(), Vec2(150, 200));  // every handle to one point
+  f.s.initial_guess(t);
+  f.s.solve(t, 20);
+  EXPECT_TRUE(finite());
+  t.assign(f.rest.size(), Vec2(1e12, -1e12));
+  f.s.initial_guess(t);
+  f.s.solve(t, 5);
+  EXPECT_TRUE(finite());
+  t.assign(f.rest.size(), Vec2(NAN, INFINITY));
+  f.s.initial_guess(t);
+  f.s.solve(t, 5);
+  EXPECT_TRUE(finite());
+  // A speck, two handles at one rest point, a single stroke of two points.
+  for (const std::vector<Vec2>& pts :
+       std::vector<std::vector<Vec2>>{{{0, 0}, {1e-9, 0}, {0, 1e-9}}, {{0, 0}, {10, 0}, {10, 10}, {0, 10}}}) {
+    Character c = polygon(pts);
+    RigidGrid s;
+    std::string err;
+    const std::vector<Vec2> rest{pts[0], pts[0]};
+    if (!s.prepare(c, default_rig(), rest, SolverWeights{}, &err)) continue;  // refused with a message is fine
+    s.solve(std::vector<Vec2>{{5, 5}, {-5, 5}}, 10);
+    for (const Vec2& v : s.nodes()) EXPECT_TRUE(v.allFinite());
+  }
+  Character line;
+  SubShape st;
+  st.points = {{0, 0}, {50, 0}};
+  st.contours.push_back({0, 2, false});
+  line.shapes.push_back(st);
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(line, default_rig(), std::vector<Vec2>{{0, 0}}, SolverWeights{}, &err)) << err;
+  s.solve(std::vector<Vec2>{{10, 10}}, 10);
+  for (const Vec2& v : s.nodes()) EXPECT_TRUE(v.allFinite());
+}
+
+TEST(RigidGrid, HalfWidthAndNamedStiffnessAreLiveParameters) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  Rig r = default_rig();
+  r.stiffness.push_back({"arm", Vec2(230, 250), 40, 1.0, 0});
+  r.stiffness.push_back({"", Vec2(150, 60), 30, 5.0, 0});  // unnamed: fixed
+  const std::vector<Vec2> rest{{150, 60}, {150, 280}, {245, 250}};
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, r, rest, SolverWeights{}, &err)) << err;
+  const auto p = s.parameters();
+  ASSERT_EQ(p.size(), 5u);
+  EXPECT_EQ(p[0].name, "half_width");
+  EXPECT_EQ(p[0].value, 3);
+  EXPECT_EQ(p[4].name, "stiffness.arm");
+  const size_t members3 = s.region(0).size();
+  std::vector<double> v;
+  for (const auto& q : p) v.push_back(q.value);
+  v[0] = 6;
+  ASSERT_TRUE(s.set_parameters(v, &err)) << err;
+  EXPECT_EQ(s.half_width(), 6);
+  EXPECT_GT(s.region(0).size(), members3);
+  std::vector<Vec2> t = rest;
+  t[2] = Vec2(280, 150);
+  s.solve(t, 30);
+  const Points soft = s.nodes();
+  v[4] = 50;  // the arm region much stiffer
+  ASSERT_TRUE(s.set_parameters(v, &err)) << err;
+  s.solve(t, 30);
+  double moved = 0;
+  for (size_t i = 0; i < soft.size(); ++i) moved = std::max(moved, (s.nodes()[i] - soft[i]).norm());
+  EXPECT_GT(moved, 0.5);
+  v[0] = 0;
+  EXPECT_FALSE(s.set_parameters(v, &err));
+  EXPECT_NE(err.find("half_width"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mar
