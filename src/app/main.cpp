@@ -29,8 +29,8 @@ int main(int argc, char** argv) {
   i->add_option("character", inspect.input, "Character file (.svg or .png)")->required();
   i->add_option("--mask", inspect.mask, "Mask PNG for a PNG character");
   i->add_flag("--json", inspect.json, "Machine-readable output");
-  i->add_option("--rig", inspect.rig, "Rig file: add the feature-frame statistics (seed 000 Table 1) and handles");
-  i->add_option("-o,--output", inspect.overlay, "With --rig: PNG of the feature frame over the character");
+  i->add_option("--rig", inspect.rig, "Rig file: add the solver's statistics (seed 000 or seed 003 Table 1) and handles");
+  i->add_option("-o,--output", inspect.overlay, "With --rig: PNG of the solver's structure over the character (feature frame, mesh, or grid)");
 
   mar::PoseArgs pose;
   CLI::App* p = app.add_subcommand("pose", "Solve a pose from rest for handle targets");

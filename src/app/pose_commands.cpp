@@ -61,7 +61,71 @@ std::pair<int, int> doc_size(const Character& ch) {
 
 // inspect --rig for a mesh solver (the outline ARAP baseline): its triangulation, handles
 // and the cost of preparing it and of 12 iterations.
+// inspect --rig for the rigid grid: seed 003 Table 1's columns (VER, NOD, w, PRE, OPT with
+// and without the fast summation; medians of 7 runs of the rig's iteration count from rest).
+int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
+  const std::vector<Vec2> targets = p.rest_targets();
+  std::vector<double> pre{p.prefactor_ms}, opt1, opt2;
+  const int iterations = p.rig.iterations;
+  for (int k = 0; k < 7; ++k) {
+    auto reloaded = load_puppet(a.input, a.rig, a.mask);  // prepare inserts interior points: start from the file
+    if (!reloaded.ok()) break;
+    Puppet& q = **reloaded.value;
+    pre.push_back(q.prefactor_ms);
+    auto* g = dynamic_cast<RigidGrid*>(q.solver.get());
+    for (const bool fast : {true, false}) {
+      g->reset_to_rest();
+      g->set_fast_summation(fast);
+      const auto t0 = std::chrono::steady_clock::now();
+      g->solve(targets, iterations);
+      (fast ? opt1 : opt2).push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  }
+  size_t junction = 0;
+  for (char j : grid.junction()) junction += j ? 1 : 0;
+  const size_t nod = grid.grid_nodes() + grid.boundary_nodes();
+  if (a.json) {
+    nlohmann::ordered_json j = inspect_json(p.character);
+    j["table1"] = {{"solver", p.rig.solver},
+                   {"VER", grid.mesh_vertices()},
+                   {"NOD", nod},
+                   {"w", grid.half_width()},
+                   {"PRE_ms", median(pre)},
+                   {"OPT1_ms", median(opt1)},
+                   {"OPT2_ms", median(opt2)},
+                   {"iterations", iterations},
+                   {"cell", grid.cell()},
+                   {"grid_nodes", grid.grid_nodes()},
+                   {"boundary_nodes", grid.boundary_nodes()},
+                   {"free_vertices", grid.free_vertices()},
+                   {"mesh_triangles", grid.mesh_triangles().size()},
+                   {"junction_triangles", junction},
+                   {"factor_nonzeros", grid.factor_nonzeros()}};
+    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
+    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
+    j["handles"] = hs;
+    std::cout << j.dump(2) << "\n";
+  } else {
+    print_inspect_text(p.character);
+    std::printf("\nrigid grid (rig %s): cell %.2f, %zu grid + %zu boundary nodes, %zu of %zu mesh triangles junction\n",
+                p.rig.path.c_str(), grid.cell(), grid.grid_nodes(), grid.boundary_nodes(), junction, grid.mesh_triangles().size());
+    std::printf("%6s %6s %3s %9s %9s %9s   (ms; OPT = %d iterations, 1 with / 2 without fast summation)\n", "VER", "NOD", "w",
+                "PRE", "OPT1", "OPT2", iterations);
+    std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f\n", grid.mesh_vertices(), nod, grid.half_width(), median(pre), median(opt1),
+                median(opt2));
+    std::printf("handles:");
+    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
+    std::printf("\n");
+  }
+  if (!a.overlay.empty()) {
+    const auto [w2, h2] = doc_size(p.character);
+    return write_picture(p, a.overlay, w2, h2, Rgba{1, 1, 1, 1}, true, targets);
+  }
+  return kExitOk;
+}
+
 int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
+  if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get())) return inspect_grid_rig(a, p, *grid);
   const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get());
   if (!arap) {
     std::cerr << "error: inspect --rig cannot show solver '" << p.rig.solver << "' yet\n";

@@ -31,7 +31,7 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, c
   p->solver = make_solver(p->rig.solver);
   if (!p->solver) {
     return R::failure(p->rig.path + ":" + std::to_string(std::max(1, p->rig.solver_line)) + ": unknown solver '" + p->rig.solver +
-                      "' (known: feature_frame, arap)");
+                      "' (known: feature_frame, rigid_grid, arap)");
   }
   const std::string path = character_path.empty() ? p->rig.character_path() : character_path;
   LoadOptions lo;

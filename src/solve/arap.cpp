@@ -323,8 +323,7 @@ void OutlineArap::global_step(std::span<const Vec2> targets) {
   for (size_t h = 0; h < m; ++h) add_handle(handles_[h], targets[h], position_);
   const bool grab = grab_active_ && targets.size() > handles_.size();
   if (grab) add_handle(grab_, targets[handles_.size()], position_);
-  factor_.solve_permuted(bx_.data());
-  factor_.solve_permuted(by_.data());
+  factor_.solve_permuted(bx_.data(), by_.data());
   if (grab) {
     // Sherman-Morrison: (K + w a a^T)^-1 b = y - z (w a^T y) / (1 + w a^T z), z = K^-1 a.
     double ax = 0, ay = 0;

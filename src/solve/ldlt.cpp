@@ -38,4 +38,33 @@ void PrefactoredLdlt::solve_permuted(double* y) const {
   }
 }
 
+void PrefactoredLdlt::solve_permuted(double* x, double* y) const {
+  const auto& L = ldlt_.matrixL().nestedExpression();
+  const int* col = L.outerIndexPtr();
+  const int* row = L.innerIndexPtr();
+  const double* val = L.valuePtr();
+  const double* D = diag_.data();
+  const int n = size();
+  for (int j = 0; j < n; ++j) {
+    const double xj = x[j], yj = y[j];
+    for (int p = col[j]; p < col[j + 1]; ++p) {
+      x[row[p]] -= val[p] * xj;
+      y[row[p]] -= val[p] * yj;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    x[j] /= D[j];
+    y[j] /= D[j];
+  }
+  for (int j = n - 1; j >= 0; --j) {
+    double sx = x[j], sy = y[j];
+    for (int p = col[j]; p < col[j + 1]; ++p) {
+      sx -= val[p] * x[row[p]];
+      sy -= val[p] * y[row[p]];
+    }
+    x[j] = sx;
+    y[j] = sy;
+  }
+}
+
 }  // namespace mar

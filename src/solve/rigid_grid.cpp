@@ -540,28 +540,16 @@ void RigidGrid::build_regions() {
         reg_center_[r] = j;
       }
   }
-  // Local stiffness per node (the largest weight of the [[stiffness]] regions
-  // holding it).
-  node_w_.assign(rest_.size(), 1.0);
-  for (size_t k = 0; k < rest_.size(); ++k) {
-    double wk = 0;
-    for (const Stiff& s : stiff_)
-      if ((rest_[k] - s.center).norm() <= s.radius) wk = std::max(wk, s.weight);
-    if (wk > 0) node_w_[k] = wk;
-  }
   reg_size_.resize(R);
   reg_psum_.resize(R);
-  reg_k_.resize(R);
   for (size_t r = 0; r < R; ++r) {
     const auto m = region(r);
     Vec2 s = Vec2::Zero();
     for (int j : m) s += p_[size_t(j)];
     reg_size_[r] = int(m.size());
     reg_psum_[r] = s;
-    const int own = r < G ? int(r) : cnode_[r - G];
-    reg_k_[r] = m.size() > 1 ? w_r_ * node_w_[size_t(own)] / double(m.size()) : 0.0;
   }
-
+  weigh_regions();
   rc_.assign(R, 1.0);
   rs_.assign(R, 0.0);
   const size_t nmax = std::max(rest_.size(), R);
@@ -569,6 +557,23 @@ void RigidGrid::build_regions() {
   ch_mid_.assign(nmax * 4, 0.0);
   ch_out_.assign(nmax * 4, 0.0);
   if (plain_) fast_ = false;
+}
+
+void RigidGrid::weigh_regions() {
+  // Local stiffness per node: the largest weight of the [[stiffness]] regions holding it.
+  node_w_.assign(rest_.size(), 1.0);
+  for (size_t k = 0; k < rest_.size(); ++k) {
+    double wk = 0;
+    for (const Stiff& s : stiff_)
+      if ((rest_[k] - s.center).norm() <= s.radius) wk = std::max(wk, s.weight);
+    if (wk > 0) node_w_[k] = wk;
+  }
+  const size_t G = grid_count_;
+  reg_k_.resize(reg_center_.size());
+  for (size_t r = 0; r < reg_center_.size(); ++r) {
+    const int own = r < G ? int(r) : cnode_[r - G];
+    reg_k_[r] = reg_size_[r] > 1 ? w_r_ * node_w_[size_t(own)] / double(reg_size_[r]) : 0.0;
+  }
 }
 
 bool RigidGrid::set_plain_regions(bool plain, std::string* error) {
@@ -738,21 +743,28 @@ bool RigidGrid::set_parameters(std::span<const double> v, std::string* error) {
   size_t named = 0;
   for (const Stiff& s : stiff_) named += s.name.empty() ? 0 : 1;
   if (v.size() != 4 + named || !(v[0] >= 1 && v[0] <= 32) || !(v[1] > 0) || !(v[2] > 0) || !(v[3] > 0)) {
-    if (error)
-      *error =
-          "rigid_grid parameters: half_width 1..32, rigidity, junction, "
-          "position > 0, then each named stiffness";
+    if (error) *error = "rigid_grid parameters: half_width 1..32, rigidity, junction, position > 0, then each named stiffness";
     return false;
   }
-  half_width_ = int(std::lround(v[0]));
+  const int w = int(std::lround(v[0]));
+  bool same = w == half_width_ && v[1] == w_r_ && v[2] == w_s_ && v[3] == w_p_;
+  for (size_t k = 0, i = 4; k < stiff_.size(); ++k)
+    if (!stiff_[k].name.empty()) same = same && std::clamp(v[i++], 1e-3, 1e6) == stiff_[k].weight;
+  if (same) return true;  // (a knob on half_width moves in whole cells)
+  const bool regions = w != half_width_;
+  half_width_ = w;
   w_r_ = v[1];
   w_s_ = v[2];
   w_p_ = v[3];
   for (size_t k = 0, i = 4; k < stiff_.size(); ++k)
     if (!stiff_[k].name.empty()) stiff_[k].weight = std::clamp(v[i++], 1e-3, 1e6);
-  const std::vector<double> c(rc_), s(rs_);
-  build_regions();
-  if (c.size() == rc_.size()) rc_ = c, rs_ = s;
+  if (regions) {  // new regions; the pose and (where the count allows) the rotations stay
+    const std::vector<double> c(rc_), s(rs_);
+    build_regions();
+    if (c.size() == rc_.size()) rc_ = c, rs_ = s;
+  } else {
+    weigh_regions();
+  }
   grab_active_ = false;  // the caller grabs again
   return factorise(error);
 }
@@ -892,8 +904,7 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
   for (size_t h = 0; h < m; ++h) handle(handles_[h], targets[h]);
   const bool grab = grab_active_ && targets.size() > handles_.size();
   if (grab) handle(grab_, targets[handles_.size()]);
-  factor_.solve_permuted(bx_.data());
-  factor_.solve_permuted(by_.data());
+  factor_.solve_permuted(bx_.data(), by_.data());
   if (grab) {
     double ax = 0, ay = 0;
     for (int k = 0; k < grab_.n; ++k) {

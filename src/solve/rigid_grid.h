@@ -128,6 +128,7 @@ class RigidGrid final : public Solver {
   int corner_node(int i, int j) const { return node_of_corner_[size_t(j) * size_t(nx_ + 1) + size_t(i)]; }
   void build_runs();
   void build_regions();
+  void weigh_regions();  ///< w_i and each region's coefficient w_r w_i / #R_i
   bool factorise(std::string* error);
   /// Windowed sums along runs of nodes (C channels interleaved): out[idx] = Σ
   /// over the run positions within `w` of idx's position.

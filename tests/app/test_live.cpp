@@ -434,5 +434,36 @@ TEST(Live, RasterShowPosesAPngWithTheArapBaseline) {
   EXPECT_LT(p.solver->handle_point(size_t(hand)).y(), 130.0);  // from 248 at rest toward 90
 }
 
+// The rigid grid in a show, its stiffness turned by knobs: knob 1 sweeps solver.half_width up
+// to 6 and back to 1, knob 2 the named region's solver.stiffness.right-arm.
+TEST(Live, GridShowTurnsTheStiffnessLive) {
+  const auto dir = test::temp_dir("grid-show");
+  auto r = test::run_cli("run " + (test::source_dir() / "config/shows/grid.toml").string() + " --headless --stats " +
+                         (dir / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  std::ifstream f(dir / "s.json");
+  const auto j = nlohmann::json::parse(f);
+  EXPECT_GT(j["frames"].get<int>(), 300);
+  EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
+  EXPECT_GT(j["refactorizations"]["count"].get<int>(), 5);
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  auto half_width_at = [&](int frames) {
+    o.frames = frames;
+    auto s = LiveShow::load((test::source_dir() / "config/shows/grid.toml").string(), o);
+    EXPECT_TRUE(s.ok()) << s.error;
+    if (!s.ok()) return -1.0;
+    EXPECT_EQ((*s.value)->run(), 0);
+    const Puppet& p = (*s.value)->puppet();
+    EXPECT_EQ(p.solver->name(), "rigid_grid");
+    return p.solver->parameters()[0].value;
+  };
+  EXPECT_EQ(half_width_at(60), 3);   // the rig's, until the knob picks it up
+  EXPECT_EQ(half_width_at(160), 6);  // knob 1 at the top
+  EXPECT_EQ(half_width_at(240), 1);  // and at the bottom
+}
+
 }  // namespace
 }  // namespace mar

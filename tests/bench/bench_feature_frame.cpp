@@ -10,10 +10,10 @@
 #include "character/load.h"
 #include "geom/triangulate.h"
 
-#include <CGAL/Simple_cartesian.h>
-#include <CGAL/Surface_mesh.h>
-#include <CGAL/Surface_mesh_deformation.h>
 #include <benchmark/benchmark.h>
+
+#include "cgal_arap.h"
+#include "median_reporter.h"
 
 #include <chrono>
 #include <cstdio>
@@ -149,22 +149,8 @@ BENCHMARK(BM_solve_frame)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_reconstruct)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 
 // --- CGAL ARAP on the generated character's constrained triangulation ---------------
-using Kernel = CGAL::Simple_cartesian<double>;
-using Mesh = CGAL::Surface_mesh<Kernel::Point_3>;
-using VD = boost::graph_traits<Mesh>::vertex_descriptor;
-using Deform = CGAL::Surface_mesh_deformation<Mesh>;
-
-struct CgalSetup {
-  Mesh mesh;
-  std::vector<VD> controls;
-  std::vector<mar::Vec2> control_rest;
-  double preprocess_ms = 0;
-  size_t vertices = 0, faces = 0;
-};
-
-CgalSetup& cgal_setup() {
-  static CgalSetup s = [] {
-    CgalSetup out;
+bench::CgalArap& cgal_setup() {
+  static bench::CgalArap s = [] {
     const Case& c = cases()[3];
     mar::Points pts;
     std::vector<mar::Ring> rings;
@@ -177,90 +163,29 @@ CgalSetup& cgal_setup() {
       pts.insert(pts.end(), sh.points.begin(), sh.points.end());
     }
     const mar::HullMesh hm = mar::triangulate_hull(pts, rings, closed);
-    std::vector<VD> vds;
-    for (const mar::Vec2& p : hm.vertices) vds.push_back(out.mesh.add_vertex(Kernel::Point_3(p.x(), p.y(), 0)));
-    for (size_t t = 0; t + 2 < hm.triangles.size(); t += 3) {
-      out.mesh.add_face(vds[static_cast<size_t>(hm.triangles[t])], vds[static_cast<size_t>(hm.triangles[t + 1])],
-                        vds[static_cast<size_t>(hm.triangles[t + 2])]);
-    }
-    out.vertices = out.mesh.number_of_vertices();
-    out.faces = out.mesh.number_of_faces();
-    for (const mar::Vec2& h : c.handle_rest) {
-      size_t best = 0;
-      for (size_t i = 0; i < hm.vertices.size(); ++i) {
-        if ((hm.vertices[i] - h).squaredNorm() < (hm.vertices[best] - h).squaredNorm()) best = i;
-      }
-      out.controls.push_back(vds[best]);
-      out.control_rest.push_back(hm.vertices[best]);
-    }
-    return out;
+    std::vector<std::array<int, 3>> tris;
+    for (size_t t = 0; t + 2 < hm.triangles.size(); t += 3) tris.push_back({hm.triangles[t], hm.triangles[t + 1], hm.triangles[t + 2]});
+    return bench::CgalArap(hm.vertices, tris, c.handle_rest);
   }();
   return s;
 }
 
 void BM_cgal_arap_frame(benchmark::State& st) {
-  CgalSetup& s = cgal_setup();
-  Mesh mesh = s.mesh;
-  Deform deform(mesh);
-  deform.insert_roi_vertices(vertices(mesh).begin(), vertices(mesh).end());
-  for (VD v : s.controls) deform.insert_control_vertex(v);
-  const auto t0 = Clock::now();
-  deform.preprocess();
-  s.preprocess_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+  bench::CgalArap& s = cgal_setup();
   const Case& c = cases()[3];
   int k = 0;
-  for (auto _ : st) {
-    const std::vector<mar::Vec2> t = targets_at(c, k++);
-    for (size_t h = 0; h < s.controls.size(); ++h) {
-      const mar::Vec2 p = s.control_rest[h] + (t[h] - c.handle_rest[h]);
-      deform.set_target_position(s.controls[h], Kernel::Point_3(p.x(), p.y(), 0));
-    }
-    deform.deform(12, 0.0);
-  }
-  st.SetLabel("generated-2000 (" + std::to_string(s.vertices) + " vertices, " + std::to_string(s.faces) + " faces)");
+  for (auto _ : st) s.frame(targets_at(c, k++), 12);
+  st.SetLabel("generated-2000 (" + std::to_string(s.vertices()) + " vertices, " + std::to_string(s.faces()) + " faces)");
 }
 BENCHMARK(BM_cgal_arap_frame)->Unit(benchmark::kMicrosecond);
-
-// Collects medians for the summary table.
-class Collector : public benchmark::BenchmarkReporter {
- public:
-  std::map<std::string, double> median_us;
-  bool ReportContext(const Context&) override { return true; }
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& r : runs) {
-      if (r.run_type == Run::RT_Aggregate && r.aggregate_name != "median") continue;
-      const double us = r.GetAdjustedRealTime() *
-                        (r.time_unit == benchmark::kMillisecond ? 1000.0 : r.time_unit == benchmark::kNanosecond ? 1e-3 : 1.0);
-      median_us[r.run_name.str()] = us;
-    }
-  }
-};
-
-class Tee : public benchmark::BenchmarkReporter {
- public:
-  Tee(benchmark::BenchmarkReporter* a, Collector* b) : a_(a), b_(b) {}
-  bool ReportContext(const Context& c) override {
-    b_->ReportContext(c);
-    return a_->ReportContext(c);
-  }
-  void ReportRuns(const std::vector<Run>& r) override {
-    a_->ReportRuns(r);
-    b_->ReportRuns(r);
-  }
-  void Finalize() override { a_->Finalize(); }
-
- private:
-  benchmark::BenchmarkReporter* a_;
-  Collector* b_;
-};
 
 }  // namespace
 
 int main(int argc, char** argv) {
   benchmark::Initialize(&argc, argv);
   benchmark::ConsoleReporter console;
-  Collector collect;
-  Tee tee(&console, &collect);
+  bench::Collector collect;
+  bench::Tee tee(&console, &collect);
   benchmark::RunSpecifiedBenchmarks(&tee);
   auto get = [&](const std::string& n) {
     for (const auto& [k, v] : collect.median_us) {
@@ -291,9 +216,9 @@ int main(int argc, char** argv) {
   const double cgal = get("BM_cgal_arap_frame") / 1000, ours = get("BM_solve_frame/3") / 1000;
   std::printf("\nCGAL Surface_mesh_deformation (ARAP, 12 iterations) on generated-2000's triangulation "
               "(%zu vertices): %.3f ms per frame, preprocess %.3f ms; feature frame %.4f ms: %.0fx faster\n",
-              cgal_setup().vertices, cgal, cgal_setup().preprocess_ms, ours, ours > 0 ? cgal / ours : 0.0);
-  json << "  ],\n  \"cgal_arap\": {\"vertices\": " << cgal_setup().vertices << ", \"faces\": " << cgal_setup().faces
-       << ", \"frame_ms\": " << cgal << ", \"preprocess_ms\": " << cgal_setup().preprocess_ms
+              cgal_setup().vertices(), cgal, cgal_setup().preprocess_ms(), ours, ours > 0 ? cgal / ours : 0.0);
+  json << "  ],\n  \"cgal_arap\": {\"vertices\": " << cgal_setup().vertices() << ", \"faces\": " << cgal_setup().faces()
+       << ", \"frame_ms\": " << cgal << ", \"preprocess_ms\": " << cgal_setup().preprocess_ms()
        << ", \"ratio_vs_feature_frame\": " << (ours > 0 ? cgal / ours : 0.0) << "}\n}\n";
   benchmark::Shutdown();
   return 0;

@@ -8,11 +8,13 @@
 namespace mar {
 namespace {
 
-TEST(make_solver, KnowsTheFeatureFrameAndTheOutlineArapBaseline) {
+TEST(make_solver, KnowsTheFeatureFrameTheRigidGridAndTheOutlineArapBaseline) {
   EXPECT_TRUE(solver_known("feature_frame"));
   EXPECT_TRUE(solver_known("arap"));
   EXPECT_EQ(make_solver("arap")->name(), "arap");
-  EXPECT_FALSE(solver_known("rigid_grid"));
+  EXPECT_TRUE(solver_known("rigid_grid"));
+  EXPECT_EQ(make_solver("rigid_grid")->name(), "rigid_grid");
+  EXPECT_FALSE(solver_known("rigid-grid"));
   auto s = make_solver("feature_frame");
   ASSERT_NE(s, nullptr);
   EXPECT_EQ(s->name(), "feature_frame");
