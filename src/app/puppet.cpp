@@ -23,11 +23,15 @@ SolverWeights Puppet::weights() const {
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
                                             const std::string& mask_path) {
-  using R = Result<std::unique_ptr<Puppet>>;
   Result<Rig> rig = load_rig(rig_path);
-  if (!rig.ok()) return R::failure(rig.error);
+  if (!rig.ok()) return Result<std::unique_ptr<Puppet>>::failure(rig.error);
+  return load_puppet(character_path, std::move(*rig.value), mask_path);
+}
+
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path) {
+  using R = Result<std::unique_ptr<Puppet>>;
   auto p = std::make_unique<Puppet>();
-  p->rig = std::move(*rig.value);
+  p->rig = std::move(rig);
   p->solver = make_solver(p->rig.solver);
   if (!p->solver) {
     return R::failure(p->rig.path + ":" + std::to_string(std::max(1, p->rig.solver_line)) + ": unknown solver '" + p->rig.solver +

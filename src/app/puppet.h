@@ -34,5 +34,7 @@ struct Puppet {
 /// `mask_path`: a PNG character's mask (non-black = figure); empty: its alpha.
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
                                             const std::string& mask_path = "");
+/// The same with a rig already read (a bench or tool that changes its solver first).
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path = "");
 
 }  // namespace mar

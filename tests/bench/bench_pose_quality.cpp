@@ -18,7 +18,11 @@
 //   ff-converged  feature frame from rest, 1,000 iterations;
 //   cgal-arap     CGAL Surface_mesh_deformation (ARAP, converged) on a constrained
 //                 triangulation of the single outline around the whole character, handles on
-//                 the nearest mesh vertices (the baseline seeds 000 and 003 compare against).
+//                 the nearest mesh vertices (the baseline seeds 000 and 003 compare against);
+//   grid-live     the same rig on the rigid grid (seed 003, solver = "rigid_grid"), a live drag
+//                 as ff-live;
+//   arap-live     the same rig on our outline ARAP baseline (solver = "arap"), a live drag.
+// A raster character's case splits its one traced region into parts by polygons (`region`).
 //
 // Usage: bench_pose_quality [--case NAME] [--json FILE] [--grid CASE=out.png] [--smoke]
 //        [Google Benchmark flags]. Timing of each method is reported by Google Benchmark.
@@ -49,7 +53,7 @@ using Points = mar::Points;
 
 struct Group {
   std::string name;
-  std::vector<int> parts;  ///< shape indices
+  std::vector<int> parts;  ///< indices into PoseCase::parts
   Vec2 pivot = Vec2::Zero();
 };
 
@@ -72,18 +76,55 @@ struct Pose {
   std::vector<Move> moves;
 };
 
+/// A measured piece of the character: a sub-shape, or (a raster character, one traced
+/// region) the points of a sub-shape inside a group's `region` polygon.
+struct Part {
+  std::string name;
+  int shape = 0;
+  std::vector<int> points;
+};
+
 struct PoseCase {
   std::string name;
-  std::unique_ptr<mar::Puppet> puppet;
+  std::unique_ptr<mar::Puppet> puppet;                ///< the feature frame
+  std::unique_ptr<mar::Puppet> grid, outline;          ///< the same rig on the rigid grid and the outline ARAP
+  std::vector<Part> parts;             ///< on the feature frame's character
+  std::vector<Part> grid_parts, outline_parts;  ///< the same parts on theirs (they add interior points)
+  std::vector<Points> regions;         ///< the polygons of the region parts, which follow the sub-shapes'
   std::vector<Group> groups;
   std::vector<Pose> poses;
-  std::vector<int> handle_part;  ///< sub-shape each handle is bound to
+  std::vector<int> handle_part;  ///< part each handle is on
   double height = 1;
 };
 
 [[noreturn]] void fail(const std::string& msg) {
   std::fprintf(stderr, "bench_pose_quality: %s\n", msg.c_str());
   std::exit(2);
+}
+
+bool inside(const mar::Points& poly, const Vec2& q);
+
+// The part of a one-region character holding q: the first region polygon around it, else the
+// body (part 0).
+int region_of(const PoseCase& c, const Vec2& q) {
+  const size_t first = c.parts.size() - c.regions.size();
+  for (size_t r = 0; r < c.regions.size(); ++r)
+    if (inside(c.regions[r], q)) return static_cast<int>(first + r);
+  return 0;
+}
+
+// The points of each part on a puppet's character: a sub-shape's own (not the one-point
+// interior points a solver added), or a region's.
+void fill_parts(const PoseCase& c, const mar::Character& ch, std::vector<Part>& parts) {
+  for (Part& p : parts) p.points.clear();
+  for (size_t si = 0; si < ch.shapes.size() && si < parts.size(); ++si)
+    for (const mar::Contour& ct : ch.shapes[si].contours) {
+      if (ct.count < 2) continue;
+      for (int i = ct.begin; i < ct.begin + ct.count; ++i) {
+        const int r = c.regions.empty() ? static_cast<int>(si) : region_of(c, ch.shapes[si].points[static_cast<size_t>(i)]);
+        parts[static_cast<size_t>(r)].points.push_back(i);
+      }
+    }
 }
 
 PoseCase load_case(const fs::path& file) {
@@ -95,10 +136,19 @@ PoseCase load_case(const fs::path& file) {
   } catch (const toml::parse_error& e) {
     fail(file.string() + ": " + std::string(e.description()));
   }
-  const std::string rig = (file.parent_path() / root["rig"].value_or(std::string())).lexically_normal().string();
-  auto loaded = mar::load_puppet("", rig);
-  if (!loaded.ok()) fail(loaded.error);
-  c.puppet = std::move(*loaded.value);
+  const std::string rig_path = (file.parent_path() / root["rig"].value_or(std::string())).lexically_normal().string();
+  auto rig = mar::load_rig(rig_path);
+  if (!rig.ok()) fail(rig.error);
+  auto with = [&](const char* solver) {
+    mar::Rig r = *rig.value;
+    r.solver = solver;
+    auto loaded = mar::load_puppet("", r);
+    if (!loaded.ok()) fail(loaded.error);
+    return std::move(*loaded.value);
+  };
+  c.puppet = with("feature_frame");
+  c.grid = with("rigid_grid");
+  c.outline = with("arap");
   const mar::Character& ch = c.puppet->character;
   c.height = ch.height > 0 ? ch.height : 1;
   auto shape_index = [&](const std::string& id) {
@@ -110,6 +160,8 @@ PoseCase load_case(const fs::path& file) {
   auto point = [&](const toml::node_view<const toml::node>& n) {
     return Vec2(n[0].value_or(0.0), n[1].value_or(0.0));
   };
+  for (size_t si = 0; si < ch.shapes.size(); ++si) c.parts.push_back(Part{ch.shapes[si].id, static_cast<int>(si), {}});
+  std::vector<Points>& regions = c.regions;
   std::map<std::string, int> group_index;
   if (const toml::array* gs = root["group"].as_array()) {
     for (const toml::node& gn : *gs) {
@@ -118,6 +170,14 @@ PoseCase load_case(const fs::path& file) {
       grp.name = g["name"].value_or(std::string());
       if (const toml::array* parts = g["parts"].as_array()) {
         for (const toml::node& part : *parts) grp.parts.push_back(shape_index(part.value_or(std::string())));
+      }
+      if (const toml::array* poly = g["region"].as_array()) {  // the sub-shape's points inside it
+        Points r;
+        for (const toml::node& pt : *poly) r.push_back(point(toml::node_view<const toml::node>(pt)));
+        if (r.size() < 3 || ch.shapes.size() != 1) fail(file.string() + ": a region is a polygon over a one-region character");
+        grp.parts.push_back(static_cast<int>(c.parts.size()));
+        c.parts.push_back(Part{grp.name, 0, {}});
+        regions.push_back(r);
       }
       grp.pivot = point(g["pivot"]);
       group_index[grp.name] = static_cast<int>(c.groups.size());
@@ -144,9 +204,16 @@ PoseCase load_case(const fs::path& file) {
       c.poses.push_back(pose);
     }
   }
+  c.grid_parts = c.outline_parts = c.parts;
+  fill_parts(c, c.puppet->character, c.parts);
+  fill_parts(c, c.grid->character, c.grid_parts);
+  fill_parts(c, c.outline->character, c.outline_parts);
   const mar::FeatureFrameMethod* ff = c.puppet->feature_frame();
-  if (!ff) fail(file.string() + ": the case's rig must use the feature frame");
-  for (const mar::ShapeParam& b : ff->bindings()) c.handle_part.push_back(ff->frame().origin[static_cast<size_t>(b.a)].shape);
+  if (regions.empty()) {
+    for (const mar::ShapeParam& b : ff->bindings()) c.handle_part.push_back(ff->frame().origin[static_cast<size_t>(b.a)].shape);
+  } else {
+    for (const mar::RigHandle& h : c.puppet->rig.handles) c.handle_part.push_back(region_of(c, h.rest));
+  }
   return c;
 }
 
@@ -180,15 +247,20 @@ struct PoseResult {
 
 bool g_parts = false;  // --parts: print every part's figures
 
-PoseResult measure(const PoseCase& c, const Pose& pose, const std::vector<mar::Points>& shapes,
+PoseResult measure(const PoseCase& c, int method, const Pose& pose, const std::vector<mar::Points>& shapes,
                    const std::vector<Vec2>& handle_points) {
   PoseResult r;
-  const mar::Character& ch = c.puppet->character;
+  const mar::Character& ch = (method == 4 ? c.grid : method == 5 ? c.outline : c.puppet)->character;
+  const std::vector<Part>& parts = method == 4 ? c.grid_parts : method == 5 ? c.outline_parts : c.parts;
   const double pct = 100.0 / c.height;
   int counted = 0;
-  for (size_t s = 0; s < ch.shapes.size(); ++s) {
-    const mar::Points& rest = ch.shapes[s].points;
-    const mar::Points& got = shapes[s];
+  for (size_t pi = 0; pi < parts.size(); ++pi) {
+    const Part& part = parts[pi];
+    Points rest, got;
+    for (int i : part.points) {
+      rest.push_back(ch.shapes[static_cast<size_t>(part.shape)].points[static_cast<size_t>(i)]);
+      got.push_back(shapes[static_cast<size_t>(part.shape)][static_cast<size_t>(i)]);
+    }
     if (rest.size() < 2) continue;
     bool finite = true;
     for (const Vec2& p : got) {
@@ -198,7 +270,7 @@ PoseResult measure(const PoseCase& c, const Pose& pose, const std::vector<mar::P
       }
     }
     if (!finite) continue;
-    const Move* m = move_of(c, pose, static_cast<int>(s));
+    const Move* m = move_of(c, pose, static_cast<int>(pi));
     double art = 0;
     for (size_t i = 0; i < rest.size(); ++i) {
       const Vec2 ideal = m ? m->apply(c.groups, rest[i], 1) : rest[i];
@@ -208,13 +280,13 @@ PoseResult measure(const PoseCase& c, const Pose& pose, const std::vector<mar::P
     const double dist = mar::rigid_fit_rms(rest, got) * pct;
     if (dist > r.dist_max) {
       r.dist_max = dist;
-      r.worst_part = ch.shapes[s].id;
+      r.worst_part = part.name;
     }
     r.dist_mean += dist;
     r.art_max = std::max(r.art_max, art);
     r.art_mean += art;
     if (!m) r.passive_max = std::max(r.passive_max, art);
-    if (g_parts) std::printf("      %-16s %s dist %.3f art %.3f\n", ch.shapes[s].id.c_str(), m ? "moved  " : "passive", dist, art);
+    if (g_parts) std::printf("      %-16s %s dist %.3f art %.3f\n", part.name.c_str(), m ? "moved  " : "passive", dist, art);
     ++counted;
   }
   if (counted) {
@@ -249,6 +321,14 @@ Solved ff_result(mar::Puppet& p) {
   return s;
 }
 
+// A live drag with any puppet of the case (the rigid grid's, the outline ARAP's): targets move
+// along the groups' motion over 0.5 s at 120 Hz, warm start, the live iteration count.
+Solved live(const PoseCase& c, mar::Puppet& p, const Pose& pose) {
+  p.solver->reset_to_rest();
+  for (int k = 1; k <= kLiveFrames; ++k) p.solver->solve(targets_at(c, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
+  return ff_result(p);
+}
+
 Solved ff_rest(PoseCase& c, const Pose& pose, int iterations) {
   mar::Puppet& p = *c.puppet;
   const std::vector<Vec2> t = targets_at(c, pose, 1);
@@ -258,14 +338,6 @@ Solved ff_rest(PoseCase& c, const Pose& pose, int iterations) {
   return ff_result(p);
 }
 
-Solved ff_live(PoseCase& c, const Pose& pose) {
-  mar::Puppet& p = *c.puppet;
-  p.solver->reset_to_rest();
-  for (int k = 1; k <= kLiveFrames; ++k) {
-    p.solver->solve(targets_at(c, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
-  }
-  return ff_result(p);
-}
 
 // CGAL ARAP on the union of the closed parts: a constrained triangulation of every contour,
 // keeping the faces inside some closed part, so overlapping parts are one piece as a single
@@ -427,8 +499,8 @@ Solved arap_solve(const PoseCase& c, ArapBaseline& a, const Pose& pose) {
 
 // --- the run ----------------------------------------------------------------------------
 
-const char* const kMethods[] = {"ff-rest", "ff-live", "ff-converged", "cgal-arap"};
-constexpr int kMethodCount = 4;
+const char* const kMethods[] = {"ff-rest", "ff-live", "ff-converged", "cgal-arap", "grid-live", "arap-live"};
+constexpr int kMethodCount = 6;
 
 struct Options {
   std::string only_case, json_path = "bench_pose_quality.json";
@@ -449,13 +521,21 @@ Solved run_method(size_t ci, int method, const Pose& pose) {
   PoseCase& c = all_cases()[ci];
   switch (method) {
     case 0: return ff_rest(c, pose, c.puppet->rig.iterations);
-    case 1: return ff_live(c, pose);
+    case 1: return live(c, *c.puppet, pose);
     case 2: return ff_rest(c, pose, kConverged);
-    default: return arap_solve(c, *arap_of()[ci], pose);
+    case 3: return arap_solve(c, *arap_of()[ci], pose);
+    case 4: return live(c, *c.grid, pose);
+    default: return live(c, *c.outline, pose);
   }
 }
 
-void render_cell(const PoseCase& c, const std::vector<Points>& shapes, int size, std::vector<std::uint8_t>& grid,
+// The puppet whose character (and fill mesh) a method's shapes belong to: the rigid grid and
+// the outline ARAP add interior points to theirs.
+const mar::Puppet& puppet_of(const PoseCase& c, int method) {
+  return method == 4 ? *c.grid : method == 5 ? *c.outline : *c.puppet;
+}
+
+void render_cell(const mar::Puppet& p, const std::vector<Points>& shapes, int size, std::vector<std::uint8_t>& grid,
                  int grid_w, int x0, int y0) {
   const int ss = 2;
   auto canvas = mar::Canvas::offscreen(size * ss, size * ss);
@@ -463,11 +543,11 @@ void render_cell(const PoseCase& c, const std::vector<Points>& shapes, int size,
   mar::Canvas& cv = **canvas.value;
   cv.clear(mar::Rgba{1, 1, 1, 1});
   mar::DrawList list;
-  const mar::Character& ch = c.puppet->character;
+  const mar::Character& ch = p.character;
   // Room around the character for limbs that leave its rest box.
   const double w = ch.width * 1.6, h = ch.height * 1.4;
   const mar::Affine2 view = mar::fit_view(w, h, size * ss, size * ss) * mar::Affine2::translate(ch.width * 0.3, ch.height * 0.2);
-  mar::build_draw_list(ch, c.puppet->mesh, shapes, view, 0.2 * ss, list);
+  mar::build_draw_list(ch, p.mesh, shapes, view, 0.2 * ss, list);
   if (std::string err = cv.draw(list); !err.empty()) fail(err);
   const std::vector<std::uint8_t> px = cv.read_premultiplied();
   const mar::Image img = mar::downsample_premultiplied(px.data(), size, size, ss);
@@ -482,18 +562,20 @@ void write_grid(size_t ci, const std::string& path) {
   const int cols = static_cast<int>(c.poses.size()) + 1, rows = kMethodCount;
   const int gw = cols * (size + gap), gh = rows * (size + gap);
   std::vector<std::uint8_t> grid(static_cast<size_t>(4 * gw * gh), 255);
-  std::vector<Points> rest;
-  for (const mar::SubShape& s : c.puppet->character.shapes) rest.push_back(s.points);
   for (int m = 0; m < rows; ++m) {
-    render_cell(c, rest, size, grid, gw, 0, m * (size + gap));
+    const mar::Puppet& pup = puppet_of(c, m);
+    std::vector<Points> rest;
+    for (const mar::SubShape& s : pup.character.shapes) rest.push_back(s.points);
+    render_cell(pup, rest, size, grid, gw, 0, m * (size + gap));
     for (size_t p = 0; p < c.poses.size(); ++p) {
-      render_cell(c, run_method(ci, m, c.poses[p]).shapes, size, grid, gw, static_cast<int>(p + 1) * (size + gap), m * (size + gap));
+      render_cell(pup, run_method(ci, m, c.poses[p]).shapes, size, grid, gw, static_cast<int>(p + 1) * (size + gap), m * (size + gap));
     }
   }
   mar::Image img{gw, gh, std::move(grid)};
   if (std::string err = mar::write_png(path, img); !err.empty()) fail(err);
-  std::printf("wrote %s (columns: rest, %zu poses; rows: %s, %s, %s, %s)\n", path.c_str(), c.poses.size(), kMethods[0],
-              kMethods[1], kMethods[2], kMethods[3]);
+  std::printf("wrote %s (columns: rest, %zu poses; rows:", path.c_str(), c.poses.size());
+  for (const char* m : kMethods) std::printf(" %s", m);
+  std::printf(")\n");
 }
 
 void BM_method(benchmark::State& st) {
@@ -571,7 +653,7 @@ int main(int argc, char** argv) {
       json << (p ? ",\n" : "") << "      {\"name\": \"" << c.poses[p].name << "\"";
       for (int m = 0; m < kMethodCount; ++m) {
         const Solved s = run_method(ci, m, c.poses[p]);
-        const PoseResult r = measure(c, c.poses[p], s.shapes, s.handle_points);
+        const PoseResult r = measure(c, m, c.poses[p], s.shapes, s.handle_points);
         nonfinite += r.nonfinite;
         std::printf("  %-22s %-13s %8.3f %8.3f %8.3f %8.3f %8.3f %8.3f  %s%s\n", m == 0 ? c.poses[p].name.c_str() : "",
                     kMethods[m], r.dist_max, r.dist_mean, r.art_max, r.art_mean, r.passive_max, r.handle_max,
