@@ -3,6 +3,7 @@
 #include "character/load.h"
 
 #include <chrono>
+#include <filesystem>
 
 namespace mar {
 
@@ -40,6 +41,12 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   const std::string path = character_path.empty() ? p->rig.character_path() : character_path;
   LoadOptions lo;
   lo.mask_path = mask_path;
+  if (mask_path.empty()) {  // the rig's mask goes with the rig's character
+    std::error_code ec;
+    const bool own = character_path.empty() || std::filesystem::weakly_canonical(character_path, ec) ==
+                                                   std::filesystem::weakly_canonical(p->rig.character_path(), ec);
+    if (own) lo.mask_path = p->rig.mask_path();
+  }
   Result<Character> ch = load_character(path, lo);
   if (!ch.ok()) return R::failure(ch.error);
   p->character = std::move(*ch.value);

@@ -31,7 +31,8 @@ struct Puppet {
 
 /// Loads the rig, then the character (`character_path`, or the rig's own when empty).
 /// Errors are bad input (file:line).
-/// `mask_path`: a PNG character's mask (non-black = figure); empty: its alpha.
+/// `mask_path`: a PNG character's mask (non-black = figure); empty: the rig's `mask` when the
+/// character is the rig's own file, else the PNG's alpha.
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
                                             const std::string& mask_path = "");
 /// The same with a rig already read (a bench or tool that changes its solver first).

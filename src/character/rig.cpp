@@ -12,11 +12,17 @@ namespace mar {
 
 Rig default_rig() { return Rig{}; }
 
-std::string Rig::character_path() const {
-  const std::filesystem::path c(character);
-  if (c.is_absolute()) return character;
-  return (std::filesystem::path(path).parent_path() / c).lexically_normal().string();
+namespace {
+std::string beside(const std::string& rig_path, const std::string& file) {
+  const std::filesystem::path c(file);
+  if (c.is_absolute()) return file;
+  return (std::filesystem::path(rig_path).parent_path() / c).lexically_normal().string();
 }
+}  // namespace
+
+std::string Rig::character_path() const { return beside(path, character); }
+
+std::string Rig::mask_path() const { return mask.empty() ? "" : beside(path, mask); }
 
 int Rig::find_handle(const std::string& name) const {
   for (size_t i = 0; i < handles.size(); ++i) {
@@ -39,12 +45,16 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   try {
     Rig r = default_rig();
     r.path = path;
-    check_keys(path, root, {"character", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
+    check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
                             "part", "grid", "stiffness"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
     r.character = ch->value<std::string>().value_or("");
+    if (const toml::node* m = root.get("mask")) {
+      if (!m->is_string() || m->value<std::string>()->empty()) throw RigError{at(path, *m) + ": mask must be the path of a PNG (non-black = figure)"};
+      r.mask = *m->value<std::string>();
+    }
     if (const toml::node* it = root.get("iterations")) {
       const auto v = it->value<int64_t>();
       if (!v || *v < 1 || *v > 1000) throw RigError{at(path, *it) + ": iterations must be a whole number 1..1000"};
@@ -289,6 +299,7 @@ std::string write_rig(const Rig& r) {
     return s.str();
   };
   o << "character = " << toml::value<std::string>(r.character) << "\n";
+  if (!r.mask.empty()) o << "mask = " << toml::value<std::string>(r.mask) << "\n";
   if (r.solver != "feature_frame") o << "solver = " << toml::value<std::string>(r.solver) << "\n";
   o << "iterations = " << r.iterations << "\n\n";
   o << "[weights]\nrigidity = " << r.w_rigidity << "\ncoupling = " << r.w_coupling << "\nposition = " << r.w_position

@@ -61,6 +61,7 @@ struct RigStiffness {
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
+  std::string mask;       ///< a PNG character's mask (non-black = figure), as written; empty: its alpha
   std::string solver = "feature_frame";  ///< the method (checked by the solver factory)
   int solver_line = 0;    ///< line of `solver` in the file (0: not given)
   int iterations = 12;
@@ -85,6 +86,8 @@ struct Rig {
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;
+  /// The mask path resolved the same way (empty when the rig names none).
+  std::string mask_path() const;
   /// Index of the handle with this name, or -1.
   int find_handle(const std::string& name) const;
 };

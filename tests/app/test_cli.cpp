@@ -281,6 +281,22 @@ TEST(cli_raster, AnOpaqueScanWithAMaskRigsLikeItsAlphaVersion) {
   ASSERT_EQ(up.exit_code, 0) << up.err;
   std::ifstream f(dir / "up.json");
   EXPECT_LT(nlohmann::json::parse(f)["handle_residuals"]["right-hand"].get<double>(), 8.0);
+  // A rig can name the scan and its mask: a show runs it (run has no --mask).
+  {
+    std::ofstream rf(dir / "scan_rig.toml");
+    std::ifstream src_rig(test::source_dir() / "config" / "rigs" / "boy_raster.toml");
+    std::string line;
+    while (std::getline(src_rig, line)) {
+      if (line.rfind("character", 0) == 0) line = "character = \"scan.png\"\nmask = \"mask.png\"";
+      rf << line << "\n";
+    }
+  }
+  auto via_rig = test::run_cli("inspect " + q(dir / "scan.png") + " --rig " + q(dir / "scan_rig.toml") + " --json");
+  ASSERT_EQ(via_rig.exit_code, 0) << via_rig.err;
+  EXPECT_EQ(nlohmann::json::parse(via_rig.out)["mesh"]["interior_points"], a["mesh"]["interior_points"]);
+  std::ofstream(dir / "show.toml") << "[show]\nrig = \"scan_rig.toml\"\nrate = 60\n";
+  auto run = test::run_cli("run " + q(dir / "show.toml") + " --headless --frames 20");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
   // Without the mask the opaque scan is one rectangle: a different character.
   auto plain = test::run_cli("inspect " + q(dir / "scan.png") + " --rig " + r + " --json");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;

@@ -187,6 +187,7 @@ stiffness = 3.5
 
 TEST(parse_rig, GridAndStiffnessRoundTrip) {
   const char* text = R"toml(character = "c.png"
+mask = "c-mask.png"
 solver = "rigid_grid"
 [grid]
 cell = 8.5
@@ -208,6 +209,8 @@ weight = 0.5
   auto a = parse_rig(text, "g.toml");
   ASSERT_TRUE(a.ok()) << a.error;
   const Rig& r = *a.value;
+  EXPECT_EQ(r.mask, "c-mask.png");
+  EXPECT_EQ(r.mask_path(), "c-mask.png");  // beside the rig (here: no folder)
   EXPECT_EQ(r.grid_cell, 8.5);
   EXPECT_EQ(r.grid_half_width, 4);
   EXPECT_EQ(r.grid_junction_term, "mvc");
@@ -221,12 +224,14 @@ weight = 0.5
   ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
   EXPECT_EQ(write_rig(*back.value), write_rig(r));
   EXPECT_EQ(back.value->stiffness.size(), 2u);
+  EXPECT_EQ(back.value->mask, "c-mask.png");
   struct Case {
     const char* text;
     const char* expect;
   };
   const Case cases[] = {
       {"character = \"a.png\"\n[grid]\nhalf_width = 0\n", "r.toml:3: half_width must be a whole number"},
+      {"character = \"a.png\"\nmask = 3\n", "r.toml:2: mask must be the path of a PNG"},
       {"character = \"a.png\"\n[grid]\ncell = -2\n", "r.toml:3: cell must be positive"},
       {"character = \"a.png\"\n[grid]\njunction = \"glue\"\n", "r.toml:3: junction must be"},
       {"character = \"a.png\"\n[grid]\nsize = 3\n", "r.toml:3: unknown key 'size'"},
