@@ -656,38 +656,44 @@ bool RigidGrid::factorise(std::string* error) {
   return true;
 }
 
+namespace {
+// Windowed sums along one run for C channels (C a constant, so the channel loops unroll).
+template <int C>
+void window_run(const int* idx, int len, int w, bool wrap, const double* in, const std::vector<int>* in_map, double* out,
+                const std::vector<int>* out_map, bool accumulate, double* P) {
+  const bool all = wrap && 2 * w + 1 >= len;
+  // Prefix sums over the run (a closed run: starting w before its first position).
+  const int pad = wrap && !all ? w : 0, total = len + 2 * pad;
+  for (int c = 0; c < C; ++c) P[c] = 0;
+  for (int s = 0; s < total; ++s) {
+    int pos = s - pad;
+    if (pos < 0) pos += len;
+    else if (pos >= len) pos -= len;
+    const int id = idx[pos];
+    const double* v = in + size_t(in_map ? (*in_map)[size_t(id)] : id) * C;
+    double* q = P + size_t(s) * C;
+    for (int c = 0; c < C; ++c) q[C + c] = q[c] + v[c];
+  }
+  for (int p = 0; p < len; ++p) {
+    int lo, hi;  // prefix indices
+    if (all) lo = 0, hi = len;
+    else if (wrap) lo = p, hi = p + 2 * w + 1;
+    else lo = std::max(0, p - w), hi = std::min(len, p + w + 1);
+    const int id = idx[p];
+    double* o = out + size_t(out_map ? (*out_map)[size_t(id)] : id) * C;
+    const double *ph = P + size_t(hi) * C, *pl = P + size_t(lo) * C;
+    for (int c = 0; c < C; ++c) o[c] = accumulate ? o[c] + (ph[c] - pl[c]) : ph[c] - pl[c];
+  }
+}
+}  // namespace
+
 void RigidGrid::window_pass(const Runs& runs, const double* in, const std::vector<int>* in_map, double* out,
                             const std::vector<int>* out_map, bool accumulate, int C) const {
-  double* P = prefix_.data();
   for (size_t k = 0; k + 1 < runs.start.size(); ++k) {
-    const int b = runs.start[k], len = runs.start[k + 1] - b, w = runs.half[k];
-    const bool wrap = runs.closed[k];
-    const bool all = wrap && 2 * w + 1 >= len;
-    // Prefix sums over the run (a closed run: starting w before its first
-    // position).
-    const int pad = wrap && !all ? w : 0, total = len + 2 * pad;
-    for (int c = 0; c < C; ++c) P[c] = 0;
-    for (int s = 0; s < total; ++s) {
-      const int pos = ((s - pad) % len + len) % len;
-      const int id = runs.idx[size_t(b + pos)];
-      const double* v = in + size_t(in_map ? (*in_map)[size_t(id)] : id) * size_t(C);
-      for (int c = 0; c < C; ++c) P[size_t(s + 1) * size_t(C) + size_t(c)] = P[size_t(s) * size_t(C) + size_t(c)] + v[c];
-    }
-    for (int p = 0; p < len; ++p) {
-      int lo, hi;  // prefix indices
-      if (all)
-        lo = 0, hi = len;
-      else if (wrap)
-        lo = p, hi = p + 2 * w + 1;
-      else
-        lo = std::max(0, p - w), hi = std::min(len, p + w + 1);
-      const int id = runs.idx[size_t(b + p)];
-      double* o = out + size_t(out_map ? (*out_map)[size_t(id)] : id) * size_t(C);
-      for (int c = 0; c < C; ++c) {
-        const double v = P[size_t(hi) * size_t(C) + size_t(c)] - P[size_t(lo) * size_t(C) + size_t(c)];
-        o[c] = accumulate ? o[c] + v : v;
-      }
-    }
+    const int b = runs.start[k], len = runs.start[k + 1] - b;
+    const int* idx = runs.idx.data() + b;
+    if (C == 4) window_run<4>(idx, len, runs.half[k], runs.closed[k], in, in_map, out, out_map, accumulate, prefix_.data());
+    else window_run<1>(idx, len, runs.half[k], runs.closed[k], in, in_map, out, out_map, accumulate, prefix_.data());
   }
 }
 

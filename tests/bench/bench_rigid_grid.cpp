@@ -5,7 +5,7 @@
 //   OPT2  the same without it (every region member visited)
 // Same run: CGAL's Surface_mesh_deformation (ARAP, 8 iterations) on the rigid grid's own
 // triangle mesh with the same handles, and our outline ARAP baseline on the bottle, with the
-// ratios to OPT1. Prints a table and writes bench_rigid_grid.json (or MARIONETTE_BENCH_JSON).
+// ratios to OPT1; and the region sums alone (one gather and one scatter), fast and naive. Prints a table and writes bench_rigid_grid.json (or MARIONETTE_BENCH_JSON).
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
 
@@ -119,6 +119,21 @@ void BM_opt(benchmark::State& st) {
   s.set_fast_summation(true);
 }
 
+// The region sums alone (one gather over every region and one scatter back, one channel):
+// with the fast summation their cost does not depend on w.
+void BM_sums(benchmark::State& st) {
+  const int w = int(st.range(0));
+  const bool fast = st.range(1) != 0;
+  const mar::RigidGrid& s = prepared(w)->s;
+  std::vector<double> f(s.rest().size(), 1.0), r(s.regions()), back(s.rest().size());
+  for (size_t i = 0; i < f.size(); ++i) f[i] = s.rest()[i].x();
+  for (auto _ : st) {
+    s.region_sums(f, r, fast);
+    s.region_scatter(r, back, fast);
+    benchmark::DoNotOptimize(back.data());
+  }
+}
+
 void BM_cgal_arap(benchmark::State& st) {
   const int w = int(st.range(0));
   const mar::RigidGrid& s = prepared(w)->s;
@@ -159,6 +174,8 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("OPT1/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 1})->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("OPT2/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 0})->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("CGAL_ARAP/w:" + std::to_string(w)).c_str(), BM_cgal_arap)->Arg(w)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("SUMS_fast/w:" + std::to_string(w)).c_str(), BM_sums)->Args({w, 1})->Unit(benchmark::kMicrosecond);
+    benchmark::RegisterBenchmark(("SUMS_naive/w:" + std::to_string(w)).c_str(), BM_sums)->Args({w, 0})->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("OUTLINE_ARAP", BM_outline_arap)->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
@@ -169,8 +186,8 @@ int main(int argc, char** argv) {
   const double outline = bench::median_us(collect, "OUTLINE_ARAP") / 1000;
   std::printf("\nseed 003 Table 1 for the bottle (cell %.3f; ms, medians; OPT = one frame of %d iterations)\n", g_cell,
               kIterations);
-  std::printf("%6s %6s %3s %9s %9s %9s %7s %10s %9s %11s\n", "VER", "NOD", "w", "PRE", "OPT1", "OPT2", "OPT2/1", "CGAL ARAP",
-              "CGAL/1", "factor nnz");
+  std::printf("%6s %6s %3s %9s %9s %9s %7s %10s %9s %11s %10s %10s\n", "VER", "NOD", "w", "PRE", "OPT1", "OPT2", "OPT2/1",
+              "CGAL ARAP", "CGAL/1", "factor nnz", "sums fast", "sums naive");
   const char* json_path = std::getenv("MARIONETTE_BENCH_JSON");
   std::ofstream json(json_path ? json_path : "bench_rigid_grid.json");
   json << "{\n  \"cell\": " << g_cell << ", \"iterations\": " << kIterations << ", \"outline_arap_ms\": " << outline
@@ -179,15 +196,17 @@ int main(int argc, char** argv) {
   for (int w : kWidths) {
     const std::string k = "/w:" + std::to_string(w);
     const double pre = bench::median_us(collect, "PRE" + k) / 1000, o1 = bench::median_us(collect, "OPT1" + k) / 1000,
-                 o2 = bench::median_us(collect, "OPT2" + k) / 1000, cg = bench::median_us(collect, "CGAL_ARAP" + k) / 1000;
+                 o2 = bench::median_us(collect, "OPT2" + k) / 1000, cg = bench::median_us(collect, "CGAL_ARAP" + k) / 1000,
+                 sf = bench::median_us(collect, "SUMS_fast" + k), sn = bench::median_us(collect, "SUMS_naive" + k);
     if (pre < 0 && o1 < 0) continue;  // filtered out
     const mar::RigidGrid& s = prepared(w)->s;
     const size_t nod = s.grid_nodes() + s.boundary_nodes();
-    std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f %7.2f %10.3f %9.2f %11ld\n", s.mesh_vertices(), nod, w, pre, o1, o2,
-                o1 > 0 ? o2 / o1 : 0.0, cg, o1 > 0 ? cg / o1 : 0.0, s.factor_nonzeros());
+    std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f %7.2f %10.3f %9.2f %11ld %9.1fus %9.1fus\n", s.mesh_vertices(), nod, w, pre, o1,
+                o2, o1 > 0 ? o2 / o1 : 0.0, cg, o1 > 0 ? cg / o1 : 0.0, s.factor_nonzeros(), sf, sn);
     json << (first ? "" : ",\n") << "    {\"w\": " << w << ", \"VER\": " << s.mesh_vertices() << ", \"NOD\": " << nod
          << ", \"PRE_ms\": " << pre << ", \"OPT1_ms\": " << o1 << ", \"OPT2_ms\": " << o2 << ", \"cgal_arap_ms\": " << cg
-         << ", \"factor_nonzeros\": " << s.factor_nonzeros() << "}";
+         << ", \"factor_nonzeros\": " << s.factor_nonzeros() << ", \"sums_fast_us\": " << sf << ", \"sums_naive_us\": " << sn
+         << "}";
     first = false;
   }
   json << "\n  ]\n}\n";
