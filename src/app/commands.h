@@ -45,6 +45,7 @@ struct PoseArgs {
   std::string background;
   bool overlay = false;
   std::string mask;                  ///< PNG character: mask image (non-black = figure)
+  std::vector<std::string> settings; ///< "NAME=VALUE": a solver parameter (half_width, stiffness.arm, ...)
 };
 int cmd_pose(const PoseArgs& a);
 

@@ -44,6 +44,7 @@ int main(int argc, char** argv) {
   p->add_option("--background", pose.background, "RRGGBB or transparent (default)");
   p->add_flag("--overlay", pose.overlay, "Draw the deformed feature frame and handles too");
   p->add_option("--mask", pose.mask, "Mask PNG for a PNG character (non-black = figure)");
+  p->add_option("--set", pose.settings, "NAME=VALUE (repeatable): a parameter of the rig's solver, e.g. half_width=6");
 
   mar::ViewArgs view;
   CLI::App* v = app.add_subcommand("view", "Show characters in a window, or write PNGs when there is no display");

@@ -269,6 +269,35 @@ int cmd_pose(const PoseArgs& a) {
     }
     targets[static_cast<size_t>(h)] = {x, y};
   }
+  if (!a.settings.empty()) {  // solver parameters, as a show's solver.NAME settings would turn them
+    auto params = p.solver->parameters();
+    std::vector<double> values;
+    for (const SolverParameter& sp : params) values.push_back(sp.value);
+    for (const std::string& s : a.settings) {
+      const size_t eq = s.find('=');
+      double v = 0;
+      char extra = 0;
+      size_t k = 0;
+      while (eq != std::string::npos && k < params.size() && params[k].name != s.substr(0, eq)) ++k;
+      if (eq == std::string::npos || std::sscanf(s.c_str() + eq + 1, "%lf%c", &v, &extra) != 1 || !std::isfinite(v) || k == params.size()) {
+        std::string names;
+        for (const SolverParameter& sp : params) names += (names.empty() ? "" : ", ") + sp.name;
+        std::cerr << "error: --set must be NAME=VALUE with NAME one of this rig's solver parameters (" << names << "), got '" << s
+                  << "'\n";
+        return kExitBadInput;
+      }
+      if (v < params[k].lo || v > params[k].hi) {
+        std::cerr << "error: --set " << params[k].name << " must be " << params[k].lo << ".." << params[k].hi << ", got " << v << "\n";
+        return kExitBadInput;
+      }
+      values[k] = v;
+    }
+    std::string err;
+    if (!p.solver->set_parameters(values, &err)) {
+      std::cerr << "error: " << err << "\n";
+      return kExitBadInput;
+    }
+  }
   if (a.iterations != -1 && (a.iterations < 1 || a.iterations > 100000)) {
     std::cerr << "error: --iterations must be 1..100000\n";
     return kExitBadInput;

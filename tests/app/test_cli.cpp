@@ -303,5 +303,26 @@ TEST(cli_raster, AnOpaqueScanWithAMaskRigsLikeItsAlphaVersion) {
   EXPECT_NE(nlohmann::json::parse(plain.out)["mesh"]["interior_points"], a["mesh"]["interior_points"]);
 }
 
+// pose --set turns a solver parameter as a show's solver.NAME setting would: the rigid grid's
+// global stiffness changes the pose; an unknown name lists the ones offered.
+TEST(cli_pose, SetTurnsASolverParameter) {
+  const auto dir = test::temp_dir("pose-set");
+  auto hand_y = [&](const std::string& w) {
+    const auto out = dir / ("w" + w + ".json");
+    auto r = test::run_cli("pose " + q(test::characters_dir() / "boy.png") + " --rig " + rig("boy_grid") + " --set half_width=" + w +
+                           " --target right-hand=260,120 --dump " + q(out));
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream f(out);
+    return nlohmann::json::parse(f)["handle_residuals"]["right-hand"].get<double>();
+  };
+  EXPECT_LT(hand_y("1"), hand_y("6"));  // the stiffer grid stays farther from the target
+  auto bad = test::run_cli("pose " + q(test::characters_dir() / "boy.png") + " --rig " + rig("boy_grid") + " --set stiffnes=2");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("half_width, rigidity, junction, position, stiffness.right-arm"), std::string::npos) << bad.err;
+  auto range = test::run_cli("pose " + q(test::characters_dir() / "boy.png") + " --rig " + rig("boy_grid") + " --set half_width=0");
+  EXPECT_EQ(range.exit_code, 2);
+  EXPECT_NE(range.err.find("half_width must be 1..32"), std::string::npos) << range.err;
+}
+
 }  // namespace
 }  // namespace mar
