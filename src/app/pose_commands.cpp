@@ -53,6 +53,18 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   return kExitOk;
 }
 
+nlohmann::ordered_json handles_json(const Rig& rig) {
+  nlohmann::ordered_json hs = nlohmann::ordered_json::array();
+  for (const RigHandle& h : rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
+  return hs;
+}
+
+void print_handles(const Rig& rig) {
+  std::printf("handles:");
+  for (const RigHandle& h : rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
+  std::printf("\n");
+}
+
 std::pair<int, int> doc_size(const Character& ch) {
   return {std::clamp(static_cast<int>(std::ceil(ch.width)), 1, 8192), std::clamp(static_cast<int>(std::ceil(ch.height)), 1, 8192)};
 }
@@ -101,9 +113,7 @@ int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
                    {"mesh_triangles", grid.mesh_triangles().size()},
                    {"junction_triangles", junction},
                    {"factor_nonzeros", grid.factor_nonzeros()}};
-    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
-    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
-    j["handles"] = hs;
+    j["handles"] = handles_json(p.rig);
     std::cout << j.dump(2) << "\n";
   } else {
     print_inspect_text(p.character);
@@ -113,9 +123,7 @@ int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
                 "PRE", "OPT1", "OPT2", iterations);
     std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f\n", grid.mesh_vertices(), nod, grid.half_width(), median(pre), median(opt1),
                 median(opt2));
-    std::printf("handles:");
-    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
-    std::printf("\n");
+    print_handles(p.rig);
   }
   if (!a.overlay.empty()) {
     const auto [w2, h2] = doc_size(p.character);
@@ -153,9 +161,7 @@ int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
                  {"interior_points", interior},
                  {"PRE_ms", median(pre)},
                  {"SOL_ms", median(sol)}};
-    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
-    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
-    j["handles"] = hs;
+    j["handles"] = handles_json(p.rig);
     std::cout << j.dump(2) << "\n";
   } else {
     print_inspect_text(p.character);
@@ -163,9 +169,7 @@ int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
     std::printf("%9s %9s %9s %9s %9s\n", "vertices", "triangles", "interior", "PRE ms", "SOL ms");
     std::printf("%9zu %9zu %9zu %9.3f %9.3f\n", arap->rest().size(), arap->triangles().size(), interior, median(pre),
                 median(sol));
-    std::printf("handles:");
-    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
-    std::printf("\n");
+    print_handles(p.rig);
   }
   if (!a.overlay.empty()) {
     const auto [w2, h2] = doc_size(p.character);
@@ -209,9 +213,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
                    {"joints", f.joints.size()},
                    {"PRE_ms", median(pre)},
                    {"SOL_ms", median(sol)}};
-    nlohmann::ordered_json hs = nlohmann::ordered_json::array();
-    for (const RigHandle& h : p.rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
-    j["handles"] = hs;
+    j["handles"] = handles_json(p.rig);
     j["frame_warnings"] = f.warnings;
     std::cout << j.dump(2) << "\n";
   } else {
@@ -230,9 +232,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
     bool from_rig = false;
     for (const FrameJoint& j : f.joints) from_rig = from_rig || !j.automatic;
     std::printf("%s\n", f.joints.empty() ? " none" : from_rig ? "  (* from the rig)" : "");
-    std::printf("handles:");
-    for (const RigHandle& h : p.rig.handles) std::printf(" %s(%.1f, %.1f)", h.name.c_str(), h.rest.x(), h.rest.y());
-    std::printf("\n");
+    print_handles(p.rig);
   }
   if (!a.overlay.empty()) {
     const auto [w2, h2] = doc_size(p.character);

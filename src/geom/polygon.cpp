@@ -110,29 +110,33 @@ void remove_duplicate_points(Points& pts, bool closed, double eps) {
   }
 }
 
-double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to) {
+RigidMotion rigid_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
+  RigidMotion m;
   const size_t n = std::min(from.size(), to.size());
-  if (n == 0) return 0;
-  Vec2 ca = Vec2::Zero(), cb = Vec2::Zero();
+  if (n == 0) return m;
   for (size_t i = 0; i < n; ++i) {
-    ca += from[i];
-    cb += to[i];
+    m.from_c += from[i];
+    m.to_c += to[i];
   }
-  ca /= static_cast<double>(n);
-  cb /= static_cast<double>(n);
+  m.from_c /= static_cast<double>(n);
+  m.to_c /= static_cast<double>(n);
   double re = 0, im = 0;
   for (size_t i = 0; i < n; ++i) {
-    const Vec2 p = from[i] - ca, q = to[i] - cb;
+    const Vec2 p = from[i] - m.from_c, q = to[i] - m.to_c;
     re += q.x() * p.x() + q.y() * p.y();
     im += q.y() * p.x() - q.x() * p.y();
   }
   const double len = std::hypot(re, im);
-  const double c = len > 0 ? re / len : 1, s = len > 0 ? im / len : 0;
+  if (len > 0 && std::isfinite(len)) m.c = re / len, m.s = im / len;
+  return m;
+}
+
+double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to) {
+  const size_t n = std::min(from.size(), to.size());
+  if (n == 0) return 0;
+  const RigidMotion m = rigid_fit(from, to);
   double sum = 0;
-  for (size_t i = 0; i < n; ++i) {
-    const Vec2 p = from[i] - ca;
-    sum += (cb + Vec2(c * p.x() - s * p.y(), s * p.x() + c * p.y()) - to[i]).squaredNorm();
-  }
+  for (size_t i = 0; i < n; ++i) sum += (m.apply(from[i]) - to[i]).squaredNorm();
   return std::sqrt(sum / static_cast<double>(n));
 }
 

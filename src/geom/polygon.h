@@ -14,6 +14,20 @@ double signed_area(std::span<const Vec2> ring);
 /// Winding number of `p` with respect to the closed ring.
 int winding_number(std::span<const Vec2> ring, const Vec2& p);
 
+/// A rigid motion of the plane: p -> to_c + R(c, s) (p - from_c).
+struct RigidMotion {
+  Vec2 from_c = Vec2::Zero(), to_c = Vec2::Zero();
+  double c = 1, s = 0;  ///< cos and sin of the rotation
+  Vec2 apply(const Vec2& p) const {
+    const Vec2 d = p - from_c;
+    return to_c + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
+  }
+};
+
+/// The rigid motion (rotation + translation, 2D Procrustes) that best takes `from` onto `to`
+/// (the first min(sizes) points); the identity rotation when they have no spread.
+RigidMotion rigid_fit(std::span<const Vec2> from, std::span<const Vec2> to);
+
 /// RMS residual of the best rigid fit (rotation + translation, 2D Procrustes) of `from`
 /// onto `to` (same sizes): how much a part's shape changed, wherever it went. Allocates nothing.
 double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to);

@@ -183,6 +183,7 @@ bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handl
     binds_.push_back(std::move(b));
   }
   handles_.clear();
+  handle_rest_.assign(handle_rest.begin(), handle_rest.end());
   for (const Vec2& h : handle_rest) handles_.push_back(locate(h));
   x_ = rest_;
   rc_.assign(n, 1.0);
@@ -251,32 +252,12 @@ void OutlineArap::reset_to_rest() {
 
 void OutlineArap::initial_guess(std::span<const Vec2> targets) {
   // The best rigid motion of the handles' rest points onto their targets, applied to the rest.
-  const size_t m = std::min(targets.size(), handles_.size());
-  if (m == 0) return reset_to_rest();
-  Vec2 pc = Vec2::Zero(), qc = Vec2::Zero();
-  std::vector<Vec2> p(m);
-  for (size_t h = 0; h < m; ++h) {
-    const Bary& b = handles_[h];
-    p[h] = b.w[0] * rest_[size_t(b.v[0])] + b.w[1] * rest_[size_t(b.v[1])] + b.w[2] * rest_[size_t(b.v[2])];
-    pc += p[h];
-    qc += targets[h];
-  }
-  pc /= double(m);
-  qc /= double(m);
-  double a = 0, s = 0;
-  for (size_t h = 0; h < m; ++h) {
-    const Vec2 u = p[h] - pc, v = targets[h] - qc;
-    a += u.dot(v);
-    s += u.x() * v.y() - u.y() * v.x();
-  }
-  const double r = std::hypot(a, s);
-  const double c = r > 1e-12 ? a / r : 1, sn = r > 1e-12 ? s / r : 0;
-  for (size_t i = 0; i < rest_.size(); ++i) {
-    const Vec2 u = rest_[i] - pc;
-    x_[i] = qc + Vec2(c * u.x() - sn * u.y(), sn * u.x() + c * u.y());
-    rc_[i] = c;
-    rs_[i] = sn;
-  }
+  const size_t m = std::min(targets.size(), handle_rest_.size());
+  const RigidMotion r = rigid_fit(std::span(handle_rest_).first(m), targets.first(m));
+  if (m == 0 || !r.to_c.allFinite()) return reset_to_rest();
+  for (size_t i = 0; i < rest_.size(); ++i) x_[i] = r.apply(rest_[i]);
+  std::fill(rc_.begin(), rc_.end(), r.c);
+  std::fill(rs_.begin(), rs_.end(), r.s);
 }
 
 void OutlineArap::local_step() {

@@ -59,6 +59,7 @@ class OutlineArap final : public Solver {
   std::vector<double> pull_;        ///< pull toward the current pose of a part no handle reaches (0: held)
   std::vector<std::vector<Bary>> binds_;  ///< per shape, per point
   std::vector<Bary> handles_;
+  Points handle_rest_;
   double position_ = 100;
   PrefactoredLdlt factor_;
   std::vector<double> bx_, by_;     ///< right-hand sides in the factor's order

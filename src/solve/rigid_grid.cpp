@@ -343,6 +343,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
 
   handles_.clear();
   handle_node_.clear();
+  handle_rest_.assign(handle_rest.begin(), handle_rest.end());
   for (const Vec2& p : handle_rest) {
     handles_.push_back(embed(p));
     const Embed& e = handles_.back();
@@ -782,32 +783,13 @@ void RigidGrid::reset_to_rest() {
 }
 
 void RigidGrid::initial_guess(std::span<const Vec2> targets) {
-  const size_t m = std::min(targets.size(), handles_.size());
-  if (m == 0) return reset_to_rest();
   // The best rigid motion of the handles, applied to everything.
-  Vec2 pc = Vec2::Zero(), qc = Vec2::Zero();
-  for (size_t h = 0; h < m; ++h) {
-    Vec2 p = Vec2::Zero();
-    for (int k = 0; k < handles_[h].n; ++k) p += handles_[h].w[k] * rest_[size_t(handles_[h].v[k])];
-    pc += p;
-    qc += targets[h];
-  }
-  pc /= double(m);
-  qc /= double(m);
-  double a = 0, s = 0;
-  for (size_t h = 0; h < m; ++h) {
-    Vec2 p = -pc;
-    for (int k = 0; k < handles_[h].n; ++k) p += handles_[h].w[k] * rest_[size_t(handles_[h].v[k])];
-    const Vec2 v = targets[h] - qc;
-    a += p.dot(v);
-    s += cross(p, v);
-  }
-  const double r = std::hypot(a, s);
-  const double c = r > 1e-12 && std::isfinite(r) ? a / r : 1, sn = r > 1e-12 && std::isfinite(r) ? s / r : 0;
-  if (!qc.allFinite()) return reset_to_rest();
-  for (size_t i = 0; i < rest_.size(); ++i) x_[i] = qc + rotate(c, sn, rest_[i] - pc);
-  std::fill(rc_.begin(), rc_.end(), c);
-  std::fill(rs_.begin(), rs_.end(), sn);
+  const size_t m = std::min(targets.size(), handle_rest_.size());
+  const RigidMotion r = rigid_fit(std::span(handle_rest_).first(m), targets.first(m));
+  if (m == 0 || !r.to_c.allFinite()) return reset_to_rest();
+  for (size_t i = 0; i < rest_.size(); ++i) x_[i] = r.apply(rest_[i]);
+  std::fill(rc_.begin(), rc_.end(), r.c);
+  std::fill(rs_.begin(), rs_.end(), r.s);
 }
 
 void RigidGrid::local_step() {

@@ -198,6 +198,7 @@ class RigidGrid final : public Solver {
   // shape points and handles
   std::vector<std::vector<Embed>> binds_;
   std::vector<Embed> handles_;
+  Points handle_rest_;
   std::vector<int> handle_node_;
   std::vector<double> pull_;  ///< per node: the pull of a part no handle reaches (0: held)
   PrefactoredLdlt factor_;
