@@ -190,7 +190,7 @@ bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handl
   rs_.assign(n, 0.0);
   bx_.assign(n, 0.0);
   by_.assign(n, 0.0);
-  grab_z_.assign(n, 0.0);
+  grab_update_.reserve(n);
   grab_active_ = false;
   return factorise(error);
 }
@@ -305,19 +305,7 @@ void OutlineArap::global_step(std::span<const Vec2> targets) {
   const bool grab = grab_active_ && targets.size() > handles_.size();
   if (grab) add_handle(grab_, targets[handles_.size()], position_);
   factor_.solve_permuted(bx_.data(), by_.data());
-  if (grab) {
-    // Sherman-Morrison: (K + w a a^T)^-1 b = y - z (w a^T y) / (1 + w a^T z), z = K^-1 a.
-    double ax = 0, ay = 0;
-    for (int k = 0; k < 3; ++k) {
-      ax += grab_.w[k] * bx_[size_t(perm[grab_.v[k]])];
-      ay += grab_.w[k] * by_[size_t(perm[grab_.v[k]])];
-    }
-    const double fx = position_ * ax / grab_den_, fy = position_ * ay / grab_den_;
-    for (size_t i = 0; i < x_.size(); ++i) {
-      bx_[i] -= fx * grab_z_[i];
-      by_[i] -= fy * grab_z_[i];
-    }
-  }
+  if (grab) grab_update_.correct(factor_, bx_.data(), by_.data());
   for (size_t i = 0; i < x_.size(); ++i) x_[i] = Vec2(bx_[size_t(perm[i])], by_[size_t(perm[i])]);
 }
 
@@ -330,13 +318,7 @@ void OutlineArap::solve(std::span<const Vec2> targets, int iterations) {
 
 void OutlineArap::grab(const Vec2& rest_point) {
   grab_ = locate(rest_point);
-  const int* perm = factor_.perm().data();
-  std::fill(grab_z_.begin(), grab_z_.end(), 0.0);
-  for (int k = 0; k < 3; ++k) grab_z_[size_t(perm[grab_.v[k]])] += grab_.w[k];
-  factor_.solve_permuted(grab_z_.data());
-  double az = 0;
-  for (int k = 0; k < 3; ++k) az += grab_.w[k] * grab_z_[size_t(perm[grab_.v[k]])];
-  grab_den_ = 1 + position_ * az;
+  grab_update_.set(factor_, grab_.v, grab_.w, 3, position_);
   grab_active_ = true;
 }
 

@@ -66,8 +66,7 @@ class OutlineArap final : public Solver {
   // Grab: one extra soft constraint by Sherman-Morrison (z = K^-1 a, in the factor's order).
   bool grab_active_ = false;
   Bary grab_;
-  std::vector<double> grab_z_;
-  double grab_den_ = 1;
+  RankOneUpdate grab_update_;
 };
 
 }  // namespace mar

@@ -1,5 +1,6 @@
 #include "solve/ldlt.h"
 
+#include <algorithm>
 #include <numeric>
 
 namespace mar {
@@ -64,6 +65,36 @@ void PrefactoredLdlt::solve_permuted(double* x, double* y) const {
     }
     x[j] = sx;
     y[j] = sy;
+  }
+}
+
+void RankOneUpdate::set(const PrefactoredLdlt& f, const int* idx, const double* w, int n, double weight) {
+  const int* perm = f.perm().data();
+  n_ = std::min(n, 4);
+  weight_ = weight;
+  std::fill(z_.begin(), z_.end(), 0.0);
+  for (int k = 0; k < n_; ++k) {
+    idx_[k] = idx[k];
+    w_[k] = w[k];
+    z_[size_t(perm[idx[k]])] += w[k];
+  }
+  f.solve_permuted(z_.data());
+  double az = 0;
+  for (int k = 0; k < n_; ++k) az += w_[k] * z_[size_t(perm[idx_[k]])];
+  den_ = 1 + weight_ * az;
+}
+
+void RankOneUpdate::correct(const PrefactoredLdlt& f, double* x, double* y) const {
+  const int* perm = f.perm().data();
+  double ax = 0, ay = 0;
+  for (int k = 0; k < n_; ++k) {
+    ax += w_[k] * x[perm[idx_[k]]];
+    ay += w_[k] * y[perm[idx_[k]]];
+  }
+  const double fx = weight_ * ax / den_, fy = weight_ * ay / den_;
+  for (size_t i = 0; i < z_.size(); ++i) {
+    x[i] -= fx * z_[i];
+    y[i] -= fy * z_[i];
   }
 }
 

@@ -30,4 +30,24 @@ class PrefactoredLdlt {
   std::vector<int> perm_;
 };
 
+/// One soft point constraint added to a prefactored system without factorising again
+/// (Sherman–Morrison): K' = K + weight a a^T, with a = Σ_k w_k e_{idx_k} (a point as a
+/// combination of up to 4 unknowns). The caller adds weight a target to its right-hand sides,
+/// solves with the factor, then calls correct(). Allocates only in reserve().
+class RankOneUpdate {
+ public:
+  void reserve(size_t n) { z_.assign(n, 0.0); }
+  /// z = K^-1 a, and the denominator; `n` entries of idx and w.
+  void set(const PrefactoredLdlt& f, const int* idx, const double* w, int n, double weight);
+  /// x, y (in the factor's order, as solved by K) become the solutions of K'.
+  void correct(const PrefactoredLdlt& f, double* x, double* y) const;
+
+ private:
+  std::vector<double> z_;
+  int idx_[4] = {0, 0, 0, 0};
+  double w_[4] = {0, 0, 0, 0};
+  int n_ = 0;
+  double weight_ = 0, den_ = 1;
+};
+
 }  // namespace mar

@@ -355,7 +355,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   const size_t n = rest_.size();
   bx_.assign(n, 0.0);
   by_.assign(n, 0.0);
-  grab_z_.assign(n, 0.0);
+  grab_update_.reserve(n);
   grab_active_ = false;
   build_runs();
   build_regions();
@@ -893,18 +893,7 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
   const bool grab = grab_active_ && targets.size() > handles_.size();
   if (grab) handle(grab_, targets[handles_.size()]);
   factor_.solve_permuted(bx_.data(), by_.data());
-  if (grab) {
-    double ax = 0, ay = 0;
-    for (int k = 0; k < grab_.n; ++k) {
-      ax += grab_.w[k] * bx_[size_t(perm[grab_.v[k]])];
-      ay += grab_.w[k] * by_[size_t(perm[grab_.v[k]])];
-    }
-    const double fx = w_p_ * ax / grab_den_, fy = w_p_ * ay / grab_den_;
-    for (size_t i = 0; i < n; ++i) {
-      bx_[i] -= fx * grab_z_[i];
-      by_[i] -= fy * grab_z_[i];
-    }
-  }
+  if (grab) grab_update_.correct(factor_, bx_.data(), by_.data());
   for (size_t i = 0; i < n; ++i) {
     const Vec2 v(bx_[size_t(perm[i])], by_[size_t(perm[i])]);
     if (v.allFinite()) x_[i] = v;
@@ -920,13 +909,7 @@ void RigidGrid::solve(std::span<const Vec2> targets, int iterations) {
 
 void RigidGrid::grab(const Vec2& rest_point) {
   grab_ = embed(rest_point);
-  const int* perm = factor_.perm().data();
-  std::fill(grab_z_.begin(), grab_z_.end(), 0.0);
-  for (int k = 0; k < grab_.n; ++k) grab_z_[size_t(perm[grab_.v[k]])] += grab_.w[k];
-  factor_.solve_permuted(grab_z_.data());
-  double az = 0;
-  for (int k = 0; k < grab_.n; ++k) az += grab_.w[k] * grab_z_[size_t(perm[grab_.v[k]])];
-  grab_den_ = 1 + w_p_ * az;
+  grab_update_.set(factor_, grab_.v, grab_.w, grab_.n, w_p_);
   grab_active_ = true;
 }
 

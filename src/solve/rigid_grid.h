@@ -207,8 +207,7 @@ class RigidGrid final : public Solver {
   std::vector<double> bx_, by_;
   bool grab_active_ = false;
   Embed grab_;
-  std::vector<double> grab_z_;
-  double grab_den_ = 1;
+  RankOneUpdate grab_update_;
 };
 
 }  // namespace mar
