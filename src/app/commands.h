@@ -46,8 +46,31 @@ struct PoseArgs {
   bool overlay = false;
   std::string mask;                  ///< PNG character: mask image (non-black = figure)
   std::vector<std::string> settings; ///< "NAME=VALUE": a solver parameter (half_width, stiffness.arm, ...)
+  std::string save_key;              ///< append the pose's targets to the rig as [[key]] NAME
 };
 int cmd_pose(const PoseArgs& a);
+
+struct InterpArgs {
+  std::string input;
+  std::string rig;
+  std::string mask;
+  std::string from = "rest", to;    ///< key names ("rest": the rest pose)
+  double t = -1;                    ///< one in-between at t (0..1)
+  int steps = 0;                    ///< or steps + 1 frames from t = 0 to 1
+  bool linear = false;              ///< the naive linear blend of frame vertices instead
+  std::string dump;                 ///< JSON: per step, t, frame vertices and sub-shapes
+  std::string output;               ///< PNG of the one in-between (--t)
+  std::string out_dir;              ///< PNG per step (--steps)
+  std::string size, background;
+};
+int cmd_interp(const InterpArgs& a);
+
+struct Puppet;
+/// Renders the puppet's current shapes (and optionally its solver's structure) into a PNG.
+int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& bg, bool overlay,
+                  std::span<const Vec2> handle_points);
+/// The document size of a character, clamped to 1..8192.
+std::pair<int, int> doc_size(const Character& ch);
 
 struct ViewArgs {
   std::vector<std::string> inputs;

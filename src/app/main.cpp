@@ -45,6 +45,23 @@ int main(int argc, char** argv) {
   p->add_flag("--overlay", pose.overlay, "Draw the deformed feature frame and handles too");
   p->add_option("--mask", pose.mask, "Mask PNG for a PNG character (non-black = figure)");
   p->add_option("--set", pose.settings, "NAME=VALUE (repeatable): a parameter of the rig's solver, e.g. half_width=6");
+  p->add_option("--save-key", pose.save_key, "Append this pose's targets to the rig as a key pose named NAME");
+
+  mar::InterpArgs interp;
+  CLI::App* ip = app.add_subcommand("interp", "In-betweens of two key poses (structure-preserving ARAP interpolation)");
+  ip->add_option("character", interp.input, "Character file")->required();
+  ip->add_option("--rig", interp.rig, "Rig file with [[key]] poses")->required();
+  ip->add_option("--mask", interp.mask, "Mask PNG for a PNG character");
+  ip->add_option("--from", interp.from, "Key name (default: rest)");
+  ip->add_option("--to", interp.to, "Key name")->required();
+  ip->add_option("--t", interp.t, "One in-between at t (0..1)");
+  ip->add_option("--steps", interp.steps, "STEPS + 1 in-betweens from t = 0 to 1");
+  ip->add_flag("--linear", interp.linear, "The naive linear blend of frame vertices instead (for comparison)");
+  ip->add_option("--dump", interp.dump, "JSON: per step, t, frame vertices and deformed sub-shapes");
+  ip->add_option("-o,--output", interp.output, "PNG of the in-between (with --t)");
+  ip->add_option("--out-dir", interp.out_dir, "Folder for one PNG per step (with --steps)");
+  ip->add_option("--size", interp.size, "PNG size WxH (default: document size)");
+  ip->add_option("--background", interp.background, "RRGGBB or transparent (default)");
 
   mar::ViewArgs view;
   CLI::App* v = app.add_subcommand("view", "Show characters in a window, or write PNGs when there is no display");
@@ -97,6 +114,7 @@ int main(int argc, char** argv) {
   if (r->parsed()) return mar::cmd_render(render);
   if (i->parsed()) return mar::cmd_inspect(inspect);
   if (p->parsed()) return mar::cmd_pose(pose);
+  if (ip->parsed()) return mar::cmd_interp(interp);
   if (v->parsed()) return mar::cmd_view(view);
   if (run_cmd->parsed()) {
     if (run.simulate) {

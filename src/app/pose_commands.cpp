@@ -1,7 +1,8 @@
-// inspect --rig and pose: the feature-frame commands.
+// inspect --rig and pose: the commands that load a puppet (character + rig).
 #include "app/commands.h"
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
+#include "app/keys.h"
 #include "app/puppet.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
@@ -19,6 +20,8 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
+
+}  // namespace
 
 // Renders the puppet's current shapes (and optionally its frame) into a PNG.
 int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& bg, bool overlay,
@@ -53,6 +56,8 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   return kExitOk;
 }
 
+namespace {
+
 nlohmann::ordered_json handles_json(const Rig& rig) {
   nlohmann::ordered_json hs = nlohmann::ordered_json::array();
   for (const RigHandle& h : rig.handles) hs.push_back({{"name", h.name}, {"rest", {h.rest.x(), h.rest.y()}}});
@@ -65,14 +70,12 @@ void print_handles(const Rig& rig) {
   std::printf("\n");
 }
 
+}  // namespace
+
 std::pair<int, int> doc_size(const Character& ch) {
   return {std::clamp(static_cast<int>(std::ceil(ch.width)), 1, 8192), std::clamp(static_cast<int>(std::ceil(ch.height)), 1, 8192)};
 }
 
-}  // namespace
-
-// inspect --rig for a mesh solver (the outline ARAP baseline): its triangulation, handles
-// and the cost of preparing it and of 12 iterations.
 // inspect --rig for the rigid grid: seed 003 Table 1's columns (VER, NOD, w, PRE, OPT with
 // and without the fast summation; medians of 7 runs of the rig's iteration count from rest).
 int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
@@ -132,6 +135,8 @@ int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
   return kExitOk;
 }
 
+// inspect --rig for a mesh solver (the outline ARAP baseline): its triangulation, handles
+// and the cost of preparing it and of 12 iterations.
 int inspect_mesh_rig(const InspectArgs& a, Puppet& p) {
   if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get())) return inspect_grid_rig(a, p, *grid);
   const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get());
@@ -296,6 +301,24 @@ int cmd_pose(const PoseArgs& a) {
     if (!p.solver->set_parameters(values, &err)) {
       std::cerr << "error: " << err << "\n";
       return kExitBadInput;
+    }
+  }
+  if (!a.save_key.empty()) {  // append the targets as a key pose (the rig's text is kept as written)
+    RigKey k;
+    k.name = a.save_key;
+    for (const std::string& t : a.targets) {
+      const std::string name = t.substr(0, t.find('='));
+      k.targets.push_back({name, targets[size_t(p.rig.find_handle(name))]});
+    }
+    if (find_key(p.rig, k.name) != -2 || k.targets.empty()) {
+      std::cerr << "error: --save-key needs a new name (not 'rest' nor an existing key) and at least one --target\n";
+      return kExitBadInput;
+    }
+    std::ofstream out(a.rig, std::ios::app);
+    out << "\n" << key_toml(k);
+    if (!out) {
+      std::cerr << "error: cannot append to " << a.rig << "\n";
+      return kExitRuntime;
     }
   }
   if (a.iterations != -1 && (a.iterations < 1 || a.iterations > 100000)) {

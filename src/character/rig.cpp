@@ -46,7 +46,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part", "grid", "stiffness"},
+                            "part", "grid", "stiffness", "key"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -252,6 +252,39 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         if (!(r.grid_rigidity > 0) || !(r.grid_junction > 0)) throw RigError{at(path, *n) + ": grid weights must be positive"};
       }
     }
+    if (const toml::node* kn = root.get("key")) {
+      const toml::array* a = kn->as_array();
+      if (!a) throw RigError{at(path, *kn) + ": use [[key]] tables"};
+      for (const toml::node& node : *a) {
+        const toml::table* t = node.as_table();
+        if (!t) throw RigError{at(path, node) + ": a key must be a table"};
+        check_keys(path, *t, {"name", "targets", "frame"}, "[[key]]");
+        RigKey k;
+        k.line = static_cast<int>(node.source().begin.line);
+        const toml::node* nm = t->get("name");
+        if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": a key needs a name"};
+        k.name = *nm->value<std::string>();
+        if (k.name == "rest") throw RigError{at(path, *nm) + ": 'rest' is the rest pose; name the key otherwise"};
+        for (const RigKey& o : r.keys)
+          if (o.name == k.name) throw RigError{at(path, node) + ": key '" + k.name + "' defined twice"};
+        const toml::node* tg = t->get("targets");
+        const toml::node* fr = t->get("frame");
+        if ((tg == nullptr) == (fr == nullptr)) throw RigError{at(path, node) + ": key '" + k.name + "' needs targets = { HANDLE = [x, y], ... } or frame = \"file.json\""};
+        if (fr) {
+          if (!fr->is_string()) throw RigError{at(path, *fr) + ": frame must be the path of a saved frame (pose --dump)"};
+          k.frame = *fr->value<std::string>();
+        } else {
+          const toml::table* tt = tg->as_table();
+          if (!tt) throw RigError{at(path, *tg) + ": targets must be { HANDLE = [x, y], ... }"};
+          for (const auto& [hk, hv] : *tt) {
+            const std::string hname(hk.str());
+            if (r.find_handle(hname) < 0) throw RigError{at(path, hv) + ": key '" + k.name + "' names no handle '" + hname + "'"};
+            k.targets.push_back({hname, point(path, hv, "target")});
+          }
+        }
+        r.keys.push_back(k);
+      }
+    }
     if (const toml::node* sn = root.get("stiffness")) {
       const toml::array* a = sn->as_array();
       if (!a) throw RigError{at(path, *sn) + ": use [[stiffness]] tables"};
@@ -287,6 +320,22 @@ Result<Rig> load_rig(const std::string& path) {
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_rig(ss.str(), path);
+}
+
+std::string key_toml(const RigKey& k) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "[[key]]\nname = " << toml::value<std::string>(k.name) << "\n";
+  if (!k.frame.empty()) {
+    o << "frame = " << toml::value<std::string>(k.frame) << "\n";
+    return o.str();
+  }
+  o << "targets = { ";
+  for (size_t i = 0; i < k.targets.size(); ++i)
+    o << (i ? ", " : "") << toml::value<std::string>(k.targets[i].first) << " = [" << k.targets[i].second.x() << ", "
+      << k.targets[i].second.y() << "]";
+  o << " }\n";
+  return o.str();
 }
 
 std::string write_rig(const Rig& r) {
@@ -337,6 +386,7 @@ std::string write_rig(const Rig& r) {
     o << "half_width = " << r.grid_half_width << "\njunction = " << toml::value<std::string>(r.grid_junction_term)
       << "\nweights = { rigidity = " << r.grid_rigidity << ", junction = " << r.grid_junction << " }\n";
   }
+  for (const RigKey& k : r.keys) o << "\n" << key_toml(k);
   for (const RigStiffness& s : r.stiffness) {
     o << "\n[[stiffness]]\n";
     if (!s.name.empty()) o << "name = " << toml::value<std::string>(s.name) << "\n";

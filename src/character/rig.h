@@ -58,6 +58,15 @@ struct RigStiffness {
   int line = 0;
 };
 
+/// A key pose (`[[key]]`): handle targets solved once at load, or a saved frame (the
+/// `frame_vertices` of `pose --dump`, a path relative to the rig).
+struct RigKey {
+  std::string name;
+  std::vector<std::pair<std::string, Vec2>> targets;  ///< handle name, target (others at rest)
+  std::string frame;
+  int line = 0;
+};
+
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
@@ -83,6 +92,7 @@ struct Rig {
   /// (mean-value coordinates + rest lengths along the current directions).
   std::string grid_junction_term = "triangles";
   std::vector<RigStiffness> stiffness;
+  std::vector<RigKey> keys;
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;
@@ -100,5 +110,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path);
 
 /// TOML text of a rig; parse_rig(write_rig(r)) gives r back.
 std::string write_rig(const Rig& rig);
+/// One [[key]] table as TOML (what `pose --save-key` appends to a rig).
+std::string key_toml(const RigKey& k);
 
 }  // namespace mar

@@ -324,5 +324,64 @@ TEST(cli_pose, SetTurnsASolverParameter) {
   EXPECT_NE(range.err.find("half_width must be 1..32"), std::string::npos) << range.err;
 }
 
+// interp: in-betweens of the rig's key poses; bad keys exit 2 with file:line.
+TEST(cli_interp, InBetweensOfTheRigsKeysAndBadKeys) {
+  const auto dir = test::temp_dir("interp");
+  const std::string fig = q(test::characters_dir() / "figure.svg"), r = rig("figure");
+  auto steps = test::run_cli("interp " + fig + " --rig " + r + " --to wave --steps 4 --out-dir " + q(dir / "steps") + " --dump " +
+                             q(dir / "steps.json"));
+  ASSERT_EQ(steps.exit_code, 0) << steps.err;
+  for (int k = 0; k <= 4; ++k) EXPECT_TRUE(std::filesystem::exists(dir / "steps" / ("step_00" + std::to_string(k) + ".png"))) << k;
+  std::ifstream f(dir / "steps.json");
+  const auto j = nlohmann::json::parse(f);
+  ASSERT_EQ(j["steps"].size(), 5u);
+  EXPECT_EQ(j["method"], "arap");
+  // t = 1 is the key: the same frame a pose with the key's targets converges to.
+  auto key = test::run_cli("pose " + fig + " --rig " + r + " --target right-hand=262,35 --target left-hand=20,190 --iterations 300 --dump " +
+                           q(dir / "key.json"));
+  ASSERT_EQ(key.exit_code, 0) << key.err;
+  std::ifstream kf(dir / "key.json");
+  const auto kj = nlohmann::json::parse(kf);
+  const auto& last = j["steps"][4]["frame_vertices"];
+  ASSERT_EQ(last.size(), kj["frame_vertices"].size());
+  double worst = 0;
+  for (size_t i = 0; i < last.size(); ++i)
+    worst = std::max(worst, std::hypot(last[i][0].get<double>() - kj["frame_vertices"][i][0].get<double>(),
+                                       last[i][1].get<double>() - kj["frame_vertices"][i][1].get<double>()));
+  EXPECT_LT(worst, 1e-6);
+  // Unknown key, bad ranges.
+  auto unknown = test::run_cli("interp " + fig + " --rig " + r + " --to wavy --t 0.5");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("keys: rest, wave, kick"), std::string::npos) << unknown.err;
+  EXPECT_EQ(test::run_cli("interp " + fig + " --rig " + r + " --to wave --t 1.5").exit_code, 2);
+  EXPECT_EQ(test::run_cli("interp " + fig + " --rig " + r + " --to wave").exit_code, 2);
+  // A saved frame with the wrong vertex count: file:line.
+  std::ofstream(dir / "short.json") << "{\"frame_vertices\": [[0, 0], [1, 1]]}";
+  {
+    std::ofstream rf(dir / "keys.toml");
+    rf << "character = \"" << (test::characters_dir() / "figure.svg").string() << "\"\n\n[[handle]]\nname = \"h\"\nrest = [150, 60]\n\n"
+       << "[[key]]\nname = \"short\"\nframe = \"short.json\"\n";
+  }
+  auto bad = test::run_cli("interp " + fig + " --rig " + q(dir / "keys.toml") + " --to short --t 0.5");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("keys.toml:7: key 'short'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("has 2 frame vertices"), std::string::npos) << bad.err;
+  // pose --save-key appends a key that interp then finds.
+  std::filesystem::copy_file(test::source_dir() / "config" / "rigs" / "figure.toml", dir / "fig.toml");
+  {
+    std::ifstream in(dir / "fig.toml");
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t at = text.find("../characters/figure.svg");
+    text.replace(at, std::string("../characters/figure.svg").size(), (test::characters_dir() / "figure.svg").string());
+    std::ofstream(dir / "fig.toml") << text;
+  }
+  auto save = test::run_cli("pose " + fig + " --rig " + q(dir / "fig.toml") + " --target left-foot=60,420 --save-key step");
+  ASSERT_EQ(save.exit_code, 0) << save.err;
+  auto again = test::run_cli("pose " + fig + " --rig " + q(dir / "fig.toml") + " --target left-foot=60,420 --save-key step");
+  EXPECT_EQ(again.exit_code, 2);
+  auto found = test::run_cli("interp " + fig + " --rig " + q(dir / "fig.toml") + " --from wave --to step --t 0.5");
+  EXPECT_EQ(found.exit_code, 0) << found.err;
+}
+
 }  // namespace
 }  // namespace mar

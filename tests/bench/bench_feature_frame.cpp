@@ -3,12 +3,15 @@
 //   PRE  prepare (factorisation) for the rig's handle set
 //   SOL  one live frame: 12 iterations warm-started from the previous frame's pose
 //   REC  reconstruction of every shape vertex from the frame (parametric coordinates)
+//   in-betweens: key-pose interpolation (seed 000 §5) between two of four key poses plus
+//                reconstruction, per second; and a four-key blend per live frame
 // Plus, for the generated character, CGAL's Surface_mesh_deformation (ARAP, same handles,
 // 12 iterations) on its constrained triangulation, and the time ratio.
 // Prints a table and writes bench_feature_frame.json (or the path in MARIONETTE_BENCH_JSON).
 #include "app/puppet.h"
 #include "character/load.h"
 #include "geom/triangulate.h"
+#include "interp/interpolation.h"
 
 #include <benchmark/benchmark.h>
 
@@ -19,6 +22,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <memory>
 
 namespace {
 
@@ -144,7 +148,58 @@ void BM_reconstruct(benchmark::State& st) {
   st.SetLabel(c.name);
 }
 
+// Key poses for the interpolation benches: four poses of the slow wave, each solved from rest.
+mar::KeyInterpolator& interpolator(size_t ci) {
+  static std::vector<std::unique_ptr<mar::KeyInterpolator>> all(cases().size());
+  if (!all[ci]) {
+    const Case& c = cases()[ci];
+    all[ci] = std::make_unique<mar::KeyInterpolator>();
+    std::string err;
+    if (!all[ci]->prepare(c.frame, &err)) std::abort();
+    for (int k : {30, 60, 90, 120}) {
+      mar::FeatureFrameSolver s;
+      s.prepare(c.frame, c.bindings, bench_weights());
+      s.solve(targets_at(c, k), 100);
+      all[ci]->add_key(s.vertices());
+    }
+  }
+  return *all[ci];
+}
+
+// One in-between: interpolate the frame between two keys and reconstruct every shape vertex.
+void BM_inbetween(benchmark::State& st) {
+  const Case& c = cases()[static_cast<size_t>(st.range(0))];
+  mar::KeyInterpolator& in = interpolator(static_cast<size_t>(st.range(0)));
+  mar::Points v(c.frame.rest.size());
+  std::vector<mar::Points> shapes;
+  for (const mar::SubShape& sh : c.character.shapes) shapes.push_back(sh.points);
+  int k = 0;
+  for (auto _ : st) {
+    in.morph(0, 3, (k++ % 100) / 99.0, v);
+    mar::reconstruct_shapes(c.frame, v, shapes);
+    benchmark::DoNotOptimize(shapes.data());
+  }
+  st.SetLabel(c.name + " (" + std::to_string(in.triangles()) + " triangles)");
+}
+
+// A live frame of four keys blended (four knobs), the frame only.
+void BM_blend4(benchmark::State& st) {
+  const Case& c = cases()[static_cast<size_t>(st.range(0))];
+  mar::KeyInterpolator& in = interpolator(static_cast<size_t>(st.range(0)));
+  mar::Points v(c.frame.rest.size());
+  std::vector<double> w{0.2, 0.3, 0.1, 0.4};
+  int k = 0;
+  for (auto _ : st) {
+    w[0] = 0.5 + 0.5 * std::sin(0.01 * k++);
+    in.blend(w, v);
+    benchmark::DoNotOptimize(v.data());
+  }
+  st.SetLabel(c.name);
+}
+
 BENCHMARK(BM_prepare)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_inbetween)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_blend4)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_solve_frame)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_reconstruct)->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 
@@ -212,6 +267,13 @@ int main(int argc, char** argv) {
          << ", \"sewing_user\": " << c.frame.user_sewing_lines << ", \"F.VER\": " << c.frame.rest.size()
          << ", \"PRE_ms\": " << pre << ", \"SOL_ms\": " << sol << ", \"REC_ms\": " << rec << "}"
          << (i + 1 < cases().size() ? "," : "") << "\n";
+  }
+  std::printf("\nKey-pose interpolation (seed 000 §5): in-betweens per second (interpolate + reconstruct) and a "
+              "four-key blend per frame\n");
+  for (size_t i = 0; i < cases().size(); ++i) {
+    const std::string idx = "/" + std::to_string(i);
+    const double ib = get("BM_inbetween" + idx), b4 = get("BM_blend4" + idx);
+    std::printf("%-16s %10.0f in-betweens/s %8.2f us per 4-key blend\n", cases()[i].name.c_str(), ib > 0 ? 1e6 / ib : 0.0, b4);
   }
   const double cgal = get("BM_cgal_arap_frame") / 1000, ours = get("BM_solve_frame/3") / 1000;
   std::printf("\nCGAL Surface_mesh_deformation (ARAP, 12 iterations) on generated-2000's triangulation "

@@ -246,6 +246,54 @@ weight = 0.5
   }
 }
 
+TEST(parse_rig, KeyPosesRoundTripAndErrorsNameTheLine) {
+  const char* text = R"toml(character = "c.svg"
+[[handle]]
+name = "hand"
+rest = [1, 2]
+[[handle]]
+name = "foot"
+rest = [3, 4]
+
+[[key]]
+name = "wave"
+targets = { hand = [10, 20], foot = [30, 40] }
+
+[[key]]
+name = "saved"
+frame = "saved.json"
+)toml";
+  auto a = parse_rig(text, "k.toml");
+  ASSERT_TRUE(a.ok()) << a.error;
+  ASSERT_EQ(a.value->keys.size(), 2u);
+  EXPECT_EQ(a.value->keys[0].name, "wave");
+  ASSERT_EQ(a.value->keys[0].targets.size(), 2u);
+  EXPECT_EQ(a.value->keys[0].targets[0].first, "foot");  // TOML tables are ordered by key
+  EXPECT_EQ(a.value->keys[0].targets[1].second, Vec2(10, 20));
+  EXPECT_EQ(a.value->keys[0].line, 9);
+  EXPECT_EQ(a.value->keys[1].frame, "saved.json");
+  auto back = parse_rig(write_rig(*a.value), "k.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(*a.value);
+  EXPECT_EQ(write_rig(*back.value), write_rig(*a.value));
+  const char* head = "character = \"c.svg\"\n[[handle]]\nname = \"hand\"\nrest = [1, 2]\n";
+  struct Case {
+    std::string text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {std::string(head) + "[[key]]\nname = \"k\"\ntargets = { elbow = [1, 2] }\n", "k.toml:7: key 'k' names no handle 'elbow'"},
+      {std::string(head) + "[[key]]\nname = \"k\"\n", "k.toml:5: key 'k' needs targets"},
+      {std::string(head) + "[[key]]\nname = \"rest\"\nframe = \"f.json\"\n", "k.toml:6: 'rest' is the rest pose"},
+      {std::string(head) + "[[key]]\nname = \"k\"\nframe = \"f.json\"\n[[key]]\nname = \"k\"\nframe = \"g.json\"\n",
+       "k.toml:8: key 'k' defined twice"},
+  };
+  for (const Case& c : cases) {
+    auto e = parse_rig(c.text, "k.toml");
+    ASSERT_FALSE(e.ok()) << c.text;
+    EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
+  }
+}
+
 TEST(load_rig, ExampleRigsLoad) {
   for (const char* name : {"butterfly", "figure", "koi", "boy", "candle"}) {
     auto r = load_rig((test::source_dir() / "config" / "rigs" / (std::string(name) + ".toml")).string());
