@@ -244,21 +244,9 @@ bool OutlineArap::set_parameters(std::span<const double> v, std::string* error) 
   return factorise(error);
 }
 
-void OutlineArap::reset_to_rest() {
-  x_ = rest_;
-  std::fill(rc_.begin(), rc_.end(), 1.0);
-  std::fill(rs_.begin(), rs_.end(), 0.0);
-}
+void OutlineArap::reset_to_rest() { rigid_pose({}, {}, rest_, x_, rc_, rs_); }
 
-void OutlineArap::initial_guess(std::span<const Vec2> targets) {
-  // The best rigid motion of the handles' rest points onto their targets, applied to the rest.
-  const size_t m = std::min(targets.size(), handle_rest_.size());
-  const RigidMotion r = rigid_fit(std::span(handle_rest_).first(m), targets.first(m));
-  if (m == 0 || !r.to_c.allFinite()) return reset_to_rest();
-  for (size_t i = 0; i < rest_.size(); ++i) x_[i] = r.apply(rest_[i]);
-  std::fill(rc_.begin(), rc_.end(), r.c);
-  std::fill(rs_.begin(), rs_.end(), r.s);
-}
+void OutlineArap::initial_guess(std::span<const Vec2> targets) { rigid_pose(handle_rest_, targets, rest_, x_, rc_, rs_); }
 
 void OutlineArap::local_step() {
   for (size_t i = 0; i < x_.size(); ++i) {

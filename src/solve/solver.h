@@ -59,6 +59,12 @@ class Solver {
   virtual bool grabbing() const = 0;
 };
 
+/// A mesh solver's pose reset (`motion` absent) or moved by the best rigid motion of the
+/// handles' rest points onto their targets (a jump's start): x = motion(rest), and every
+/// local rotation (c, s) set to the motion's. No allocation.
+void rigid_pose(std::span<const Vec2> handle_rest, std::span<const Vec2> targets, std::span<const Vec2> rest, std::span<Vec2> x,
+                std::span<double> c, std::span<double> s);
+
 /// The methods a rig may name.
 bool solver_known(std::string_view name);
 /// A new solver for `name` ("feature_frame"); nullptr for an unknown name.
