@@ -48,9 +48,8 @@ bool segment_meets_box(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2&
   return true;
 }
 
-// A polyline refined so no edge is longer than `h` (seed 003: boundary edges of
-// about the cell size), every input point kept; `at[k]` is input point k's
-// index in the result.
+// A polyline refined so no edge is longer than `h` (seed 003: boundary edges of about the cell
+// size), every input point kept; `at[k]` is input point k's index in the result.
 Points refine(std::span<const Vec2> pts, bool closed, double h, std::vector<int>& at, double& spacing) {
   const size_t n = pts.size();
   Points out;
@@ -69,8 +68,7 @@ Points refine(std::span<const Vec2> pts, bool closed, double h, std::vector<int>
   return out;
 }
 
-// Positions quantised for merging coincident points (strokes that share an end
-// point).
+// Positions quantised for merging coincident points (strokes that share an end point).
 struct Key {
   int64_t x, y;
   bool operator<(const Key& o) const { return x != o.x ? x < o.x : y < o.y; }
@@ -97,9 +95,8 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   for (const RigStiffness& s : rig.stiffness) stiff_.push_back({s.name, s.center, s.radius, s.weight});
   mid_ = 0.5 * (bb.lo + bb.hi);
 
-  // --- The interior grid: cells wholly inside the filled region, crossed by no
-  // outline that bounds it (a line with the outside on one side), so a gap
-  // narrower than a cell splits the grid.
+  // --- The interior grid: cells wholly inside the filled region, crossed by no outline that bounds
+  // it (a line with the outside on one side), so a gap narrower than a cell splits the grid.
   origin_ = bb.lo - Vec2(h_, h_);
   nx_ = int(std::ceil((bb.hi.x() - origin_.x()) / h_)) + 1;
   ny_ = int(std::ceil((bb.hi.y() - origin_.y()) / h_)) + 1;
@@ -159,9 +156,8 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     }
   grid_count_ = rest_.size();
 
-  // --- Boundary curves: every contour resampled at about a cell, every contour
-  // point a node; coincident points of different contours share their node
-  // (stick figures).
+  // --- Boundary curves: every contour resampled at about a cell, every contour point a node;
+  // coincident points of different contours share their node (stick figures).
   const double q = 1e-7 * std::max(diag, 1e-300);
   std::map<Key, int> curve_node_at;
   curves_.clear();
@@ -198,9 +194,8 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     return false;
   }
 
-  // --- The triangular mesh: a constrained Delaunay triangulation of every
-  // node, curves as constraints. Its vertices map back to nodes; a crossing of
-  // two contours is a free vertex (V³).
+  // --- The triangular mesh: a constrained Delaunay triangulation of every node, curves as
+  // constraints. Its vertices map back to nodes; a crossing of two contours is a free vertex (V³).
   Points pts(rest_.begin(), rest_.begin() + std::ptrdiff_t(grid_count_));
   std::vector<Ring> rings;
   std::vector<char> closed;
@@ -238,8 +233,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     const double longest = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
     const bool stroke = (is_open(tri[0]) || is_open(tri[1]) || is_open(tri[2])) && longest <= 2 * h_;
     if (!(any_filled && inside_character(ch, centroid)) && !stroke) continue;
-    // Inside an interior cell that has all eight neighbours: the regions hold
-    // it.
+    // Inside an interior cell that has all eight neighbours: the regions hold it.
     bool junction = true;
     if (size_t(tri[0]) < grid_count_ && size_t(tri[1]) < grid_count_ && size_t(tri[2]) < grid_count_) {
       const int ci = int(std::floor((centroid.x() - origin_.x()) / h_)), cj = int(std::floor((centroid.y() - origin_.y()) / h_));
@@ -253,8 +247,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     for (int v : tri) used[size_t(v)] = 1;
   }
   mesh_vertex_count_ = size_t(std::count(used.begin(), used.end(), 1));
-  // Junction edges (each once) and the vertices whose one-ring is all junction
-  // triangles.
+  // Junction edges (each once) and the vertices whose one-ring is all junction triangles.
   edges_.clear();
   edge_len_.clear();
   std::vector<std::vector<int>> ring_tris(rest_.size());
@@ -287,8 +280,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     bool closed_ring = all && seen.size() == rt.size();
     for (const auto& [u, n] : seen) closed_ring = closed_ring && n == 2;
     if (!closed_ring) continue;
-    // Mean-value coordinates at rest (Floater 2003): λ_j ∝ (tan(α_{j-1}/2) +
-    // tan(α_j/2)) / |p_j - p|.
+    // Mean-value coordinates at rest (Floater 2003): λ_j ∝ (tan(α_{j-1}/2) + tan(α_j/2)) / |p_j - p|.
     const Vec2 p = rest_[v];
     std::vector<int> ring;
     for (const auto& [u, n] : seen) ring.push_back(u);
@@ -317,9 +309,8 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     mvc_start_.push_back(int(mvc_node_.size()));
   }
 
-  // --- The fill follows the grid: grid nodes clear of every line (by a quarter
-  // cell) join the part they lie in as interior points (one-point contours),
-  // bound to their node.
+  // --- The fill follows the grid: grid nodes clear of every line (by a quarter cell) join the part
+  // they lie in as interior points (one-point contours), bound to their node.
   for (size_t k = 0; k < grid_count_; ++k) {
     const Vec2 p = rest_[k];
     bool clear = true;
@@ -373,8 +364,8 @@ RigidGrid::Embed RigidGrid::embed(const Vec2& p) const {
     e.w[0] = (1 - u) * (1 - v), e.w[1] = u * (1 - v), e.w[2] = (1 - u) * v, e.w[3] = u * v;
     return e;
   }
-  // Barycentric in the mesh triangle holding it (outside every one, the
-  // nearest, extrapolated: a stroke's point beyond the mesh keeps its offset).
+  // Barycentric in the mesh triangle holding it (outside every one, the nearest, extrapolated: a
+  // stroke's point beyond the mesh keeps its offset).
   double best = INFINITY;
   for (const auto& t : tris_) {
     const Vec2 &a = rest_[size_t(t[0])], &b = rest_[size_t(t[1])], &c = rest_[size_t(t[2])];
@@ -464,8 +455,7 @@ void RigidGrid::build_runs() {
     curve_runs_.closed.push_back(c.closed ? 1 : 0);
     curve_runs_.half.push_back(wt);
   }
-  // A window pass takes prefix sums over at most twice a run (a closed run,
-  // padded by w < len/2).
+  // A window pass takes prefix sums over at most twice a run (a closed run, padded by w < len/2).
   size_t longest = 1;
   for (const Runs* r : {&rows_, &cols_, &curve_runs_})
     for (size_t k = 0; k + 1 < r->start.size(); ++k) longest = std::max(longest, size_t(r->start[k + 1] - r->start[k]));
@@ -528,8 +518,7 @@ void RigidGrid::build_regions() {
       reg_start_.push_back(int(reg_.size()));
     }
   }
-  // Eq. 2: a region holding a handle turns about it (the handle nearest the
-  // region's node).
+  // Eq. 2: a region holding a handle turns about it (the handle nearest the region's node).
   std::vector<char> is_handle(rest_.size(), 0);
   for (int hn : handle_node_) is_handle[size_t(hn)] = 1;
   for (size_t r = 0; r < R; ++r) {
@@ -625,8 +614,8 @@ bool RigidGrid::factorise(std::string* error) {
   for (const Embed& h : handles_)
     for (int a = 0; a < h.n; ++a)
       for (int b = 0; b < h.n; ++b) t.emplace_back(h.v[a], h.v[b], w_p_ * h.w[a] * h.w[b]);
-  // Parts no handle reaches (through regions, junction edges or rings) get a
-  // tiny pull to where they are.
+  // Parts no handle reaches (through regions, junction edges or rings) get a tiny pull to where
+  // they are.
   std::vector<int> comp(n);
   std::iota(comp.begin(), comp.end(), 0);
   auto find = [&](int i) {
@@ -708,8 +697,7 @@ void RigidGrid::gather(const double* f, double* out, int C, bool fast) const {
       }
     return;
   }
-  // Grid: along the rows, then along the columns (out for grid node i = its
-  // region's sum).
+  // Grid: along the rows, then along the columns (out for grid node i = its region's sum).
   window_pass(rows_, f, nullptr, ch_mid_.data(), nullptr, false, C);
   window_pass(cols_, ch_mid_.data(), nullptr, out, nullptr, false, C);
   window_pass(curve_runs_, f, &cnode_, out, &curve_region_, false, C);
@@ -781,9 +769,8 @@ void RigidGrid::reset_to_rest() { rigid_pose({}, {}, rest_, x_, rc_, rs_); }
 void RigidGrid::initial_guess(std::span<const Vec2> targets) { rigid_pose(handle_rest_, targets, rest_, x_, rc_, rs_); }
 
 void RigidGrid::local_step() {
-  // Each region's best rotation: the angle of Σ_j (q_j − q_c)(p_j − p_c)^T,
-  // from the region sums of p·q, p×q and q (relative to the character's
-  // centre), expanded about the centre.
+  // Each region's best rotation: the angle of Σ_j (q_j − q_c)(p_j − p_c)^T, from the region sums of
+  // p·q, p×q and q (relative to the character's centre), expanded about the centre.
   const size_t n = rest_.size(), R = reg_center_.size();
   double* f = ch_in_.data();
   for (size_t j = 0; j < n; ++j) {
@@ -813,8 +800,7 @@ void RigidGrid::local_step() {
 void RigidGrid::global_step(std::span<const Vec2> targets) {
   const int* perm = factor_.perm().data();
   const size_t n = rest_.size(), R = reg_center_.size();
-  // Regions: b_j += Σ_{r∋j} k_r A_r (p_j − p_c(r)); b_c(r) −= k_r A_r Σ_{j∈R_r}
-  // (p_j − p_c(r)).
+  // Regions: b_j += Σ_{r∋j} k_r A_r (p_j − p_c(r)); b_c(r) −= k_r A_r Σ_{j∈R_r} (p_j − p_c(r)).
   double* g = ch_in_.data();
   for (size_t r = 0; r < R; ++r) {
     const double k = reg_k_[r];
@@ -840,8 +826,8 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
     const int c = reg_center_[r];
     add(c, -reg_k_[r] * rotate(rc_[r], rs_[r], reg_psum_[r] - double(reg_size_[r]) * p_[size_t(c)]));
   }
-  // Junction: each triangle turned by its best rotation (rigid), or each edge
-  // at its rest length along its current direction (Eq. 4).
+  // Junction: each triangle turned by its best rotation (rigid), or each edge at its rest length
+  // along its current direction (Eq. 4).
   if (tri_mode_)
     for (size_t tt = 0; tt < tris_.size(); ++tt) {
       if (!junction_[tt]) continue;

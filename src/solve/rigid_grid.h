@@ -1,15 +1,13 @@
 // The topology-aware rigid grid (seed 003; ALGORITHMS.md §4).
 //
-// Representation. The character's filled region gets a regular grid trimmed to
-// the cells wholly inside it (the interior grid; cell = the global resolution).
-// Every contour — outline, hole or open stroke — is resampled into a boundary
-// curve with edges of at most one cell, every contour point kept as a node (V¹
-// exact). A constrained Delaunay triangulation of all nodes (curves as
-// constraints) is the triangular mesh; its interior vertices are the grid nodes
-// (V², a bilinear combination with one weight), and points where contours cross
-// are free vertices (V³). Junction triangles: the mesh triangles outside the
-// interior cells or in a border cell (a cell missing one of its eight
-// neighbours).
+// Representation. The character's filled region gets a regular grid trimmed to the cells wholly
+// inside it (the interior grid; cell = the global resolution). Every contour — outline, hole or
+// open stroke — is resampled into a boundary curve with edges of at most one cell, every contour
+// point kept as a node (V¹ exact). A constrained Delaunay triangulation of all nodes (curves as
+// constraints) is the triangular mesh; its interior vertices are the grid nodes (V², a bilinear
+// combination with one weight), and points where contours cross are free vertices (V³). Junction
+// triangles: the mesh triangles outside the interior cells or in a border cell (a cell missing one
+// of its eight neighbours).
 //
 // Energy (Eq. 1-5), minimised by alternating local and global steps:
 //   w_r Σ_i (w_i / #R_i) Σ_{j∈R_i} |(q_j − q_c) − A_i (p_j − p_c)|²        (rigid regions)
@@ -30,11 +28,11 @@
 //    triangle shear and turn over; with a whole outline of such triangles (a raster
 //    character's hand, ear or hem) that showed as smeared texture at w = 3 and 6 under a
 //    performer's drag, which per-triangle rotations do not (pictures: issue 12's note).
-// Both weigh w_s = 6 by default (the seed's 6 : 1 left the curves loose for the same reason).
-// Open strokes are curves of the same solve (boundary regions only), and strokes sharing an
-// end point share its node: a stick figure (Eq. 6). Handles are soft constraints at their
-// rest points (bilinear in a cell, or barycentric in a mesh triangle). The system matrix
-// depends on the rest shape only: factorised once.
+// Both weigh w_s = 6 by default (the seed's 6 : 1 left the curves loose for the same reason). Open
+// strokes are curves of the same solve (boundary regions only), and strokes sharing an end point
+// share its node: a stick figure (Eq. 6). Handles are soft constraints at their rest points
+// (bilinear in a cell, or barycentric in a mesh triangle). The system matrix depends on the rest
+// shape only: factorised once.
 #pragma once
 
 #include <array>

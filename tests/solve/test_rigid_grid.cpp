@@ -1,5 +1,4 @@
-// The topology-aware rigid grid (seed 003) behind the solver seam
-// (solve/rigid_grid.h).
+// The topology-aware rigid grid (seed 003) behind the solver seam (solve/rigid_grid.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -144,8 +143,8 @@ TEST(RigidGrid, FastSummationEqualsVisitingEveryMember) {
   }
 }
 
-// A U whose arms are half a cell apart: dragging one arm must leave the other
-// where it is, where a plain regular grid (square regions) drags it along.
+// A U whose arms are half a cell apart: dragging one arm must leave the other where it is, where a
+// plain regular grid (square regions) drags it along.
 TEST(RigidGrid, ArmsCloserThanACellAreNotNeighbours) {
   const Character c = polygon({{0, 0}, {62, 0}, {62, 200}, {67, 200}, {67, 0}, {127, 0}, {127, 260}, {0, 260}});
   const std::vector<Vec2> rest{{20, 240}, {107, 240}, {30, 10}};
@@ -238,15 +237,14 @@ TEST(RigidGrid, AGrabPullsItsPointAndReleasingItGivesThePoseWithoutIt) {
   std::vector<Vec2> tg = t;
   tg.push_back(grab_to);
   f.s.solve(tg, 30);
-  // A soft pull against a stiff body whose neck and hips are held: most of the
-  // way.
+  // A soft pull against a stiff body whose neck and hips are held: most of the way.
   EXPECT_LT((f.s.point_at(grab_rest) - grab_to).norm(), 0.25 * (grab_rest - grab_to).norm());
   f.s.release();
   EXPECT_FALSE(f.s.grabbing());
   f.s.solve(t, 300);
   never.s.solve(t, 300);
-  // (The local/global iterations approach the same pose slowly: within a few
-  // tenths of a unit on a 400-unit figure after 300.)
+  // (The local/global iterations approach the same pose slowly: within a few tenths of a unit on a
+  // 400-unit figure after 300.)
   double sq = 0, worst = 0;
   for (size_t i = 0; i < f.s.nodes().size(); ++i) {
     const double d = (f.s.nodes()[i] - never.s.nodes()[i]).norm();
