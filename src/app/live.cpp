@@ -1,5 +1,7 @@
 #include "app/live.h"
 
+#include "app/keys.h"
+
 #include "app/loop/hud.h"
 #include "app/loop/learn.h"
 #include "app/simulate.h"
@@ -58,6 +60,15 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     rig.settings.push_back({"iterations", std::pair<double, double>(header.min_iterations, header.iterations)});
     params = p.solver->parameters();
     for (const SolverParameter& sp : params) rig.settings.push_back({sp.name, std::nullopt});
+    // Key poses: morph.FROM.TO for every ordered pair of rest and the keys, blend.KEY per key.
+    if (p.feature_frame() && !p.rig.keys.empty()) {
+      std::vector<std::string> names{"rest"};
+      for (const RigKey& k : p.rig.keys) names.push_back(k.name);
+      for (size_t a = 0; a < names.size(); ++a)
+        for (size_t b = 0; b < names.size(); ++b)
+          if (a != b) rig.settings.push_back({"morph." + names[a] + "." + names[b], std::pair<double, double>(0, 1)});
+      for (const RigKey& k : p.rig.keys) rig.settings.push_back({"blend." + k.name, std::pair<double, double>(0, 1)});
+    }
     return Result<ShowRig>::success(std::move(rig));
   });
   if (!show.ok()) return R::failure(show.error);
@@ -81,6 +92,32 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   for (const SolverParameter& sp : params) {
     m.add_setting({sp.value, sp.lo, sp.hi, false});
     s->solver_params_.push_back(sp.value);
+  }
+  // Then the key-pose settings, in the same order (their ranges are 0..1).
+  if (p.feature_frame() && !p.rig.keys.empty()) {
+    const int K = int(p.rig.keys.size());
+    for (int a = -1; a < K; ++a)
+      for (int b = -1; b < K; ++b)
+        if (a != b) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), a, b});
+    for (int k = 0; k < K; ++k) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), -2, k});
+  }
+  // Only the settings a binding drives count (an unbound morph.A.B would hold key A at t = 0).
+  std::erase_if(s->key_settings_, [&](const KeySetting& k) {
+    for (const Binding& b : sh.bindings)
+      if (b.target == TargetKind::Setting && b.index == k.setting) return false;
+    return true;
+  });
+  if (!s->key_settings_.empty()) {  // solve the keys once and prepare their interpolation
+    auto keys = solve_keys(p);
+    if (!keys.ok()) return R::failure(keys.error);
+    s->interp_ = std::make_unique<KeyInterpolator>();
+    std::string err;
+    if (!s->interp_->prepare(p.feature_frame()->frame(), &err)) return R::failure(p.rig.path + ": " + err);
+    for (const Points& k : *keys.value) s->interp_->add_key(k);
+    s->key_weights_.assign(p.rig.keys.size(), 0.0);
+    s->last_key_weights_.assign(p.rig.keys.size(), -1.0);
+    s->base_frame_.assign(p.feature_frame()->frame().rest.size(), Vec2::Zero());
+    s->base_offset_.assign(p.rig.handles.size(), Vec2::Zero());
   }
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
@@ -241,6 +278,32 @@ void LiveShow::apply_settings() {
   ++refactorizations_;
   refactor_allocs_ += allocations() - a0;
   alloc_base_ += allocations() - a0;
+}
+
+void LiveShow::poses() {
+  // Key poses: the morph and blend settings give weights over the keys (a morph from A to B at t
+  // puts 1 − t on A and t on B; blends add), the interpolated frame is the base pose, and every
+  // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
+  if (!interp_) return;
+  std::fill(key_weights_.begin(), key_weights_.end(), 0.0);
+  for (const KeySetting& k : key_settings_) {
+    const double v = mapping_.setting(k.setting);
+    if (k.from == -2) {
+      key_weights_[size_t(k.to)] += v;
+      continue;
+    }
+    if (v == 0 && k.from < 0) continue;
+    if (k.from >= 0) key_weights_[size_t(k.from)] += 1 - v;
+    if (k.to >= 0) key_weights_[size_t(k.to)] += v;
+  }
+  if (key_weights_ != last_key_weights_) {
+    std::copy(key_weights_.begin(), key_weights_.end(), last_key_weights_.begin());
+    interp_->blend(key_weights_, base_frame_);
+    const FeatureFrameMethod& ff = *puppet_->feature_frame();
+    for (size_t h = 0; h < base_offset_.size() && h < ff.bindings().size(); ++h)
+      base_offset_[h] = eval_param(ff.bindings()[h], base_frame_) - puppet_->rig.handles[h].rest;
+  }
+  for (size_t h = 0; h < base_offset_.size() && h < n_targets_; ++h) targets_[h] += base_offset_[h];
 }
 
 void LiveShow::solve() {

@@ -12,6 +12,7 @@
 #include "app/loop/recording.h"
 #include "app/loop/run_stats.h"
 #include "app/puppet.h"
+#include "interp/interpolation.h"
 #include "app/show.h"
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
@@ -75,7 +76,7 @@ class LiveShow {
   // The stages of a frame.
   void inputs(int64_t t_ns);
   void map(int64_t t_ns);
-  void poses() {}   ///< key-pose interpolation (later): the base pose under the handles
+  void poses();     ///< key poses: the handles follow the interpolated base pose (morph/blend settings)
   void motion() {}  ///< secondary motion (later): springs and dangle at a fixed sub-step
   void solve();
   void render();
@@ -110,6 +111,15 @@ class LiveShow {
   int setting_iterations_ = 0;                     ///< Mapping setting: the solver's iteration count
   int setting_solver_ = 0;                         ///< first of the solver's parameters
   std::vector<double> solver_params_;              ///< as last given to the solver
+  // poses: morph.A.B and blend.KEY settings (after the solver's), when a binding uses one
+  struct KeySetting {
+    int setting, from, to;                         ///< morph: keys (-1 rest); blend: from = -1, to = key
+  };
+  std::vector<KeySetting> key_settings_;
+  std::unique_ptr<KeyInterpolator> interp_;
+  std::vector<double> key_weights_, last_key_weights_;
+  Points base_frame_;
+  std::vector<Vec2> base_offset_;                  ///< per handle: base pose minus rest
   Governor governor_{8, 2};
   Grab grab_;
   std::vector<Vec2> targets_;                      ///< handles, then the grab handle's target

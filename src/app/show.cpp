@@ -187,9 +187,25 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
     index = 0;
     return R::success(true);
   }
+  if (t.rfind("morph.", 0) == 0 || t.rfind("blend.", 0) == 0) {  // key poses (the rig's [[key]])
+    std::string names;
+    for (size_t i = 0; i < rig.settings.size(); ++i) {
+      const std::string& n = rig.settings[i].name;
+      if (n.rfind("morph.", 0) != 0 && n.rfind("blend.", 0) != 0) continue;
+      if (n == t) {
+        kind = TargetKind::Setting;
+        index = int(i);
+        return R::success(true);
+      }
+      if (n.rfind("blend.", 0) == 0) names += (names.empty() ? "" : ", ") + n;
+    }
+    if (names.empty()) return R::failure("'" + t + "': the rig has no key poses ([[key]]) on the feature frame");
+    return R::failure("unknown key target '" + t + "' (morph.FROM.TO with FROM, TO among rest and the keys; " + names + ")");
+  }
   if (t.rfind("solver.", 0) == 0) {
     std::string names;
     for (size_t i = 0; i < rig.settings.size(); ++i) {
+      if (rig.settings[i].name.rfind("morph.", 0) == 0 || rig.settings[i].name.rfind("blend.", 0) == 0) continue;
       if ("solver." + rig.settings[i].name == t) {
         kind = TargetKind::Setting;
         index = int(i);

@@ -1,5 +1,6 @@
 // End-to-end: scripted performances through simulated devices, the real decoders, the
 // mapping, the solver and the renderer (headless).
+#include "app/keys.h"
 #include "app/live.h"
 #include "test_util.h"
 
@@ -463,6 +464,50 @@ TEST(Live, GridShowTurnsTheStiffnessLive) {
   EXPECT_EQ(half_width_at(60), 3);   // the rig's, until the knob picks it up
   EXPECT_EQ(half_width_at(160), 6);  // knob 1 at the top
   EXPECT_EQ(half_width_at(240), 1);  // and at the bottom
+}
+
+// Key poses on knobs: morph.rest.wave takes the figure to its wave key and back; blend.kick and
+// blend.wave add up; nothing allocates after warm-up; an unknown key target names the keys.
+TEST(Live, KeyShowMorphsAndBlendsTheRigsKeys) {
+  const std::string show = (test::source_dir() / "config/shows/keys.toml").string();
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  // Where the wave key has the right hand (its target may be out of reach).
+  auto fig = load_puppet("", (test::source_dir() / "config/rigs/figure.toml").string());
+  ASSERT_TRUE(fig.ok()) << fig.error;
+  Puppet& fp = **fig.value;
+  auto keys = solve_keys(fp);
+  ASSERT_TRUE(keys.ok()) << keys.error;
+  const Vec2 wave_hand = eval_param(fp.feature_frame()->bindings()[size_t(fp.rig.find_handle("right-hand"))], (*keys.value)[0]);
+  auto at_frame = [&](int frames, const char* handle) {
+    o.frames = frames;
+    auto s = LiveShow::load(show, o);
+    EXPECT_TRUE(s.ok()) << s.error;
+    if (!s.ok()) return Vec2(NAN, NAN);
+    EXPECT_EQ((*s.value)->run(), 0);
+    const Puppet& p = (*s.value)->puppet();
+    return p.solver->handle_point(size_t(p.rig.find_handle(handle)));
+  };
+  const Vec2 up = at_frame(118, "right-hand");  // 1.97 s: knob 1 has been at the top since 1.7 s
+  EXPECT_LT((up - wave_hand).norm(), 10.0) << up.transpose() << " vs " << wave_hand.transpose();  // knob 1 at the top: wave
+  EXPECT_LT((at_frame(190, "right-hand") - Vec2(245, 250)).norm(), 15.0);  // and back to rest
+  EXPECT_LT((at_frame(300, "right-foot") - Vec2(285, 330)).norm(), 20.0);  // blend.kick at 1
+  EXPECT_LT(at_frame(300, "right-hand").y(), 200.0);                       // with blend.wave 0.6 on top
+  const auto dir = test::temp_dir("keys-show");
+  auto r = test::run_cli("run " + show + " --headless --stats " + (dir / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(dir / "s.json");
+  EXPECT_EQ(nlohmann::json::parse(f)["heap_allocations_after_warmup"], 0);
+  std::ifstream in(show);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("morph.rest.wave"), 15, "morph.rest.wavy");
+  text.replace(text.find("../rigs/figure.toml"), 19, (test::source_dir() / "config/rigs/figure.toml").string());
+  std::ofstream(dir / "bad.toml") << text;
+  auto bad = test::run_cli("run " + (dir / "bad.toml").string() + " --headless --frames 5");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("unknown key target 'morph.rest.wavy'"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("blend.wave, blend.kick"), std::string::npos) << bad.err;
 }
 
 }  // namespace
