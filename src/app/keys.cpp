@@ -24,9 +24,7 @@ Result<std::vector<Points>> solve_keys(Puppet& p) {
   const size_t q = ff->frame().rest.size();
   for (const RigKey& k : p.rig.keys) {
     if (!k.frame.empty()) {
-      const std::filesystem::path f = std::filesystem::path(k.frame).is_absolute()
-                                          ? std::filesystem::path(k.frame)
-                                          : std::filesystem::path(p.rig.path).parent_path() / k.frame;
+      const std::filesystem::path f = p.rig.beside(k.frame);
       std::ifstream in(f);
       nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
       if (!in || j.is_discarded() || !j.contains("frame_vertices") || !j["frame_vertices"].is_array())

@@ -1,6 +1,15 @@
 #include "character/character.h"
 
+#include "geom/polygon.h"
+
 namespace mar {
+
+bool SubShape::contains(const Vec2& q) const {
+  bool in = false;
+  for (const Contour& c : contours)
+    if (c.closed && c.count >= 3 && winding_number(std::span(points).subspan(size_t(c.begin), size_t(c.count)), q) % 2 != 0) in = !in;
+  return in;
+}
 
 bool SubShape::closed() const {
   bool any = false;

@@ -71,6 +71,8 @@ struct SubShape {
   /// True when every contour is closed (one-point contours, interior points a solver
   /// added, do not count).
   bool closed() const;
+  /// Inside by the even-odd rule over the closed contours (an outline and its holes).
+  bool contains(const Vec2& q) const;
   Bounds bounds() const;
   std::vector<Ring> rings() const;
 };

@@ -12,17 +12,15 @@ namespace mar {
 
 Rig default_rig() { return Rig{}; }
 
-namespace {
-std::string beside(const std::string& rig_path, const std::string& file) {
+std::string Rig::beside(const std::string& file) const {
   const std::filesystem::path c(file);
   if (c.is_absolute()) return file;
-  return (std::filesystem::path(rig_path).parent_path() / c).lexically_normal().string();
+  return (std::filesystem::path(path).parent_path() / c).lexically_normal().string();
 }
-}  // namespace
 
-std::string Rig::character_path() const { return beside(path, character); }
+std::string Rig::character_path() const { return beside(character); }
 
-std::string Rig::mask_path() const { return mask.empty() ? "" : beside(path, mask); }
+std::string Rig::mask_path() const { return mask.empty() ? "" : beside(mask); }
 
 int Rig::find_handle(const std::string& name) const {
   for (size_t i = 0; i < handles.size(); ++i) {

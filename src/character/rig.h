@@ -96,6 +96,9 @@ struct Rig {
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;
+  /// A path the rig gives (a character, a mask, a key's frame file) resolved against the rig
+  /// file's folder; an absolute one as is.
+  std::string beside(const std::string& file) const;
   /// The mask path resolved the same way (empty when the rig names none).
   std::string mask_path() const;
   /// Index of the handle with this name, or -1.

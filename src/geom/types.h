@@ -13,6 +13,11 @@ namespace mar {
 using Vec2 = Eigen::Vector2d;
 using Points = std::vector<Vec2>;
 
+/// The z of the 3D cross product of two plane vectors (twice a triangle's signed area).
+inline double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+/// p turned by the rotation with cosine c and sine s.
+inline Vec2 rotated(double c, double s, const Vec2& p) { return {c * p.x() - s * p.y(), s * p.x() + c * p.y()}; }
+
 /// 2D affine map in SVG order: x' = a x + c y + e,  y' = b x + d y + f.
 struct Affine2 {
   double a = 1, b = 0, c = 0, d = 1, e = 0, f = 0;

@@ -6,11 +6,6 @@
 #include <cmath>
 
 namespace mar {
-namespace {
-
-double cross(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
-
-}  // namespace
 
 std::vector<std::array<int, 3>> frame_triangle_set(const FeatureFrame& f) {
   const size_t n = f.rest.size();
@@ -108,9 +103,8 @@ bool KeyInterpolator::prepare(const FeatureFrame& f, std::string* error) {
   std::vector<double> d(n, 0.0);
   for (const auto& e : t)
     if (e.row() == e.col()) d[size_t(e.row())] += e.value();
-  std::vector<double> sorted = d;
-  std::nth_element(sorted.begin(), sorted.begin() + std::ptrdiff_t(n / 2), sorted.end());
-  anchor_w_ = sorted[n / 2] > 0 ? sorted[n / 2] : 1.0;
+  std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(n / 2), d.end());
+  anchor_w_ = d[n / 2] > 0 ? d[n / 2] : 1.0;
   std::vector<int> comp(n);
   for (size_t i = 0; i < n; ++i) comp[i] = int(i);
   auto find = [&](int i) {
@@ -201,17 +195,16 @@ void KeyInterpolator::blend(std::span<const double> weights, std::span<Vec2> out
     centre += weights[k] * (keys_[k].centre - rest_centre_);
   }
   const double cp = std::cos(phi), sp = std::sin(phi);
-  auto turned = [](double c, double s, const Vec2& r) { return Vec2(c * r.x() - s * r.y(), s * r.x() + c * r.y()); };
   std::fill(bx_.begin(), bx_.end(), 0.0);
   std::fill(by_.begin(), by_.end(), 0.0);
   // Anchors: where the blend's overall motion takes the vertex, plus each key's own departure
   // from its overall motion.
   for (int a : anchors_) {
     const Vec2 r = rest_[size_t(a)] - rest_centre_;
-    Vec2 target = centre + turned(cp, sp, r);
+    Vec2 target = centre + rotated(cp, sp, r);
     for (size_t k = 0; k < K; ++k) {
       const Key& key = keys_[k];
-      target += weights[k] * (key.v[size_t(a)] - key.centre - turned(std::cos(key.overall), std::sin(key.overall), r));
+      target += weights[k] * (key.v[size_t(a)] - key.centre - rotated(std::cos(key.overall), std::sin(key.overall), r));
     }
     bx_[size_t(perm[a])] += anchor_w_ * target.x();
     by_[size_t(perm[a])] += anchor_w_ * target.y();
@@ -245,10 +238,10 @@ void KeyInterpolator::blend(std::span<const double> weights, std::span<Vec2> out
   for (const auto& pin : pins_) {
     const size_t a = size_t(pin[0]), b = size_t(pin[1]);
     const Vec2 r = rest_[a] - rest_[b];
-    Vec2 d = turned(cp, sp, r);
+    Vec2 d = rotated(cp, sp, r);
     for (size_t k = 0; k < K; ++k) {
       const double o = keys_[k].overall;
-      d += weights[k] * ((keys_[k].v[a] - keys_[k].v[b]) - turned(std::cos(o), std::sin(o), r));
+      d += weights[k] * ((keys_[k].v[a] - keys_[k].v[b]) - rotated(std::cos(o), std::sin(o), r));
     }
     bx_[size_t(perm[a])] += pin_w_ * d.x();
     by_[size_t(perm[a])] += pin_w_ * d.y();

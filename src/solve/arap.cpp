@@ -16,15 +16,6 @@ namespace {
 // the part's own deformation.
 constexpr double kFreePull = 1e-4;
 
-// Inside a sub-shape: even-odd over its closed contours (an outline and its holes).
-bool inside_shape(const SubShape& s, const Vec2& q) {
-  bool in = false;
-  for (const Contour& c : s.contours)
-    if (c.closed && c.count >= 3 && winding_number(std::span(s.points).subspan(size_t(c.begin), size_t(c.count)), q) % 2 != 0)
-      in = !in;
-  return in;
-}
-
 // Interior points on a square lattice of spacing h (one lattice for the whole character,
 // so overlapping parts share them), added to every closed, filled part as one-point
 // contours: vertices of the solver's mesh and of the part's fill, so a deformation (and a
@@ -45,7 +36,7 @@ void add_interior_points(Character& ch, double h) {
     for (double y = bb.lo.y() + h * std::ceil((b.lo.y() - bb.lo.y()) / h); y < b.hi.y(); y += h)
       for (double x = bb.lo.x() + h * std::ceil((b.lo.x() - bb.lo.x()) / h); x < b.hi.x(); x += h) {
         const Vec2 p(x, y);
-        if (!inside_shape(s, p)) continue;
+        if (!s.contains(p)) continue;
         bool clear = true;
         for (size_t k = 0; k < lines.size() && clear; ++k) clear = point_segment_distance(p, lines[k].first, lines[k].second) >= 0.5 * h;
         if (!clear) continue;
@@ -121,7 +112,7 @@ bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handl
     const Vec2 centroid = (hm.vertices[size_t(tv[0])] + hm.vertices[size_t(tv[1])] + hm.vertices[size_t(tv[2])]) / 3.0;
     bool in = !any_filled;
     for (size_t s = 0; s < ch.shapes.size() && !in; ++s)
-      in = ch.shapes[s].fill.enabled && ch.shapes[s].closed() && inside_shape(ch.shapes[s], centroid);
+      in = ch.shapes[s].fill.enabled && ch.shapes[s].closed() && ch.shapes[s].contains(centroid);
     if (!in) continue;
     std::array<int, 3> tri{};
     for (int k = 0; k < 3; ++k) {

@@ -1,0 +1,642 @@
+// The rigid grid's preparation (solve/rigid_grid.h): the interior grid, the boundary curves,
+// the triangular mesh and junction, shape points and handles through the nodes, the regions
+// and the factorisation. The per-frame solve is in rigid_grid.cpp.
+#include "solve/rigid_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+
+#include "geom/polygon.h"
+#include "geom/triangulate.h"
+
+namespace mar {
+namespace {
+
+constexpr double kFreePull = 1e-4;  // as the ARAP baseline: parts no handle reaches stay put
+
+
+bool inside_character(const Character& ch, const Vec2& q) {
+  for (const SubShape& s : ch.shapes)
+    if (s.fill.enabled && s.closed() && s.contains(q)) return true;
+  return false;
+}
+
+// Does segment ab meet the box [lo, hi]? (Liang-Barsky clipping.)
+bool segment_meets_box(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi) {
+  double t0 = 0, t1 = 1;
+  const Vec2 d = b - a;
+  for (int k = 0; k < 2; ++k) {
+    if (std::abs(d[k]) < 1e-300) {
+      if (a[k] < lo[k] || a[k] > hi[k]) return false;
+      continue;
+    }
+    double ta = (lo[k] - a[k]) / d[k], tb = (hi[k] - a[k]) / d[k];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+// A polyline refined so no edge is longer than `h` (seed 003: boundary edges of about the cell
+// size), every input point kept; `at[k]` is input point k's index in the result.
+Points refine(std::span<const Vec2> pts, bool closed, double h, std::vector<int>& at, double& spacing) {
+  const size_t n = pts.size();
+  Points out;
+  at.assign(n, 0);
+  double len = 0;
+  for (size_t k = 0; k < n; ++k) {
+    at[k] = int(out.size());
+    out.push_back(pts[k]);
+    if (!closed && k + 1 == n) break;
+    const Vec2 a = pts[k], b = pts[(k + 1) % n];
+    len += (b - a).norm();
+    const int pieces = int(std::ceil((b - a).norm() / h));
+    for (int i = 1; i < pieces; ++i) out.push_back(a + (double(i) / pieces) * (b - a));
+  }
+  spacing = len / double(std::max<size_t>(1, closed ? out.size() : out.size() - 1));
+  return out;
+}
+
+// Positions quantised for merging coincident points (strokes that share an end point).
+struct Key {
+  int64_t x, y;
+  bool operator<(const Key& o) const { return x != o.x ? x < o.x : y < o.y; }
+};
+Key key(const Vec2& p, double q) { return {int64_t(std::llround(p.x() / q)), int64_t(std::llround(p.y() / q))}; }
+
+}  // namespace
+
+bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+                        std::string* error) {
+  const Bounds bb = ch.bounds();
+  if (bb.empty()) {
+    if (error) *error = "rigid_grid: the character has no points";
+    return false;
+  }
+  const double diag = std::hypot(bb.width(), bb.height());
+  h_ = rig.grid_cell > 0 ? rig.grid_cell : diag / 40;
+  if (!(h_ > 0) || !std::isfinite(h_)) h_ = 1;
+  half_width_ = rig.grid_half_width;
+  w_r_ = rig.grid_rigidity;
+  w_s_ = rig.grid_junction;
+  w_p_ = w.position;
+  stiff_.clear();
+  for (const RigStiffness& s : rig.stiffness) stiff_.push_back({s.name, s.center, s.radius, s.weight});
+  mid_ = 0.5 * (bb.lo + bb.hi);
+
+  // --- The interior grid: cells wholly inside the filled region, crossed by no outline that bounds
+  // it (a line with the outside on one side), so a gap narrower than a cell splits the grid.
+  origin_ = bb.lo - Vec2(h_, h_);
+  nx_ = int(std::ceil((bb.hi.x() - origin_.x()) / h_)) + 1;
+  ny_ = int(std::ceil((bb.hi.y() - origin_.y()) / h_)) + 1;
+  if (double(nx_) * double(ny_) > 4e6) {
+    if (error)
+      *error =
+          "rigid_grid: the grid would have more than 4 million cells; "
+          "make [grid] cell larger";
+    return false;
+  }
+  auto corner = [&](int i, int j) -> Vec2 { return origin_ + Vec2(i * h_, j * h_); };
+  std::vector<char> corner_in(size_t(nx_ + 1) * size_t(ny_ + 1));
+  for (int j = 0; j <= ny_; ++j)
+    for (int i = 0; i <= nx_; ++i) corner_in[size_t(j) * size_t(nx_ + 1) + size_t(i)] = inside_character(ch, corner(i, j));
+  std::vector<char> crossed(size_t(nx_) * size_t(ny_), 0);
+  std::vector<std::pair<Vec2, Vec2>> lines;  // every line of the character (for the fill's interior points)
+  for (const SubShape& s : ch.shapes)
+    for (const Contour& c : s.contours)
+      for (int k = 0; c.count > 1 && k + (c.closed ? 0 : 1) < c.count; ++k) {
+        const Vec2 a = s.points[size_t(c.begin + k)], b = s.points[size_t(c.begin + (k + 1) % c.count)];
+        lines.push_back({a, b});
+        if (!s.fill.enabled || !c.closed || (b - a).norm() < 1e-12 * h_) continue;
+        const Vec2 m = 0.5 * (a + b), n = Vec2(a.y() - b.y(), b.x() - a.x()).normalized() * (1e-3 * h_);
+        if (inside_character(ch, m + n) == inside_character(ch, m - n)) continue;  // inside the region
+        const int i0 = std::max(0, int(std::floor((std::min(a.x(), b.x()) - origin_.x()) / h_)));
+        const int i1 = std::min(nx_ - 1, int(std::floor((std::max(a.x(), b.x()) - origin_.x()) / h_)));
+        const int j0 = std::max(0, int(std::floor((std::min(a.y(), b.y()) - origin_.y()) / h_)));
+        const int j1 = std::min(ny_ - 1, int(std::floor((std::max(a.y(), b.y()) - origin_.y()) / h_)));
+        for (int cj = j0; cj <= j1; ++cj)
+          for (int ci = i0; ci <= i1; ++ci)
+            if (segment_meets_box(a, b, corner(ci, cj), corner(ci + 1, cj + 1)))
+              crossed[size_t(cj) * size_t(nx_) + size_t(ci)] = 1;
+      }
+  cell_in_.assign(size_t(nx_) * size_t(ny_), 0);
+  for (int j = 0; j < ny_; ++j)
+    for (int i = 0; i < nx_; ++i) {
+      bool in = !crossed[size_t(j) * size_t(nx_) + size_t(i)] && inside_character(ch, corner(i, j) + Vec2(h_ / 2, h_ / 2));
+      for (int dj = 0; dj <= 1 && in; ++dj)
+        for (int di = 0; di <= 1 && in; ++di) in = corner_in[size_t(j + dj) * size_t(nx_ + 1) + size_t(i + di)];
+      cell_in_[size_t(j) * size_t(nx_) + size_t(i)] = in;
+    }
+  rest_.clear();
+  gxy_.clear();
+  node_of_corner_.assign(size_t(nx_ + 1) * size_t(ny_ + 1), -1);
+  for (int j = 0; j < ny_; ++j)
+    for (int i = 0; i < nx_; ++i) {
+      if (!cell_inside(i, j)) continue;
+      for (int dj = 0; dj <= 1; ++dj)
+        for (int di = 0; di <= 1; ++di) {
+          int& id = node_of_corner_[size_t(j + dj) * size_t(nx_ + 1) + size_t(i + di)];
+          if (id < 0) {
+            id = int(rest_.size());
+            rest_.push_back(corner(i + di, j + dj));
+            gxy_.push_back({i + di, j + dj});
+          }
+        }
+    }
+  grid_count_ = rest_.size();
+
+  // --- Boundary curves: every contour resampled at about a cell, every contour point a node;
+  // coincident points of different contours share their node (stick figures).
+  const double q = 1e-7 * std::max(diag, 1e-300);
+  std::map<Key, int> curve_node_at;
+  curves_.clear();
+  cnode_.clear();
+  std::vector<char> on_open;
+  binds_.assign(ch.shapes.size(), {});
+  for (size_t si = 0; si < ch.shapes.size(); ++si) {
+    const SubShape& s = ch.shapes[si];
+    binds_[si].assign(s.points.size(), Embed{});
+    for (auto& b : binds_[si]) b.v[0] = -1;
+    for (const Contour& c : s.contours) {
+      if (c.count < 2) continue;
+      const bool cl = c.closed && c.count >= 3;
+      std::vector<int> at;
+      double spacing = h_;
+      const Points r = refine(std::span(s.points).subspan(size_t(c.begin), size_t(c.count)), cl, h_, at, spacing);
+      const int first = int(cnode_.size());
+      for (const Vec2& p : r) {
+        auto [it, added] = curve_node_at.try_emplace(key(p, q), int(rest_.size()));
+        if (added) {
+          rest_.push_back(p);
+          on_open.push_back(0);
+        }
+        if (!cl) on_open[size_t(it->second) - grid_count_] = 1;
+        cnode_.push_back(it->second);
+      }
+      for (int k = 0; k < c.count; ++k) binds_[si][size_t(c.begin + k)].v[0] = cnode_[size_t(first + at[size_t(k)])];
+      curves_.push_back({first, int(r.size()), cl, spacing});
+    }
+  }
+  curve_count_ = rest_.size() - grid_count_;
+  if (rest_.size() < 3) {
+    if (error) *error = "rigid_grid: the character has nothing to mesh";
+    return false;
+  }
+
+  // --- The triangular mesh: a constrained Delaunay triangulation of every node, curves as
+  // constraints. Its vertices map back to nodes; a crossing of two contours is a free vertex (V³).
+  Points pts(rest_.begin(), rest_.begin() + std::ptrdiff_t(grid_count_));
+  std::vector<Ring> rings;
+  std::vector<char> closed;
+  for (size_t k = 0; k < grid_count_; ++k) {
+    rings.push_back({int(k), 1});
+    closed.push_back(0);
+  }
+  for (const Curve& c : curves_) {
+    rings.push_back({int(pts.size()), c.count});
+    closed.push_back(c.closed ? 1 : 0);
+    for (int k = 0; k < c.count; ++k) pts.push_back(rest_[size_t(cnode_[size_t(c.first + k)])]);
+  }
+  const HullMesh hm = triangulate_hull(pts, rings, closed);
+  std::map<Key, int> node_at;
+  for (size_t k = 0; k < rest_.size(); ++k) node_at.try_emplace(key(rest_[k], q), int(k));
+  std::vector<int> node_of(hm.vertices.size());
+  for (size_t v = 0; v < hm.vertices.size(); ++v) {
+    auto [it, added] = node_at.try_emplace(key(hm.vertices[v], q), int(rest_.size()));
+    if (added) rest_.push_back(hm.vertices[v]);
+    node_of[v] = it->second;
+  }
+  on_open.resize(rest_.size() - grid_count_, 0);
+  auto is_open = [&](int n) { return size_t(n) >= grid_count_ && on_open[size_t(n) - grid_count_]; };
+  bool any_filled = false;
+  for (const SubShape& s : ch.shapes) any_filled = any_filled || (s.fill.enabled && s.closed());
+  tris_.clear();
+  junction_.clear();
+  std::vector<char> used(rest_.size(), 0);
+  for (size_t t = 0; t + 2 < hm.triangles.size(); t += 3) {
+    std::array<int, 3> tri{node_of[size_t(hm.triangles[t])], node_of[size_t(hm.triangles[t + 1])],
+                           node_of[size_t(hm.triangles[t + 2])]};
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+    const Vec2 &a = rest_[size_t(tri[0])], &b = rest_[size_t(tri[1])], &c = rest_[size_t(tri[2])];
+    const Vec2 centroid = (a + b + c) / 3.0;
+    const double longest = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+    const bool stroke = (is_open(tri[0]) || is_open(tri[1]) || is_open(tri[2])) && longest <= 2 * h_;
+    if (!(any_filled && inside_character(ch, centroid)) && !stroke) continue;
+    // Inside an interior cell that has all eight neighbours: the regions hold it.
+    bool junction = true;
+    if (size_t(tri[0]) < grid_count_ && size_t(tri[1]) < grid_count_ && size_t(tri[2]) < grid_count_) {
+      const int ci = int(std::floor((centroid.x() - origin_.x()) / h_)), cj = int(std::floor((centroid.y() - origin_.y()) / h_));
+      bool full = cell_inside(ci, cj);
+      for (int dj = -1; dj <= 1 && full; ++dj)
+        for (int di = -1; di <= 1 && full; ++di) full = cell_inside(ci + di, cj + dj);
+      junction = !full;
+    }
+    tris_.push_back(tri);
+    junction_.push_back(junction ? 1 : 0);
+    for (int v : tri) used[size_t(v)] = 1;
+  }
+  mesh_vertex_count_ = size_t(std::count(used.begin(), used.end(), 1));
+  // Junction edges (each once) and the vertices whose one-ring is all junction triangles.
+  edges_.clear();
+  edge_len_.clear();
+  std::vector<std::vector<int>> ring_tris(rest_.size());
+  for (size_t t = 0; t < tris_.size(); ++t) {
+    for (int v : tris_[t]) ring_tris[size_t(v)].push_back(int(t));
+    if (!junction_[t]) continue;
+    for (int k = 0; k < 3; ++k) {
+      int a = tris_[t][size_t(k)], b = tris_[t][size_t((k + 1) % 3)];
+      if (a > b) std::swap(a, b);
+      edges_.push_back({a, b});
+    }
+  }
+  std::sort(edges_.begin(), edges_.end());
+  edges_.erase(std::unique(edges_.begin(), edges_.end()), edges_.end());
+  for (const auto& e : edges_) edge_len_.push_back((rest_[size_t(e[0])] - rest_[size_t(e[1])]).norm());
+  mvc_start_.assign(1, 0);
+  mvc_node_.clear();
+  mvc_w_.clear();
+  tri_mode_ = rig.grid_junction_term != "mvc";
+  for (size_t v = 0; v < rest_.size() && !tri_mode_; ++v) {
+    const auto& rt = ring_tris[v];
+    if (rt.size() < 3) continue;
+    bool all = true;
+    std::map<int, int> seen;  // ring vertex -> how many incident triangles hold it
+    for (int t : rt) {
+      all = all && junction_[size_t(t)];
+      for (int u : tris_[size_t(t)])
+        if (size_t(u) != v) ++seen[u];
+    }
+    bool closed_ring = all && seen.size() == rt.size();
+    for (const auto& [u, n] : seen) closed_ring = closed_ring && n == 2;
+    if (!closed_ring) continue;
+    // Mean-value coordinates at rest (Floater 2003): λ_j ∝ (tan(α_{j-1}/2) + tan(α_j/2)) / |p_j - p|.
+    const Vec2 p = rest_[v];
+    std::vector<int> ring;
+    for (const auto& [u, n] : seen) ring.push_back(u);
+    std::sort(ring.begin(), ring.end(), [&](int a, int b) {
+      const Vec2 da = rest_[size_t(a)] - p, db = rest_[size_t(b)] - p;
+      return std::atan2(da.y(), da.x()) < std::atan2(db.y(), db.x());
+    });
+    const size_t m = ring.size();
+    std::vector<double> tanh(m), lam(m);
+    bool ok = true;
+    for (size_t k = 0; k < m; ++k) {
+      const Vec2 a = rest_[size_t(ring[k])] - p, b = rest_[size_t(ring[(k + 1) % m])] - p;
+      const double s = cross(a, b), den = a.norm() * b.norm() + a.dot(b);
+      ok = ok && s > 0 && den > 1e-300 && a.norm() > 1e-12 * h_;
+      tanh[k] = ok ? s / den : 0;
+    }
+    if (!ok) continue;
+    double sum = 0;
+    for (size_t k = 0; k < m; ++k) sum += lam[k] = (tanh[(k + m - 1) % m] + tanh[k]) / (rest_[size_t(ring[k])] - p).norm();
+    mvc_node_.push_back(int(v));
+    mvc_w_.push_back(1.0);
+    for (size_t k = 0; k < m; ++k) {
+      mvc_node_.push_back(ring[k]);
+      mvc_w_.push_back(-lam[k] / sum);
+    }
+    mvc_start_.push_back(int(mvc_node_.size()));
+  }
+
+  // --- The fill follows the grid: grid nodes clear of every line (by a quarter cell) join the part
+  // they lie in as interior points (one-point contours), bound to their node.
+  for (size_t k = 0; k < grid_count_; ++k) {
+    const Vec2 p = rest_[k];
+    bool clear = true;
+    for (size_t l = 0; l < lines.size() && clear; ++l)
+      clear = point_segment_distance(p, lines[l].first, lines[l].second) >= 0.25 * h_;
+    if (!clear) continue;
+    for (size_t si = 0; si < ch.shapes.size(); ++si) {
+      SubShape& s = ch.shapes[si];
+      if (!s.fill.enabled || !s.closed() || !s.contains(p)) continue;
+      s.contours.push_back({int(s.points.size()), 1, false});
+      s.points.push_back(p);
+      Embed e;
+      e.v[0] = int(k);
+      binds_[si].push_back(e);
+      break;
+    }
+  }
+  for (size_t si = 0; si < ch.shapes.size(); ++si)  // points of no curve (earlier interior points)
+    for (size_t k = 0; k < binds_[si].size(); ++k)
+      if (binds_[si][k].v[0] < 0) binds_[si][k] = embed(ch.shapes[si].points[k]);
+
+  handles_.clear();
+  handle_node_.clear();
+  handle_rest_.assign(handle_rest.begin(), handle_rest.end());
+  for (const Vec2& p : handle_rest) {
+    handles_.push_back(embed(p));
+    const Embed& e = handles_.back();
+    handle_node_.push_back(e.v[std::max_element(e.w, e.w + e.n) - e.w]);
+  }
+  x_ = rest_;
+  p_.resize(rest_.size());
+  for (size_t k = 0; k < rest_.size(); ++k) p_[k] = rest_[k] - mid_;
+  const size_t n = rest_.size();
+  bx_.assign(n, 0.0);
+  by_.assign(n, 0.0);
+  grab_update_.reserve(n);
+  grab_active_ = false;
+  build_runs();
+  build_regions();
+  return factorise(error);
+}
+
+RigidGrid::Embed RigidGrid::embed(const Vec2& p) const {
+  Embed e;
+  const int ci = int(std::floor((p.x() - origin_.x()) / h_)), cj = int(std::floor((p.y() - origin_.y()) / h_));
+  if (cell_inside(ci, cj)) {  // bilinear in the cell (V²)
+    const double u = (p.x() - origin_.x()) / h_ - ci, v = (p.y() - origin_.y()) / h_ - cj;
+    e.n = 4;
+    e.v[0] = corner_node(ci, cj), e.v[1] = corner_node(ci + 1, cj), e.v[2] = corner_node(ci, cj + 1),
+    e.v[3] = corner_node(ci + 1, cj + 1);
+    e.w[0] = (1 - u) * (1 - v), e.w[1] = u * (1 - v), e.w[2] = (1 - u) * v, e.w[3] = u * v;
+    return e;
+  }
+  // Barycentric in the mesh triangle holding it (outside every one, the nearest, extrapolated: a
+  // stroke's point beyond the mesh keeps its offset).
+  double best = INFINITY;
+  for (const auto& t : tris_) {
+    const Vec2 &a = rest_[size_t(t[0])], &b = rest_[size_t(t[1])], &c = rest_[size_t(t[2])];
+    const double det = cross(b - a, c - a);
+    if (std::abs(det) < 1e-12 * h_ * h_) continue;
+    const double v = cross(p - a, c - a) / det, w = cross(b - a, p - a) / det, u = 1 - v - w;
+    const double out = std::max({0.0, -u, -v, -w}) * std::sqrt(std::abs(det));
+    if (out < best) {
+      best = out;
+      e.n = 3;
+      e.v[0] = t[0], e.v[1] = t[1], e.v[2] = t[2];
+      e.w[0] = u, e.w[1] = v, e.w[2] = w;
+      if (out == 0) break;
+    }
+  }
+  if (!std::isfinite(best)) {  // no triangle at all: the nearest node
+    size_t k = 0;
+    for (size_t i = 1; i < rest_.size(); ++i)
+      if ((rest_[i] - p).squaredNorm() < (rest_[k] - p).squaredNorm()) k = i;
+    e.n = 1;
+    e.v[0] = int(k);
+    e.w[0] = 1;
+  }
+  return e;
+}
+
+std::vector<std::array<int, 2>> RigidGrid::grid_edges() const {
+  std::vector<std::array<int, 2>> out;
+  for (int j = 0; j <= ny_; ++j)
+    for (int i = 0; i <= nx_; ++i) {
+      const int n = corner_node(i, j);
+      if (n < 0) continue;
+      if (i < nx_ && corner_node(i + 1, j) >= 0 && (cell_inside(i, j - 1) || cell_inside(i, j)))
+        out.push_back({n, corner_node(i + 1, j)});
+      if (j < ny_ && corner_node(i, j + 1) >= 0 && (cell_inside(i - 1, j) || cell_inside(i, j)))
+        out.push_back({n, corner_node(i, j + 1)});
+    }
+  return out;
+}
+
+std::vector<std::array<int, 3>> RigidGrid::junction_triangles() const {
+  std::vector<std::array<int, 3>> out;
+  for (size_t t = 0; t < tris_.size(); ++t)
+    if (junction_[t]) out.push_back(tris_[t]);
+  return out;
+}
+
+void RigidGrid::build_runs() {
+  // Rows and columns of grid nodes joined by an edge of an interior cell.
+  auto lattice_runs = [&](bool along_x, Runs& r) {
+    r = Runs{};
+    const int outer = along_x ? ny_ : nx_, inner = along_x ? nx_ : ny_;
+    for (int a = 0; a <= outer; ++a) {
+      int prev = -1;
+      for (int b = 0; b <= inner; ++b) {
+        const int node = along_x ? corner_node(b, a) : corner_node(a, b);
+        const bool joined = prev >= 0 && node >= 0 &&
+                            (along_x ? (cell_inside(b - 1, a - 1) || cell_inside(b - 1, a))
+                                     : (cell_inside(a - 1, b - 1) || cell_inside(a, b - 1)));
+        if (!joined && prev >= 0) {  // close the run
+          r.start.push_back(int(r.idx.size()));
+          r.closed.push_back(0);
+          r.half.push_back(half_width_);
+        }
+        if (node >= 0) r.idx.push_back(node);
+        prev = node;
+      }
+      if (prev >= 0) {
+        r.start.push_back(int(r.idx.size()));
+        r.closed.push_back(0);
+        r.half.push_back(half_width_);
+      }
+    }
+  };
+  lattice_runs(true, rows_);
+  lattice_runs(false, cols_);
+  curve_runs_ = Runs{};
+  curve_region_.resize(cnode_.size());
+  for (const Curve& c : curves_) {
+    // w̃ = w l_in / l_b: the same reach along the curve as across the grid.
+    const int wt = std::max(1, int(std::lround(half_width_ * h_ / std::max(c.spacing, 1e-9 * h_))));
+    for (int k = 0; k < c.count; ++k) {
+      curve_runs_.idx.push_back(c.first + k);
+      curve_region_[size_t(c.first + k)] = int(grid_count_) + c.first + k;
+    }
+    curve_runs_.start.push_back(int(curve_runs_.idx.size()));
+    curve_runs_.closed.push_back(c.closed ? 1 : 0);
+    curve_runs_.half.push_back(wt);
+  }
+  // A window pass takes prefix sums over at most twice a run (a closed run, padded by w < len/2).
+  size_t longest = 1;
+  for (const Runs* r : {&rows_, &cols_, &curve_runs_})
+    for (size_t k = 0; k + 1 < r->start.size(); ++k) longest = std::max(longest, size_t(r->start[k + 1] - r->start[k]));
+  prefix_.assign((2 * longest + 1) * 4, 0.0);
+}
+
+void RigidGrid::build_regions() {
+  const size_t G = grid_count_, R = G + cnode_.size();
+  for (Runs* r : {&rows_, &cols_}) std::fill(r->half.begin(), r->half.end(), half_width_);
+  reg_start_.assign(1, 0);
+  reg_.clear();
+  reg_center_.resize(R);
+  std::vector<int> row_run(G), row_pos(G), col_run(G), col_pos(G);
+  for (size_t k = 0; k + 1 < rows_.start.size(); ++k)
+    for (int p = rows_.start[k]; p < rows_.start[k + 1]; ++p)
+      row_run[size_t(rows_.idx[size_t(p)])] = int(k), row_pos[size_t(rows_.idx[size_t(p)])] = p;
+  for (size_t k = 0; k + 1 < cols_.start.size(); ++k)
+    for (int p = cols_.start[k]; p < cols_.start[k + 1]; ++p)
+      col_run[size_t(cols_.idx[size_t(p)])] = int(k), col_pos[size_t(cols_.idx[size_t(p)])] = p;
+  const int w = half_width_;
+  for (size_t i = 0; i < G; ++i) {
+    if (plain_) {  // every grid node of the square, reachable or not
+      for (int dj = -w; dj <= w; ++dj)
+        for (int di = -w; di <= w; ++di) {
+          const int ii = gxy_[i][0] + di, jj = gxy_[i][1] + dj;
+          if (ii >= 0 && jj >= 0 && ii <= nx_ && jj <= ny_ && corner_node(ii, jj) >= 0) reg_.push_back(corner_node(ii, jj));
+        }
+    } else {  // along the column of interior-cell edges, then along the rows
+      const int c = col_run[i];
+      for (int p = std::max(cols_.start[size_t(c)], col_pos[i] - w);
+           p <= std::min(cols_.start[size_t(c) + 1] - 1, col_pos[i] + w); ++p) {
+        const size_t k = size_t(cols_.idx[size_t(p)]);
+        const int r = row_run[k];
+        for (int s = std::max(rows_.start[size_t(r)], row_pos[k] - w);
+             s <= std::min(rows_.start[size_t(r) + 1] - 1, row_pos[k] + w); ++s)
+          reg_.push_back(rows_.idx[size_t(s)]);
+      }
+    }
+    reg_center_[i] = int(i);
+    reg_start_.push_back(int(reg_.size()));
+  }
+  for (size_t k = 0; k + 1 < curve_runs_.start.size(); ++k) {
+    const int b = curve_runs_.start[k], len = curve_runs_.start[k + 1] - b;
+    const int wt = std::max(1, int(std::lround(w * h_ / std::max(curves_[k].spacing, 1e-9 * h_))));
+    curve_runs_.half[k] = wt;
+    const bool all = curve_runs_.closed[k] && 2 * wt + 1 >= len;
+    for (int p = 0; p < len; ++p) {
+      if (all)
+        for (int d = 0; d < len; ++d) reg_.push_back(cnode_[size_t(b + d)]);
+      else
+        for (int d = -wt; d <= wt; ++d) {
+          int m = p + d;
+          if (curve_runs_.closed[k])
+            m = ((m % len) + len) % len;
+          else if (m < 0 || m >= len)
+            continue;
+          reg_.push_back(cnode_[size_t(b + m)]);
+        }
+      reg_center_[G + size_t(b + p)] = cnode_[size_t(b + p)];
+      reg_start_.push_back(int(reg_.size()));
+    }
+  }
+  // Eq. 2: a region holding a handle turns about it (the handle nearest the region's node).
+  std::vector<char> is_handle(rest_.size(), 0);
+  for (int hn : handle_node_) is_handle[size_t(hn)] = 1;
+  for (size_t r = 0; r < R; ++r) {
+    const int own = reg_center_[r];
+    double best = INFINITY;
+    for (int j : region(r))
+      if (is_handle[size_t(j)] && (rest_[size_t(j)] - rest_[size_t(own)]).squaredNorm() < best) {
+        best = (rest_[size_t(j)] - rest_[size_t(own)]).squaredNorm();
+        reg_center_[r] = j;
+      }
+  }
+  reg_size_.resize(R);
+  reg_psum_.resize(R);
+  for (size_t r = 0; r < R; ++r) {
+    const auto m = region(r);
+    Vec2 s = Vec2::Zero();
+    for (int j : m) s += p_[size_t(j)];
+    reg_size_[r] = int(m.size());
+    reg_psum_[r] = s;
+  }
+  weigh_regions();
+  rc_.assign(R, 1.0);
+  rs_.assign(R, 0.0);
+  const size_t nmax = std::max(rest_.size(), R);
+  ch_in_.assign(nmax * 4, 0.0);
+  ch_mid_.assign(nmax * 4, 0.0);
+  ch_out_.assign(nmax * 4, 0.0);
+  if (plain_) fast_ = false;
+}
+
+void RigidGrid::weigh_regions() {
+  // Local stiffness per node: the largest weight of the [[stiffness]] regions holding it.
+  node_w_.assign(rest_.size(), 1.0);
+  for (size_t k = 0; k < rest_.size(); ++k) {
+    double wk = 0;
+    for (const Stiff& s : stiff_)
+      if ((rest_[k] - s.center).norm() <= s.radius) wk = std::max(wk, s.weight);
+    if (wk > 0) node_w_[k] = wk;
+  }
+  const size_t G = grid_count_;
+  reg_k_.resize(reg_center_.size());
+  for (size_t r = 0; r < reg_center_.size(); ++r) {
+    const int own = r < G ? int(r) : cnode_[r - G];
+    reg_k_[r] = reg_size_[r] > 1 ? w_r_ * node_w_[size_t(own)] / double(reg_size_[r]) : 0.0;
+  }
+}
+
+bool RigidGrid::set_plain_regions(bool plain, std::string* error) {
+  plain_ = plain;
+  fast_ = !plain;
+  build_regions();
+  return factorise(error);
+}
+
+bool RigidGrid::factorise(std::string* error) {
+  const size_t n = rest_.size();
+  std::vector<Eigen::Triplet<double>> t;
+  std::vector<double> diag(n, 0.0);
+  // Regions: k Σ_j (e_j − e_c)(e_j − e_c)^T.
+  for (size_t r = 0; r < reg_center_.size(); ++r) {
+    const double k = reg_k_[r];
+    if (k == 0) continue;
+    const int c = reg_center_[r];
+    for (int j : region(r)) {
+      if (j == c) continue;
+      diag[size_t(j)] += k;
+      diag[size_t(c)] += k;
+      t.emplace_back(j, c, -k);
+      t.emplace_back(c, j, -k);
+    }
+  }
+  if (tri_mode_)
+    for (size_t tt = 0; tt < tris_.size(); ++tt)
+      if (junction_[tt])
+        for (int q = 0; q < 3; ++q) {
+          const int a = tris_[tt][size_t(q)], b = tris_[tt][size_t((q + 1) % 3)];
+          diag[size_t(a)] += w_s_;
+          diag[size_t(b)] += w_s_;
+          t.emplace_back(a, b, -w_s_);
+          t.emplace_back(b, a, -w_s_);
+        }
+  for (const auto& e : edges_) {
+    if (tri_mode_) break;
+    diag[size_t(e[0])] += w_s_;
+    diag[size_t(e[1])] += w_s_;
+    t.emplace_back(e[0], e[1], -w_s_);
+    t.emplace_back(e[1], e[0], -w_s_);
+  }
+  for (size_t v = 0; v + 1 < mvc_start_.size(); ++v)
+    for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a)
+      for (int b = mvc_start_[v]; b < mvc_start_[v + 1]; ++b)
+        t.emplace_back(mvc_node_[size_t(a)], mvc_node_[size_t(b)], w_s_ * mvc_w_[size_t(a)] * mvc_w_[size_t(b)]);
+  for (const Embed& h : handles_)
+    for (int a = 0; a < h.n; ++a)
+      for (int b = 0; b < h.n; ++b) t.emplace_back(h.v[a], h.v[b], w_p_ * h.w[a] * h.w[b]);
+  // Parts no handle reaches (through regions, junction edges or rings) get a tiny pull to where
+  // they are.
+  std::vector<int> comp(n);
+  std::iota(comp.begin(), comp.end(), 0);
+  auto find = [&](int i) {
+    while (comp[size_t(i)] != i) i = comp[size_t(i)] = comp[size_t(comp[size_t(i)])];
+    return i;
+  };
+  auto join = [&](int a, int b) { comp[size_t(find(a))] = find(b); };
+  for (size_t r = 0; r < reg_center_.size(); ++r)
+    for (int j : region(r)) join(j, reg_center_[r]);
+  for (const auto& e : edges_) join(e[0], e[1]);
+  for (size_t v = 0; v + 1 < mvc_start_.size(); ++v)
+    for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a) join(mvc_node_[size_t(a)], mvc_node_[size_t(mvc_start_[v])]);
+  std::vector<char> held(n, 0);
+  for (const Embed& h : handles_)
+    for (int a = 0; a < h.n; ++a)
+      if (h.w[a] != 0) held[size_t(find(h.v[a]))] = 1;
+  pull_.assign(n, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    if (!held[size_t(find(int(i)))]) pull_[i] = kFreePull * (1 + diag[i]);
+    t.emplace_back(int(i), int(i), diag[i] + pull_[i]);
+  }
+  Eigen::SparseMatrix<double> K(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
+  K.setFromTriplets(t.begin(), t.end());
+  if (!factor_.compute(K)) {
+    if (error) *error = "rigid_grid: the system matrix could not be factorised";
+    return false;
+  }
+  return true;
+}
+
+}  // namespace mar
