@@ -105,6 +105,7 @@ int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
                    {"VER", grid.mesh_vertices()},
                    {"NOD", nod},
                    {"w", grid.half_width()},
+                   {"stride", grid.stride()},
                    {"PRE_ms", median(pre)},
                    {"OPT1_ms", median(opt1)},
                    {"OPT2_ms", median(opt2)},
@@ -120,8 +121,11 @@ int inspect_grid_rig(const InspectArgs& a, Puppet& p, const RigidGrid& grid) {
     std::cout << j.dump(2) << "\n";
   } else {
     print_inspect_text(p.character);
-    std::printf("\nrigid grid (rig %s): cell %.2f, %zu grid + %zu boundary nodes, %zu of %zu mesh triangles junction\n",
-                p.rig.path.c_str(), grid.cell(), grid.grid_nodes(), grid.boundary_nodes(), junction, grid.mesh_triangles().size());
+    std::printf(
+        "\nrigid grid (rig %s): cell %.2f, %zu grid + %zu boundary nodes, %zu of %zu mesh triangles junction, "
+        "regions on every %d%s grid node\n",
+        p.rig.path.c_str(), grid.cell(), grid.grid_nodes(), grid.boundary_nodes(), junction, grid.mesh_triangles().size(),
+        grid.stride(), grid.stride() == 1 ? "st" : grid.stride() == 2 ? "nd" : grid.stride() == 3 ? "rd" : "th");
     std::printf("%6s %6s %3s %9s %9s %9s   (ms; OPT = %d iterations, 1 with / 2 without fast summation)\n", "VER", "NOD", "w",
                 "PRE", "OPT1", "OPT2", iterations);
     std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f\n", grid.mesh_vertices(), nod, grid.half_width(), median(pre), median(opt1),

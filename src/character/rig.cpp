@@ -226,7 +226,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     if (const toml::node* gn = root.get("grid")) {
       const toml::table* t = gn->as_table();
       if (!t) throw RigError{at(path, *gn) + ": [grid] must be a table"};
-      check_keys(path, *t, {"cell", "half_width", "weights", "junction"}, "[grid]");
+      check_keys(path, *t, {"cell", "half_width", "stride", "weights", "junction"}, "[grid]");
       if (const toml::node* n = t->get("junction")) {
         const auto v = n->value<std::string>();
         if (!v || (*v != "triangles" && *v != "mvc")) throw RigError{at(path, *n) + ": junction must be \"triangles\" or \"mvc\""};
@@ -240,6 +240,12 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         const auto v = n->value<int64_t>();
         if (!v || *v < 1 || *v > 32) throw RigError{at(path, *n) + ": half_width must be a whole number 1..32 (cells)"};
         r.grid_half_width = static_cast<int>(*v);
+      }
+      if (const toml::node* n = t->get("stride")) {
+        const auto v = n->value<int64_t>();
+        if (!v || *v < 0 || *v > 32)
+          throw RigError{at(path, *n) + ": stride must be a whole number 0..32 (0: about half_width / 2; 1: every node)"};
+        r.grid_stride = static_cast<int>(*v);
       }
       if (const toml::node* n = t->get("weights")) {
         const toml::table* w = n->as_table();
@@ -377,11 +383,14 @@ std::string write_rig(const Rig& r) {
     o << "\n[[part]]\nid = " << toml::value<std::string>(p.id) << "\nstiffness = " << p.stiffness << "\n";
   }
   const Rig d = default_rig();
-  if (r.grid_cell != d.grid_cell || r.grid_half_width != d.grid_half_width || r.grid_rigidity != d.grid_rigidity ||
+  if (r.grid_cell != d.grid_cell || r.grid_half_width != d.grid_half_width || r.grid_stride != d.grid_stride ||
+      r.grid_rigidity != d.grid_rigidity ||
       r.grid_junction != d.grid_junction || r.grid_junction_term != d.grid_junction_term) {
     o << "\n[grid]\n";
     if (r.grid_cell > 0) o << "cell = " << r.grid_cell << "\n";
-    o << "half_width = " << r.grid_half_width << "\njunction = " << toml::value<std::string>(r.grid_junction_term)
+    o << "half_width = " << r.grid_half_width << "\n";
+    if (r.grid_stride != d.grid_stride) o << "stride = " << r.grid_stride << "\n";
+    o << "junction = " << toml::value<std::string>(r.grid_junction_term)
       << "\nweights = { rigidity = " << r.grid_rigidity << ", junction = " << r.grid_junction << " }\n";
   }
   for (const RigKey& k : r.keys) o << "\n" << key_toml(k);

@@ -87,6 +87,9 @@ struct Rig {
   // The rigid grid (solver = "rigid_grid"): [grid] and [[stiffness]].
   double grid_cell = 0;        ///< cell size, character units (0: the diagonal / 40)
   int grid_half_width = 3;     ///< w, whole cells: the global stiffness
+  /// Every stride-th grid node centres a region that counts (0: about w / 2; 1: every node, as
+  /// seed 003). See solve/rigid_grid.h.
+  int grid_stride = 0;
   double grid_rigidity = 6, grid_junction = 6;  ///< w_r, w_s (seed 003: 6, 1 with its Eq. 4 term)
   /// "triangles": each junction triangle as rigid as possible; "mvc": seed 003's Eq. 4
   /// (mean-value coordinates + rest lengths along the current directions).

@@ -17,11 +17,63 @@ namespace {
 constexpr double kFreePull = 1e-4;  // as the ARAP baseline: parts no handle reaches stay put
 
 
-bool inside_character(const Character& ch, const Vec2& q) {
-  for (const SubShape& s : ch.shapes)
-    if (s.fill.enabled && s.closed() && s.contains(q)) return true;
-  return false;
-}
+// Inside the filled region (the union of the filled, closed sub-shapes, each even-odd over its
+// contours as SubShape::contains), with the edges of each shape sorted into horizontal bands so
+// a query visits only the edges its height meets: a grid of thousands of corners over an outline
+// of thousands of points costs a few milliseconds, not a second.
+class FillIndex {
+ public:
+  FillIndex(const Character& ch, double band) {
+    for (size_t si = 0; si < ch.shapes.size(); ++si) {
+      const SubShape& s = ch.shapes[si];
+      if (!s.fill.enabled || !s.closed()) continue;
+      Shape sh;
+      sh.index = si;
+      const Bounds b = s.bounds();
+      sh.lo = b.lo;
+      sh.hi = b.hi;
+      sh.band = band;
+      sh.bands.assign(size_t(std::clamp(std::ceil((b.hi.y() - b.lo.y()) / band), 1.0, 1e6)), {});
+      for (const Contour& c : s.contours) {
+        if (!c.closed || c.count < 3) continue;
+        for (int k = 0; k < c.count; ++k) {
+          const Vec2 a = s.points[size_t(c.begin + (k + c.count - 1) % c.count)], e = s.points[size_t(c.begin + k)];
+          const size_t lo = sh.band_of(std::min(a.y(), e.y())), hi = sh.band_of(std::max(a.y(), e.y()));
+          for (size_t q = lo; q <= hi; ++q) sh.bands[q].push_back({a, e});
+        }
+      }
+      shapes_.push_back(std::move(sh));
+    }
+  }
+  bool any() const { return !shapes_.empty(); }
+  bool inside(const Vec2& p) const { return shape_at(p) >= 0; }
+  /// The first filled sub-shape (in the character's order) holding p, or -1.
+  int shape_at(const Vec2& p) const {
+    for (const Shape& sh : shapes_) {
+      if (!(p.x() >= sh.lo.x() && p.x() <= sh.hi.x() && p.y() >= sh.lo.y() && p.y() <= sh.hi.y())) continue;
+      bool in = false;  // winding_number's rule, edge by edge: each ±1 flips the parity
+      for (const auto& [a, b] : sh.bands[sh.band_of(p.y())]) {
+        const double cr = (b.x() - a.x()) * (p.y() - a.y()) - (p.x() - a.x()) * (b.y() - a.y());
+        if (a.y() <= p.y() ? (b.y() > p.y() && cr > 0) : (b.y() <= p.y() && cr < 0)) in = !in;
+      }
+      if (in) return int(sh.index);
+    }
+    return -1;
+  }
+
+ private:
+  struct Shape {
+    size_t index = 0;  ///< in Character::shapes
+    Vec2 lo, hi;
+    double band = 1;
+    std::vector<std::vector<std::pair<Vec2, Vec2>>> bands;
+    size_t band_of(double y) const {
+      const double k = std::floor((y - lo.y()) / band);
+      return size_t(std::clamp(k, 0.0, double(bands.size() - 1)));
+    }
+  };
+  std::vector<Shape> shapes_;
+};
 
 // Does segment ab meet the box [lo, hi]? (Liang-Barsky clipping.)
 bool segment_meets_box(const Vec2& a, const Vec2& b, const Vec2& lo, const Vec2& hi) {
@@ -81,6 +133,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   h_ = rig.grid_cell > 0 ? rig.grid_cell : diag / 40;
   if (!(h_ > 0) || !std::isfinite(h_)) h_ = 1;
   half_width_ = rig.grid_half_width;
+  region_stride_ = rig.grid_stride;
   w_r_ = rig.grid_rigidity;
   w_s_ = rig.grid_junction;
   w_p_ = w.position;
@@ -101,9 +154,10 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     return false;
   }
   auto corner = [&](int i, int j) -> Vec2 { return origin_ + Vec2(i * h_, j * h_); };
+  const FillIndex fill(ch, h_);
   std::vector<char> corner_in(size_t(nx_ + 1) * size_t(ny_ + 1));
   for (int j = 0; j <= ny_; ++j)
-    for (int i = 0; i <= nx_; ++i) corner_in[size_t(j) * size_t(nx_ + 1) + size_t(i)] = inside_character(ch, corner(i, j));
+    for (int i = 0; i <= nx_; ++i) corner_in[size_t(j) * size_t(nx_ + 1) + size_t(i)] = fill.inside(corner(i, j));
   std::vector<char> crossed(size_t(nx_) * size_t(ny_), 0);
   std::vector<std::pair<Vec2, Vec2>> lines;  // every line of the character (for the fill's interior points)
   for (const SubShape& s : ch.shapes)
@@ -113,7 +167,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
         lines.push_back({a, b});
         if (!s.fill.enabled || !c.closed || (b - a).norm() < 1e-12 * h_) continue;
         const Vec2 m = 0.5 * (a + b), n = Vec2(a.y() - b.y(), b.x() - a.x()).normalized() * (1e-3 * h_);
-        if (inside_character(ch, m + n) == inside_character(ch, m - n)) continue;  // inside the region
+        if (fill.inside(m + n) == fill.inside(m - n)) continue;  // inside the region
         const int i0 = std::max(0, int(std::floor((std::min(a.x(), b.x()) - origin_.x()) / h_)));
         const int i1 = std::min(nx_ - 1, int(std::floor((std::max(a.x(), b.x()) - origin_.x()) / h_)));
         const int j0 = std::max(0, int(std::floor((std::min(a.y(), b.y()) - origin_.y()) / h_)));
@@ -126,7 +180,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   cell_in_.assign(size_t(nx_) * size_t(ny_), 0);
   for (int j = 0; j < ny_; ++j)
     for (int i = 0; i < nx_; ++i) {
-      bool in = !crossed[size_t(j) * size_t(nx_) + size_t(i)] && inside_character(ch, corner(i, j) + Vec2(h_ / 2, h_ / 2));
+      bool in = !crossed[size_t(j) * size_t(nx_) + size_t(i)] && fill.inside(corner(i, j) + Vec2(h_ / 2, h_ / 2));
       for (int dj = 0; dj <= 1 && in; ++dj)
         for (int di = 0; di <= 1 && in; ++di) in = corner_in[size_t(j + dj) * size_t(nx_ + 1) + size_t(i + di)];
       cell_in_[size_t(j) * size_t(nx_) + size_t(i)] = in;
@@ -212,8 +266,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   }
   on_open.resize(rest_.size() - grid_count_, 0);
   auto is_open = [&](int n) { return size_t(n) >= grid_count_ && on_open[size_t(n) - grid_count_]; };
-  bool any_filled = false;
-  for (const SubShape& s : ch.shapes) any_filled = any_filled || (s.fill.enabled && s.closed());
+  const bool any_filled = fill.any();
   tris_.clear();
   junction_.clear();
   std::vector<char> used(rest_.size(), 0);
@@ -225,7 +278,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     const Vec2 centroid = (a + b + c) / 3.0;
     const double longest = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
     const bool stroke = (is_open(tri[0]) || is_open(tri[1]) || is_open(tri[2])) && longest <= 2 * h_;
-    if (!(any_filled && inside_character(ch, centroid)) && !stroke) continue;
+    if (!(any_filled && fill.inside(centroid)) && !stroke) continue;
     // Inside an interior cell that has all eight neighbours: the regions hold it.
     bool junction = true;
     if (size_t(tri[0]) < grid_count_ && size_t(tri[1]) < grid_count_ && size_t(tri[2]) < grid_count_) {
@@ -304,22 +357,28 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
 
   // --- The fill follows the grid: grid nodes clear of every line (by a quarter cell) join the part
   // they lie in as interior points (one-point contours), bound to their node.
+  std::vector<char> near_line(size_t(nx_ + 1) * size_t(ny_ + 1), 0);  // per lattice corner
+  for (const auto& [a, b] : lines) {  // the corners within a quarter cell of each line
+    const double m = 0.25 * h_;
+    const int i0 = std::max(0, int(std::ceil((std::min(a.x(), b.x()) - m - origin_.x()) / h_)) - 1);
+    const int i1 = std::min(nx_, int(std::floor((std::max(a.x(), b.x()) + m - origin_.x()) / h_)) + 1);
+    const int j0 = std::max(0, int(std::ceil((std::min(a.y(), b.y()) - m - origin_.y()) / h_)) - 1);
+    const int j1 = std::min(ny_, int(std::floor((std::max(a.y(), b.y()) + m - origin_.y()) / h_)) + 1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        if (point_segment_distance(corner(i, j), a, b) < m) near_line[size_t(j) * size_t(nx_ + 1) + size_t(i)] = 1;
+  }
   for (size_t k = 0; k < grid_count_; ++k) {
     const Vec2 p = rest_[k];
-    bool clear = true;
-    for (size_t l = 0; l < lines.size() && clear; ++l)
-      clear = point_segment_distance(p, lines[l].first, lines[l].second) >= 0.25 * h_;
-    if (!clear) continue;
-    for (size_t si = 0; si < ch.shapes.size(); ++si) {
-      SubShape& s = ch.shapes[si];
-      if (!s.fill.enabled || !s.closed() || !s.contains(p)) continue;
-      s.contours.push_back({int(s.points.size()), 1, false});
-      s.points.push_back(p);
-      Embed e;
-      e.v[0] = int(k);
-      binds_[si].push_back(e);
-      break;
-    }
+    if (near_line[size_t(gxy_[k][1]) * size_t(nx_ + 1) + size_t(gxy_[k][0])]) continue;
+    const int si = fill.shape_at(p);
+    if (si < 0) continue;
+    SubShape& s = ch.shapes[size_t(si)];
+    s.contours.push_back({int(s.points.size()), 1, false});
+    s.points.push_back(p);
+    Embed e;
+    e.v[0] = int(k);
+    binds_[size_t(si)].push_back(e);
   }
   for (size_t si = 0; si < ch.shapes.size(); ++si)  // points of no curve (earlier interior points)
     for (size_t k = 0; k < binds_[si].size(); ++k)
@@ -523,6 +582,33 @@ void RigidGrid::build_regions() {
         reg_center_[r] = j;
       }
   }
+  // Which grid regions count (the others keep their members for the sums but weigh nothing):
+  // with stride s, the nodes on every s-th row and column, and any node no such region holds.
+  // Each counting region stands for the nodes nearest it among its members (a_r, Σ a_r = G), so
+  // the grid weighs the same against the junction and the handles whatever s is.
+  const int stride_now = stride();
+  reg_a_.assign(R, 1.0);
+  if (stride_now > 1 && !plain_) {
+    std::vector<char> on(G, 0), held(G, 0);
+    for (size_t i = 0; i < G; ++i) on[i] = gxy_[i][0] % stride_now == 0 && gxy_[i][1] % stride_now == 0;
+    auto hold = [&](size_t i) {
+      for (int j : region(i)) held[size_t(j)] = 1;
+    };
+    for (size_t i = 0; i < G; ++i)
+      if (on[i]) hold(i);
+    for (size_t i = 0; i < G; ++i)
+      if (!held[i]) on[i] = 1, hold(i);
+    std::vector<double> near(G, INFINITY);
+    std::vector<int> owner(G, -1);
+    for (size_t i = 0; i < G; ++i)
+      if (on[i])
+        for (int j : region(i)) {
+          const double d = (rest_[size_t(j)] - rest_[i]).squaredNorm();
+          if (d < near[size_t(j)]) near[size_t(j)] = d, owner[size_t(j)] = int(i);
+        }
+    for (size_t i = 0; i < G; ++i) reg_a_[i] = 0;
+    for (size_t j = 0; j < G; ++j) reg_a_[size_t(owner[j])] += 1;
+  }
   reg_size_.resize(R);
   reg_psum_.resize(R);
   for (size_t r = 0; r < R; ++r) {
@@ -555,13 +641,19 @@ void RigidGrid::weigh_regions() {
   reg_k_.resize(reg_center_.size());
   for (size_t r = 0; r < reg_center_.size(); ++r) {
     const int own = r < G ? int(r) : cnode_[r - G];
-    reg_k_[r] = reg_size_[r] > 1 ? w_r_ * node_w_[size_t(own)] / double(reg_size_[r]) : 0.0;
+    reg_k_[r] = reg_size_[r] > 1 ? reg_a_[r] * w_r_ * node_w_[size_t(own)] / double(reg_size_[r]) : 0.0;
   }
 }
 
 bool RigidGrid::set_plain_regions(bool plain, std::string* error) {
   plain_ = plain;
   fast_ = !plain;
+  build_regions();
+  return factorise(error);
+}
+
+bool RigidGrid::set_stride(int s, std::string* error) {
+  region_stride_ = std::clamp(s, 0, 32);
   build_regions();
   return factorise(error);
 }

@@ -71,11 +71,14 @@ std::vector<mar::Vec2> targets_at(int k) {
 
 double g_cell = 0;  // chosen so the bottle has about kTargetNodes nodes
 
-mar::Rig rig(int w) {
+// every = true: a region centred on every grid node, as seed 003 writes it (stride 1); false: the
+// default stride (about w / 2).
+mar::Rig rig(int w, bool every) {
   mar::Rig r = mar::default_rig();
   r.solver = "rigid_grid";
   r.grid_cell = g_cell;
   r.grid_half_width = w;
+  r.grid_stride = every ? 1 : 0;
   return r;
 }
 
@@ -83,17 +86,18 @@ struct Prepared {
   mar::Character ch = bottle();
   mar::RigidGrid s;
 };
-std::unique_ptr<Prepared>& prepared(int w) {
-  static std::unique_ptr<Prepared> p[16];
-  if (!p[w]) {
-    p[w] = std::make_unique<Prepared>();
+std::unique_ptr<Prepared>& prepared(int w, bool every = false) {
+  static std::unique_ptr<Prepared> p[2][16];
+  std::unique_ptr<Prepared>& q = p[every ? 1 : 0][w];
+  if (!q) {
+    q = std::make_unique<Prepared>();
     std::string err;
-    if (!p[w]->s.prepare(p[w]->ch, rig(w), kHandles, mar::SolverWeights{}, &err)) {
+    if (!q->s.prepare(q->ch, rig(w, every), kHandles, mar::SolverWeights{}, &err)) {
       std::fprintf(stderr, "bench_rigid_grid: %s\n", err.c_str());
       std::exit(2);
     }
   }
-  return p[w];
+  return q;
 }
 
 void BM_pre(benchmark::State& st) {
@@ -102,13 +106,13 @@ void BM_pre(benchmark::State& st) {
     mar::Character ch = bottle();
     mar::RigidGrid s;
     std::string err;
-    benchmark::DoNotOptimize(s.prepare(ch, rig(w), kHandles, mar::SolverWeights{}, &err));
+    benchmark::DoNotOptimize(s.prepare(ch, rig(w, st.range(1) != 0), kHandles, mar::SolverWeights{}, &err));
   }
 }
 
 void BM_opt(benchmark::State& st) {
   const int w = int(st.range(0));
-  mar::RigidGrid& s = prepared(w)->s;
+  mar::RigidGrid& s = prepared(w, st.range(2) != 0)->s;
   s.set_fast_summation(st.range(1) != 0);
   s.reset_to_rest();
   int k = 0;
@@ -170,9 +174,13 @@ int main(int argc, char** argv) {
     if (d < best) best = d, g_cell = cell;
   }
   for (int w : kWidths) {
-    benchmark::RegisterBenchmark(("PRE/w:" + std::to_string(w)).c_str(), BM_pre)->Arg(w)->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("OPT1/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 1})->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("OPT2/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 0})->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("PRE/w:" + std::to_string(w)).c_str(), BM_pre)->Args({w, 0})->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("OPT1/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 1, 0})->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("OPT2/w:" + std::to_string(w)).c_str(), BM_opt)->Args({w, 0, 0})->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("PRE_every/w:" + std::to_string(w)).c_str(), BM_pre)->Args({w, 1})->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark(("OPT1_every/w:" + std::to_string(w)).c_str(), BM_opt)
+        ->Args({w, 1, 1})
+        ->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("CGAL_ARAP/w:" + std::to_string(w)).c_str(), BM_cgal_arap)->Arg(w)->Unit(benchmark::kMillisecond);
     benchmark::RegisterBenchmark(("SUMS_fast/w:" + std::to_string(w)).c_str(), BM_sums)->Args({w, 1})->Unit(benchmark::kMicrosecond);
     benchmark::RegisterBenchmark(("SUMS_naive/w:" + std::to_string(w)).c_str(), BM_sums)->Args({w, 0})->Unit(benchmark::kMicrosecond);
@@ -186,8 +194,10 @@ int main(int argc, char** argv) {
   const double outline = bench::median_us(collect, "OUTLINE_ARAP") / 1000;
   std::printf("\nseed 003 Table 1 for the bottle (cell %.3f; ms, medians; OPT = one frame of %d iterations)\n", g_cell,
               kIterations);
-  std::printf("%6s %6s %3s %9s %9s %9s %7s %10s %9s %11s %10s %10s\n", "VER", "NOD", "w", "PRE", "OPT1", "OPT2", "OPT2/1",
-              "CGAL ARAP", "CGAL/1", "factor nnz", "sums fast", "sums naive");
+  std::printf("s: region stride (default); 'every': a region on every grid node (stride 1, seed 003 as written)\n");
+  std::printf("%6s %6s %3s %3s %9s %9s %9s %7s %10s %9s %11s %10s %10s %10s %10s %11s\n", "VER", "NOD", "w", "s", "PRE", "OPT1",
+              "OPT2", "OPT2/1", "CGAL ARAP", "CGAL/1", "factor nnz", "sums fast", "sums naive", "PRE every", "OPT1 every",
+              "nnz every");
   const char* json_path = std::getenv("MARIONETTE_BENCH_JSON");
   std::ofstream json(json_path ? json_path : "bench_rigid_grid.json");
   json << "{\n  \"cell\": " << g_cell << ", \"iterations\": " << kIterations << ", \"outline_arap_ms\": " << outline
@@ -197,16 +207,20 @@ int main(int argc, char** argv) {
     const std::string k = "/w:" + std::to_string(w);
     const double pre = bench::median_us(collect, "PRE" + k) / 1000, o1 = bench::median_us(collect, "OPT1" + k) / 1000,
                  o2 = bench::median_us(collect, "OPT2" + k) / 1000, cg = bench::median_us(collect, "CGAL_ARAP" + k) / 1000,
-                 sf = bench::median_us(collect, "SUMS_fast" + k), sn = bench::median_us(collect, "SUMS_naive" + k);
+                 sf = bench::median_us(collect, "SUMS_fast" + k), sn = bench::median_us(collect, "SUMS_naive" + k),
+                 pe = bench::median_us(collect, "PRE_every" + k) / 1000, oe = bench::median_us(collect, "OPT1_every" + k) / 1000;
     if (pre < 0 && o1 < 0) continue;  // filtered out
     const mar::RigidGrid& s = prepared(w)->s;
+    const mar::RigidGrid& e = prepared(w, true)->s;
     const size_t nod = s.grid_nodes() + s.boundary_nodes();
-    std::printf("%6zu %6zu %3d %9.3f %9.3f %9.3f %7.2f %10.3f %9.2f %11ld %9.1fus %9.1fus\n", s.mesh_vertices(), nod, w, pre, o1,
-                o2, o1 > 0 ? o2 / o1 : 0.0, cg, o1 > 0 ? cg / o1 : 0.0, s.factor_nonzeros(), sf, sn);
+    std::printf("%6zu %6zu %3d %3d %9.3f %9.3f %9.3f %7.2f %10.3f %9.2f %11ld %9.1fus %9.1fus %10.3f %10.3f %11ld\n",
+                s.mesh_vertices(), nod, w, s.stride(), pre, o1, o2, o1 > 0 ? o2 / o1 : 0.0, cg, o1 > 0 ? cg / o1 : 0.0,
+                s.factor_nonzeros(), sf, sn, pe, oe, e.factor_nonzeros());
     json << (first ? "" : ",\n") << "    {\"w\": " << w << ", \"VER\": " << s.mesh_vertices() << ", \"NOD\": " << nod
          << ", \"PRE_ms\": " << pre << ", \"OPT1_ms\": " << o1 << ", \"OPT2_ms\": " << o2 << ", \"cgal_arap_ms\": " << cg
          << ", \"factor_nonzeros\": " << s.factor_nonzeros() << ", \"sums_fast_us\": " << sf << ", \"sums_naive_us\": " << sn
-         << "}";
+         << ", \"stride\": " << s.stride() << ", \"PRE_every_ms\": " << pe << ", \"OPT1_every_ms\": " << oe
+         << ", \"factor_nonzeros_every\": " << e.factor_nonzeros() << "}";
     first = false;
   }
   json << "\n  ]\n}\n";

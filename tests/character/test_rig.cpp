@@ -192,6 +192,7 @@ solver = "rigid_grid"
 [grid]
 cell = 8.5
 half_width = 4
+stride = 1
 junction = "mvc"
 weights = { rigidity = 5.0, junction = 2.0 }
 
@@ -213,6 +214,7 @@ weight = 0.5
   EXPECT_EQ(r.mask_path(), "c-mask.png");  // beside the rig (here: no folder)
   EXPECT_EQ(r.grid_cell, 8.5);
   EXPECT_EQ(r.grid_half_width, 4);
+  EXPECT_EQ(r.grid_stride, 1);
   EXPECT_EQ(r.grid_junction_term, "mvc");
   EXPECT_EQ(r.grid_rigidity, 5.0);
   EXPECT_EQ(r.grid_junction, 2.0);
@@ -233,6 +235,7 @@ weight = 0.5
       {"character = \"a.png\"\n[grid]\nhalf_width = 0\n", "r.toml:3: half_width must be a whole number"},
       {"character = \"a.png\"\nmask = 3\n", "r.toml:2: mask must be the path of a PNG"},
       {"character = \"a.png\"\n[grid]\ncell = -2\n", "r.toml:3: cell must be positive"},
+      {"character = \"a.png\"\n[grid]\nstride = -1\n", "r.toml:3: stride must be a whole number 0..32"},
       {"character = \"a.png\"\n[grid]\njunction = \"glue\"\n", "r.toml:3: junction must be"},
       {"character = \"a.png\"\n[grid]\nsize = 3\n", "r.toml:3: unknown key 'size'"},
       {"character = \"a.png\"\n[[stiffness]]\ncenter = [1, 2]\nradius = 3\n", "r.toml:2: a stiffness region needs"},

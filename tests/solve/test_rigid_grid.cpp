@@ -194,6 +194,52 @@ TEST(RigidGrid, AWiderHalfWidthBendsLessUnderTheSameDrag) {
   }
 }
 
+// Regions on every stride-th node (the default, about w / 2) stand for all the grid's nodes and
+// bend the figure as regions on every node do, with a factor that does not grow with w.
+TEST(RigidGrid, StridedRegionsStandForEveryNodeAndBendLikeRegionsOnEveryNode) {
+  std::vector<Vec2> t;
+  for (int w : {3, 6}) {
+    Figure strided(w);
+    ASSERT_TRUE(strided.ok);
+    EXPECT_EQ(strided.s.stride(), (w + 1) / 2);
+    const RigidGrid& s = strided.s;
+    const size_t G = s.grid_nodes();
+    double share = 0;
+    size_t counting = 0;
+    std::vector<int> held(G, 0);
+    for (size_t r = 0; r < G; ++r) {
+      share += s.region_share(r);
+      if (s.region_share(r) == 0) continue;
+      ++counting;
+      for (int j : s.region(r)) held[size_t(j)] = 1;
+    }
+    EXPECT_EQ(share, double(G)) << "w " << w;
+    EXPECT_LT(counting, G / 2) << "w " << w;
+    for (size_t j = 0; j < G; ++j) EXPECT_EQ(held[j], 1) << "grid node " << j << " in no counting region, w " << w;
+
+    Figure every(w);
+    std::string err;
+    ASSERT_TRUE(every.s.set_stride(1, &err)) << err;
+    EXPECT_EQ(every.s.stride(), 1);
+    for (size_t r = 0; r < G; ++r) EXPECT_EQ(every.s.region_share(r), 1.0);
+    EXPECT_LT(s.factor_nonzeros(), every.s.factor_nonzeros()) << "w " << w;
+
+    t = strided.rest;  // right hand up, left hand down, feet apart
+    t[4] += Vec2(30, -90);
+    t[3] += Vec2(-20, 50);
+    t[5] += Vec2(-25, 0);
+    strided.s.solve(t, 200);
+    every.s.solve(t, 200);
+    double moved = 0, apart = 0;
+    for (size_t k = 0; k < s.nodes().size(); ++k) {
+      moved = std::max(moved, (s.nodes()[k] - s.rest()[k]).norm());
+      apart = std::max(apart, (s.nodes()[k] - every.s.nodes()[k]).norm());
+    }
+    EXPECT_GT(moved, 50);
+    EXPECT_LT(apart, 0.05 * moved) << "w " << w << ": moved " << moved;
+  }
+}
+
 TEST(RigidGrid, StickFigureStrokesShareTheirJointAndKeepTheirLength) {
   Character c;
   for (const auto& [a, b] :
