@@ -32,13 +32,9 @@ std::optional<Rgba> parse_background(const std::string& s) {
   return parse_color(hex);
 }
 
-namespace {
-
 void print_warnings(const Character& ch) {
   for (const std::string& w : ch.warnings) std::cerr << "warning: " << w << "\n";
 }
-
-}  // namespace
 
 bool apply_picture_flags(const std::string& size, const std::string& background, int& w, int& h, Rgba& bg) {
   if (!size.empty()) {

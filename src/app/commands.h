@@ -114,6 +114,8 @@ std::optional<Rgba> parse_background(const std::string& s);
 
 /// Applies the --size and --background flags of a picture command (each only when given)
 /// to `w`, `h` and `bg`; prints the error and returns false when one is malformed.
+/// The character's load warnings (and a solver's, for a puppet) on stderr, one per line.
+void print_warnings(const Character& ch);
 bool apply_picture_flags(const std::string& size, const std::string& background, int& w, int& h, Rgba& bg);
 
 }  // namespace mar

@@ -28,6 +28,7 @@ int cmd_interp(const InterpArgs& a) {
     return kExitBadInput;
   }
   Puppet& p = **loaded.value;
+  print_warnings(p.character);
   const int from = find_key(p.rig, a.from), to = find_key(p.rig, a.to);
   if (from == -2 || to == -2) {
     std::string names = "rest";

@@ -53,6 +53,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     if (!puppet.ok()) return Result<ShowRig>::failure(puppet.error);
     s->puppet_ = std::move(*puppet.value);
     const Puppet& p = *s->puppet_;
+    if (!s->opt_.quiet)
+      for (const std::string& w : p.character.warnings) std::cerr << "warning: " << w << "\n";
     ShowRig rig;
     for (const auto& h : p.rig.handles) rig.handles.push_back(h.name);
     rig.rest = p.rest_targets();

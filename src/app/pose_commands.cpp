@@ -193,7 +193,7 @@ int cmd_inspect_rig(const InspectArgs& a) {
     std::cerr << "error: " << loaded.error << "\n";
     return kExitBadInput;
   }
-  Puppet& p = **loaded.value;
+  Puppet& p = **loaded.value;  // (inspect lists the character's warnings itself)
   const FeatureFrameMethod* ff = p.feature_frame();
   if (!ff) return inspect_mesh_rig(a, p);
   // PRE and SOL: medians of 7 runs (the first prepare happened in load_puppet).
@@ -258,6 +258,7 @@ int cmd_pose(const PoseArgs& a) {
     return kExitBadInput;
   }
   Puppet& p = **loaded.value;
+  print_warnings(p.character);
   std::vector<Vec2> targets = p.rest_targets();
   for (const std::string& t : a.targets) {
     const size_t eq = t.find('=');

@@ -56,7 +56,10 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   std::string err;
   const bool ok = p->solver->prepare(p->character, p->rig, p->rest_targets(), p->weights(), &err);
   p->prefactor_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (!ok) return R::failure(path + ": " + err);
+  if (!ok) {
+    for (const std::string& w : p->character.warnings) err += "; " + w;  // e.g. a mask with no figure
+    return R::failure(path + ": " + err);
+  }
   p->mesh = prepare_mesh(p->character);
   for (const SubShape& s : p->character.shapes) p->shapes.push_back(s.points);
   return R::success(std::move(p));

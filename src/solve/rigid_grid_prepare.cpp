@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <numeric>
 
@@ -391,6 +392,27 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     handles_.push_back(embed(p));
     const Embed& e = handles_.back();
     handle_node_.push_back(e.v[std::max_element(e.w, e.w + e.n) - e.w]);
+    // Nodes are at most a cell apart on the mesh, so a handle farther than that from every
+    // node is off the figure: it still works (extrapolated from the nearest triangle), but the
+    // rig is probably wrong.
+    double near = INFINITY;
+    for (const Vec2& node : rest_) near = std::min(near, (node - p).norm());
+    if (near > 1.5 * h_) {
+      char msg[200];
+      std::snprintf(msg, sizeof msg,
+                    "rigid_grid: handle %zu at (%.1f, %.1f) is %.1f units off the figure; it moves the nearest part as "
+                    "if fastened to it",
+                    handles_.size(), p.x(), p.y(), near);
+      ch.warnings.push_back(msg);
+    }
+  }
+  if (grid_count_ == 0 && fill.any()) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg,
+                  "rigid_grid: no grid cell (%.2f units) fits inside the figure; only its outline keeps its shape (make "
+                  "[grid] cell smaller)",
+                  h_);
+    ch.warnings.push_back(msg);
   }
   x_ = rest_;
   p_.resize(rest_.size());

@@ -301,6 +301,14 @@ TEST(cli_raster, AnOpaqueScanWithAMaskRigsLikeItsAlphaVersion) {
   auto plain = test::run_cli("inspect " + q(dir / "scan.png") + " --rig " + r + " --json");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_NE(nlohmann::json::parse(plain.out)["mesh"]["interior_points"], a["mesh"]["interior_points"]);
+  // A mask with no figure (all black): exit 2, and the message says so.
+  Image black = mask;
+  for (size_t i = 0; i < black.rgba.size(); i += 4) black.rgba[i] = black.rgba[i + 1] = black.rgba[i + 2] = 0;
+  ASSERT_EQ(write_png((dir / "black.png").string(), black), "");
+  auto none = test::run_cli("pose " + q(dir / "scan.png") + " --mask " + q(dir / "black.png") + " --rig " + rig("boy_grid") +
+                            " -o " + q(dir / "none.png"));
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("no figure found"), std::string::npos) << none.err;
 }
 
 // pose --set turns a solver parameter as a show's solver.NAME setting would: the rigid grid's

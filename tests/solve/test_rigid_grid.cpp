@@ -240,6 +240,31 @@ TEST(RigidGrid, StridedRegionsStandForEveryNodeAndBendLikeRegionsOnEveryNode) {
   }
 }
 
+// Bad rigs still load and pose, with a warning that says what is wrong: a handle off the figure,
+// a figure thinner than a cell everywhere.
+TEST(RigidGrid, AHandleOffTheFigureAndAFigureThinnerThanACellAreNamed) {
+  Character square = polygon({{40, 40}, {160, 40}, {160, 160}, {40, 160}});
+  RigidGrid s;
+  std::string err;
+  const std::vector<Vec2> rest{{100, 100}, {190, 10}};
+  ASSERT_TRUE(s.prepare(square, grid_rig(8, 3), rest, SolverWeights{}, &err)) << err;
+  ASSERT_EQ(square.warnings.size(), 1u);
+  EXPECT_NE(square.warnings[0].find("handle 2 at (190.0, 10.0) is 42.4 units off the figure"), std::string::npos)
+      << square.warnings[0];
+  s.solve(std::vector<Vec2>{Vec2(100, 100), Vec2(220, 40)}, 50);
+  for (const Vec2& q : s.nodes()) EXPECT_TRUE(q.allFinite());
+  EXPECT_GT(s.point_at(Vec2(160, 40)).x(), 165);  // the near corner follows the handle
+
+  Character thin = polygon({{0, 0}, {200, 0}, {200, 3}, {0, 3}});
+  RigidGrid t;
+  ASSERT_TRUE(t.prepare(thin, grid_rig(4, 3), std::vector<Vec2>{{2, 1.5}, {198, 1.5}}, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(t.grid_nodes(), 0u);
+  ASSERT_EQ(thin.warnings.size(), 1u);
+  EXPECT_NE(thin.warnings[0].find("no grid cell (4.00 units) fits inside the figure"), std::string::npos) << thin.warnings[0];
+  t.solve(std::vector<Vec2>{Vec2(2, 1.5), Vec2(150, 100)}, 100);
+  for (const Vec2& q : t.nodes()) EXPECT_TRUE(q.allFinite());
+}
+
 TEST(RigidGrid, StickFigureStrokesShareTheirJointAndKeepTheirLength) {
   Character c;
   for (const auto& [a, b] :
