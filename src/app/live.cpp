@@ -70,7 +70,10 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
         for (size_t b = 0; b < names.size(); ++b)
           if (a != b) rig.settings.push_back({"morph." + names[a] + "." + names[b], std::pair<double, double>(0, 1)});
       for (const RigKey& k : p.rig.keys) rig.settings.push_back({"blend." + k.name, std::pair<double, double>(0, 1)});
+      for (const RigKey& k : p.rig.keys) rig.keys.push_back(k.name);
     }
+    for (const RigSwap& sw : p.rig.swaps) rig.swaps.push_back({sw.name, sw.members});
+    for (const RigTrigger& tr : p.rig.triggers) rig.triggers.push_back(tr.name);
     return Result<ShowRig>::success(std::move(rig));
   });
   if (!show.ok()) return R::failure(show.error);
@@ -109,7 +112,9 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
       if (b.target == TargetKind::Setting && b.index == k.setting) return false;
     return true;
   });
-  if (!s->key_settings_.empty()) {  // solve the keys once and prepare their interpolation
+  bool recalls = false;
+  for (const Binding& b : sh.bindings) recalls = recalls || b.target == TargetKind::Recall;
+  if (!s->key_settings_.empty() || recalls) {  // solve the keys once and prepare their interpolation
     auto keys = solve_keys(p);
     if (!keys.ok()) return R::failure(keys.error);
     s->interp_ = std::make_unique<KeyInterpolator>();
@@ -120,7 +125,15 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     s->last_key_weights_.assign(p.rig.keys.size(), -1.0);
     s->base_frame_.assign(p.feature_frame()->frame().rest.size(), Vec2::Zero());
     s->base_offset_.assign(p.rig.handles.size(), Vec2::Zero());
+    for (auto* v : {&s->recall_w_, &s->recall_from_, &s->recall_to_}) v->assign(p.rig.keys.size(), 0.0);
   }
+  // Swap sets and triggers: what shows (the rig's defaults until a control changes them).
+  for (const RigSwap& sw : p.rig.swaps) {
+    s->swap_counts_.push_back(int(sw.members.size()));
+    s->swap_members_.push_back(sw.default_member);
+  }
+  s->triggers_on_.assign(p.rig.triggers.size(), 0);
+  m.set_swaps(s->swap_counts_, s->swap_members_, p.rig.triggers.size());
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
   const Bounds bb = p.character.bounds();
@@ -250,9 +263,15 @@ void LiveShow::inputs(int64_t t_ns) {
 void LiveShow::map(int64_t t_ns) {
   for (size_t i = 0; i < n_events_; ++i) mapping_.apply(events_[i]);
   const double dt = stats_.frames ? double(t_ns - last_t_) * 1e-9 : 0;
+  dt_ = dt;
   last_t_ = t_ns;
   mapping_.update(dt);
   if (mapping_.take_settings_changed()) apply_settings();
+  if (mapping_.take_shown_changed()) {  // a swap or a trigger: what shows changes, the pose does not
+    for (size_t i = 0; i < swap_members_.size(); ++i) swap_members_[i] = mapping_.swap_member(i);
+    for (size_t i = 0; i < triggers_on_.size(); ++i) triggers_on_[i] = mapping_.trigger_on(i);
+    puppet_->show(swap_members_, triggers_on_);
+  }
   if (!playback_)  // replays use the recorded counts
     governor_.next(int(mapping_.setting(setting_iterations_)), last_compute_ms_, pacer_.period_s() * 1e3);
   if (mapping_.grab_active() != grab_.active()) grab_.set(mapping_.grab_active(), mapping_.grab_point(), *puppet_);
@@ -298,6 +317,25 @@ void LiveShow::poses() {
     if (k.from >= 0) key_weights_[size_t(k.from)] += 1 - v;
     if (k.to >= 0) key_weights_[size_t(k.to)] += v;
   }
+  // A pose recall eases an offset over the knobs' weights from where it is to what makes the sum
+  // that key (or rest); knobs turned afterwards add their change on top.
+  Recall r;
+  if (mapping_.take_recall(r)) {
+    recall_from_ = recall_w_;
+    for (size_t k = 0; k < recall_to_.size(); ++k) recall_to_[k] = (int(k) == r.key ? 1.0 : 0.0) - key_weights_[k];
+    recall_t_ = 0;
+    recall_seconds_ = r.seconds;
+    recall_ease_ = r.ease;
+    recall_on_ = true;
+  }
+  if (recall_on_) {
+    recall_t_ += dt_;
+    const bool done = recall_t_ >= recall_seconds_ * (1 - 1e-9);
+    const double e = done ? 1.0 : ease(recall_ease_, recall_t_ / recall_seconds_);
+    for (size_t k = 0; k < recall_w_.size(); ++k) recall_w_[k] = recall_from_[k] + e * (recall_to_[k] - recall_from_[k]);
+    recall_on_ = !done;
+  }
+  for (size_t k = 0; k < key_weights_.size(); ++k) key_weights_[k] += recall_w_[k];
   if (key_weights_ != last_key_weights_) {
     std::copy(key_weights_.begin(), key_weights_.end(), last_key_weights_.begin());
     interp_->blend(key_weights_, base_frame_);
@@ -323,7 +361,7 @@ void LiveShow::render() {
   stats_.quality.add(worst * 100.0 / std::max(1e-9, p.character.height) * 1000.0);
   canvas_->clear(background_);
   list_.clear();
-  build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_);
+  build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
   canvas_->draw(list_);
   if (hud_ && canvas_->is_window()) {
     for (size_t i = 0; i < device_states_.size(); ++i)

@@ -76,7 +76,7 @@ class LiveShow {
   // The stages of a frame.
   void inputs(int64_t t_ns);
   void map(int64_t t_ns);
-  void poses();     ///< key poses: the handles follow the interpolated base pose (morph/blend settings)
+  void poses();     ///< key poses: the handles follow the interpolated base pose (morph/blend settings, recalls)
   void motion() {}  ///< secondary motion (later): springs and dangle at a fixed sub-step
   void solve();
   void render();
@@ -120,6 +120,14 @@ class LiveShow {
   std::vector<double> key_weights_, last_key_weights_;
   Points base_frame_;
   std::vector<Vec2> base_offset_;                  ///< per handle: base pose minus rest
+  std::vector<double> recall_w_, recall_from_, recall_to_;  ///< a pose recall's offset over the knobs' key weights
+  double recall_t_ = 0, recall_seconds_ = 0;
+  Ease recall_ease_ = Ease::InOut;
+  bool recall_on_ = false;
+  double dt_ = 0;                                  ///< this frame's step, seconds
+  // swap sets and triggers (what shows)
+  std::vector<int> swap_counts_, swap_members_;
+  std::vector<char> triggers_on_;
   Governor governor_{8, 2};
   Grab grab_;
   std::vector<Vec2> targets_;                      ///< handles, then the grab handle's target

@@ -36,7 +36,7 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   c.clear(bg);
   DrawList list;
   const Affine2 view = fit_view(p.character.width, p.character.height, w * ss, h * ss);
-  build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list);
+  build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list, p.shown);
   if (overlay) {
     if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
     if (const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get()))

@@ -2,6 +2,7 @@
 
 #include "character/load.h"
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 
@@ -50,6 +51,29 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   Result<Character> ch = load_character(path, lo);
   if (!ch.ok()) return R::failure(ch.error);
   p->character = std::move(*ch.value);
+  // Swap members and trigger shapes are sub-shapes of the character.
+  std::string bad;
+  auto shape_indices = [&](const std::vector<std::string>& ids, int line, const std::string& what) {
+    std::vector<int> out;
+    for (const std::string& id : ids) {
+      int found = -1;
+      for (size_t k = 0; k < p->character.shapes.size() && found < 0; ++k)
+        if (p->character.shapes[k].id == id) found = int(k);
+      if (found < 0 && bad.empty())
+        bad = p->rig.path + ":" + std::to_string(line) + ": " + what + " names '" + id + "', which is not a sub-shape of " + path +
+              " (inspect lists them)";
+      out.push_back(found);
+    }
+    return out;
+  };
+  for (const RigSwap& sw : p->rig.swaps) p->swap_shapes.push_back(shape_indices(sw.members, sw.line, "swap set '" + sw.name + "'"));
+  for (const RigTrigger& tr : p->rig.triggers)
+    p->trigger_shapes.push_back(shape_indices(tr.shapes, tr.line, "trigger '" + tr.name + "'"));
+  if (!bad.empty()) return R::failure(bad);
+  p->shown.assign(p->character.shapes.size(), 1);
+  std::vector<int> defaults;
+  for (const RigSwap& sw : p->rig.swaps) defaults.push_back(sw.default_member);
+  p->show(defaults, std::vector<char>(p->rig.triggers.size(), 0));
   const Bounds b = p->character.bounds();
   p->diagonal = b.empty() ? 1.0 : std::max(1e-9, (b.hi - b.lo).norm());
   const auto t0 = std::chrono::steady_clock::now();
@@ -63,6 +87,24 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   p->mesh = prepare_mesh(p->character);
   for (const SubShape& s : p->character.shapes) p->shapes.push_back(s.points);
   return R::success(std::move(p));
+}
+
+void Puppet::show(std::span<const int> members, std::span<const char> triggers_on) {
+  std::fill(shown.begin(), shown.end(), 1);
+  for (size_t i = 0; i < swap_shapes.size() && i < members.size(); ++i)
+    for (size_t m = 0; m < swap_shapes[i].size(); ++m) shown[size_t(swap_shapes[i][m])] = int(m) == members[i];
+  for (size_t t = 0; t < trigger_shapes.size(); ++t)  // a trigger that is off hides its shapes
+    if (t >= triggers_on.size() || !triggers_on[t])
+      for (int k : trigger_shapes[t]) shown[size_t(k)] = 0;
+  for (size_t t = 0; t < trigger_shapes.size() && t < triggers_on.size(); ++t) {
+    if (!triggers_on[t]) continue;
+    for (int k : trigger_shapes[t]) {  // one that is on shows them, over their swap sets
+      for (const std::vector<int>& set : swap_shapes)
+        if (std::find(set.begin(), set.end(), k) != set.end())
+          for (int o : set) shown[size_t(o)] = 0;
+      shown[size_t(k)] = 1;
+    }
+  }
 }
 
 }  // namespace mar

@@ -8,6 +8,7 @@
 #include "solve/solver.h"
 
 #include <memory>
+#include <span>
 #include <string>
 
 namespace mar {
@@ -18,6 +19,14 @@ struct Puppet {
   std::unique_ptr<Solver> solver;
   CharacterMesh mesh;
   std::vector<Points> shapes;        ///< deformed shape points (rest after load)
+  /// Per sub-shape: whether it shows (swap sets show one member, trigger shapes only while
+  /// their trigger is on); all of them deform.
+  std::vector<char> shown;
+  std::vector<std::vector<int>> swap_shapes;     ///< per rig swap set: its members' shape indices
+  std::vector<std::vector<int>> trigger_shapes;  ///< per rig trigger: its shape indices
+  /// Sets `shown` from each swap set's member and each trigger's state (one per rig swap set
+  /// and trigger). No allocation.
+  void show(std::span<const int> members, std::span<const char> triggers_on);
   double prefactor_ms = 0;           ///< time of Solver::prepare
   double diagonal = 1;               ///< of the character's bounds
   std::vector<Vec2> rest_targets() const;

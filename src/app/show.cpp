@@ -175,7 +175,8 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   return R::success(true);
 }
 
-Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowRig& rig, TargetKind& kind, int& index) {
+Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowRig& rig, TargetKind& kind, int& index,
+                          int* member) {
   using R = Result<bool>;
   auto find = [](const auto& list, const std::string& name) {
     for (size_t i = 0; i < list.size(); ++i)
@@ -241,10 +242,46 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
     index = -1;
     for (size_t i = 0; i < s.poses.size(); ++i)
       if (s.poses[i].name == rest) index = int(i);
-    if (index < 0) return R::failure("no [[pose]] named '" + rest + "'");
-    return R::success(true);
+    if (index >= 0) return R::success(true);
+    kind = TargetKind::Recall;  // a rig key (or rest), along the interpolation
+    if (!rig.keys.empty() && rest == "rest") {
+      index = -1;
+      return R::success(true);
+    }
+    index = find(rig.keys, rest);
+    if (index >= 0) return R::success(true);
+    std::string names;
+    for (const Pose& p : s.poses) names += (names.empty() ? "" : ", ") + p.name;
+    for (const std::string& k : rig.keys) names += (names.empty() ? "" : ", ") + k;
+    return R::failure("no [[pose]] or rig key named '" + rest + "'" + (names.empty() ? std::string() : " (" + names + ")"));
   }
-  return R::failure("unknown target '" + t + "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, solver.SETTING)");
+  if (head == "swap") {
+    kind = TargetKind::Swap;
+    for (size_t i = 0; i < rig.swaps.size(); ++i) {
+      const auto& [name, members] = rig.swaps[i];
+      if (rest.rfind(name + ".", 0) != 0) continue;
+      const int m = find(members, rest.substr(name.size() + 1));
+      if (m < 0) continue;
+      index = int(i);
+      if (member) *member = m;
+      return R::success(true);
+    }
+    std::string names;
+    for (const auto& [name, members] : rig.swaps)
+      for (const std::string& m : members) names += (names.empty() ? "" : ", ") + name + "." + m;
+    return R::failure("no swap set member '" + rest + "'" + (names.empty() ? std::string(" (the rig has no [[swap]])") : " (" + names + ")"));
+  }
+  if (head == "trigger") {
+    kind = TargetKind::Trigger;
+    index = find(rig.triggers, rest);
+    if (index >= 0) return R::success(true);
+    std::string names;
+    for (const std::string& n : rig.triggers) names += (names.empty() ? "" : ", ") + n;
+    return R::failure("no trigger '" + rest + "'" + (names.empty() ? std::string(" (the rig has no [[trigger]])") : " (" + names + ")"));
+  }
+  return R::failure("unknown target '" + t +
+                    "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, solver.SETTING, morph.A.B, blend.KEY, swap.SET.MEMBER, "
+                    "trigger.NAME)");
 }
 
 ShowConfig default_show() {
@@ -364,7 +401,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
       for (const toml::node& bn : *bs) {
         const toml::table& t = *bn.as_table();
         check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
-                             "takeover", "mode", "step", "button", "area"},
+                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return"},
                    "[[binding]]");
         Binding b;
         b.line = int(bn.source().begin.line);
@@ -380,7 +417,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         b.control.device = uint16_t(di);
         if (auto r = parse_control(device_control(s.devices[size_t(di)], text(path, *ctl, "control")), b.control); !r.ok())
           throw ShowError{at(path, *ctl) + ": " + r.error};
-        if (auto r = parse_target(text(path, *tgt, "target"), s, rig, b.target, b.index); !r.ok())
+        if (auto r = parse_target(text(path, *tgt, "target"), s, rig, b.target, b.index, &b.member); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};
         Transform& tf = b.tf;
         // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
@@ -438,10 +475,42 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
                                            "sign_magnitude, sign_magnitude_inverted or delta"};
         }
         if (auto* n = t.get("step")) tf.step = number(path, *n, "step");
+        tf.toggle = b.target == TargetKind::Swap;  // a pad picks a member and it stays
         if (auto* n = t.get("button")) {
           const std::string m = text(path, *n, "button");
-          if (m != "momentary" && m != "toggle") throw ShowError{at(path, *n) + ": button must be momentary or toggle"};
-          tf.toggle = m == "toggle";
+          if (m != "momentary" && m != "toggle" && m != "latch")
+            throw ShowError{at(path, *n) + ": button must be momentary, toggle or latch"};
+          tf.toggle = m != "momentary";
+        }
+        if (auto* n = t.get("threshold")) {
+          tf.threshold = number(path, *n, "threshold");
+          if (!(tf.threshold > 0 && tf.threshold <= 1))
+            throw ShowError{at(path, *n) + ": threshold must be in (0, 1] (the fraction of the control's range that presses)"};
+        }
+        if (auto* n = t.get("transition")) {
+          if (b.target != TargetKind::Pose && b.target != TargetKind::Recall)
+            throw ShowError{at(path, *n) + ": transition goes with a pose.NAME target"};
+          tf.transition = number(path, *n, "transition");
+          if (!(tf.transition >= 0 && tf.transition <= 60)) throw ShowError{at(path, *n) + ": transition must be 0..60 seconds"};
+        }
+        if (auto* n = t.get("ease")) {
+          const std::string e = text(path, *n, "ease");
+          static const std::pair<const char*, Ease> eases[] = {
+              {"linear", Ease::Linear}, {"in", Ease::In}, {"out", Ease::Out}, {"in_out", Ease::InOut}};
+          bool ok = false;
+          for (auto [name, ea] : eases)
+            if (e == name) tf.ease = ea, ok = true;
+          if (!ok) throw ShowError{at(path, *n) + ": ease must be linear, in, out or in_out"};
+        }
+        if (auto* n = t.get("return")) {
+          if (b.control.kind != ControlSpec::Pointer || b.target != TargetKind::HandlePoint)
+            throw ShowError{at(path, *n) + ": return goes with a pointer dragging a handle (target handle.NAME)"};
+          if (n->is_string() && *n->value<std::string>() == "hold") {
+            tf.ret = -1;
+          } else {
+            tf.ret = number(path, *n, "return");
+            if (!(tf.ret >= 0 && tf.ret <= 60)) throw ShowError{at(path, *n) + ": return must be 0..60 seconds or \"hold\""};
+          }
         }
         if (auto* n = t.get("area")) {
           const toml::array* a = n->as_array();

@@ -60,6 +60,12 @@ struct ShowRig {
     std::optional<std::pair<double, double>> default_range;  ///< a binding's range when it gives none
   };
   std::vector<SettingName> settings;  ///< index = Mapping setting index
+  /// The rig's swap sets (name, members) and triggers, for swap.SET.MEMBER and trigger.NAME.
+  std::vector<std::pair<std::string, std::vector<std::string>>> swaps;
+  std::vector<std::string> triggers;
+  /// Key poses a pose.NAME may recall along the interpolation (empty when the rig's method
+  /// cannot interpolate them).
+  std::vector<std::string> keys;
 };
 /// Loads the rig a show names (called with the [show] table read: character and rig paths,
 /// iterations); an error is returned as is.
@@ -75,10 +81,11 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& rig);
 Result<bool> parse_control(const std::string& text, ControlSpec& out);
 /// The control grammar's text for a control: parse_control(format_control(c)) gives c back.
 std::string format_control(const ControlSpec& c);
-/// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME", "grab",
-/// "solver.SETTING" for a setting `rig` offers) against the show's groups and poses.
+/// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME" (a show
+/// [[pose]], else a rig key or rest), "grab", "solver.SETTING" for a setting `rig` offers,
+/// "morph.A.B", "blend.KEY", "swap.SET.MEMBER", "trigger.NAME") against the show and the rig.
 Result<bool> parse_target(const std::string& text, const ShowConfig& show, const ShowRig& rig, TargetKind& kind,
-                          int& index);
+                          int& index, int* member = nullptr);
 
 /// A binding's control text with the device profile's names replaced ("left-x" -> "usage x");
 /// OSC controls ("osc /fader/1") are numbered per device here.

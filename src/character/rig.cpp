@@ -2,6 +2,7 @@
 
 #include "character/config_toml.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -44,7 +45,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part", "grid", "stiffness", "key"},
+                            "part", "grid", "stiffness", "key", "swap", "trigger"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -312,6 +313,66 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         r.stiffness.push_back(s);
       }
     }
+    // Swap sets and triggers name sub-shapes; load_puppet checks them against the character.
+    auto id_list = [&](const toml::node& n, const char* what) {
+      std::vector<std::string> ids;
+      const toml::array* a = n.as_array();
+      if (!a || a->empty()) throw RigError{at(path, n) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
+      for (const toml::node& e : *a) {
+        if (!e.is_string() || e.value<std::string>()->empty())
+          throw RigError{at(path, e) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
+        ids.push_back(*e.value<std::string>());
+      }
+      return ids;
+    };
+    auto named = [&](const toml::table& t, const toml::node& node, const char* what) {
+      const toml::node* nm = t.get("name");
+      if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": " + what + " needs a name"};
+      const std::string name = *nm->value<std::string>();
+      for (const RigSwap& o : r.swaps)
+        if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a swap set"};
+      for (const RigTrigger& o : r.triggers)
+        if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a trigger"};
+      return name;
+    };
+    if (const toml::node* sn = root.get("swap")) {
+      const toml::array* a = sn->as_array();
+      if (!a) throw RigError{at(path, *sn) + ": use [[swap]] tables"};
+      for (const toml::node& node : *a) {
+        const toml::table* t = node.as_table();
+        if (!t) throw RigError{at(path, node) + ": a swap set must be a table"};
+        check_keys(path, *t, {"name", "members", "default"}, "[[swap]]");
+        RigSwap sw;
+        sw.line = static_cast<int>(node.source().begin.line);
+        sw.name = named(*t, node, "a swap set");
+        const toml::node* m = t->get("members");
+        if (!m) throw RigError{at(path, node) + ": swap set '" + sw.name + "' needs members = [\"a\", \"b\", ...]"};
+        sw.members = id_list(*m, "members");
+        if (const toml::node* d = t->get("default")) {
+          const std::string dn = d->value<std::string>().value_or("");
+          const auto it = std::find(sw.members.begin(), sw.members.end(), dn);
+          if (it == sw.members.end()) throw RigError{at(path, *d) + ": default '" + dn + "' is not one of the members"};
+          sw.default_member = int(it - sw.members.begin());
+        }
+        r.swaps.push_back(sw);
+      }
+    }
+    if (const toml::node* tn = root.get("trigger")) {
+      const toml::array* a = tn->as_array();
+      if (!a) throw RigError{at(path, *tn) + ": use [[trigger]] tables"};
+      for (const toml::node& node : *a) {
+        const toml::table* t = node.as_table();
+        if (!t) throw RigError{at(path, node) + ": a trigger must be a table"};
+        check_keys(path, *t, {"name", "shapes"}, "[[trigger]]");
+        RigTrigger tr;
+        tr.line = static_cast<int>(node.source().begin.line);
+        tr.name = named(*t, node, "a trigger");
+        const toml::node* sh = t->get("shapes");
+        if (!sh) throw RigError{at(path, node) + ": trigger '" + tr.name + "' needs shapes = [\"a\", ...]"};
+        tr.shapes = id_list(*sh, "shapes");
+        r.triggers.push_back(tr);
+      }
+    }
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
     return Result<Rig>::failure(e.message);
@@ -394,6 +455,21 @@ std::string write_rig(const Rig& r) {
       << "\nweights = { rigidity = " << r.grid_rigidity << ", junction = " << r.grid_junction << " }\n";
   }
   for (const RigKey& k : r.keys) o << "\n" << key_toml(k);
+  auto toml_string = [](const std::string& v) {
+    std::ostringstream t;
+    t << toml::value<std::string>(v);
+    return t.str();
+  };
+  auto ids = [&](const std::vector<std::string>& v) {
+    std::string t = "[";
+    for (size_t i = 0; i < v.size(); ++i) t += (i ? ", " : "") + toml_string(v[i]);
+    return t + "]";
+  };
+  for (const RigSwap& sw : r.swaps)
+    o << "\n[[swap]]\nname = " << toml_string(sw.name) << "\nmembers = " << ids(sw.members)
+      << "\ndefault = " << toml_string(sw.members[size_t(sw.default_member)]) << "\n";
+  for (const RigTrigger& tr : r.triggers)
+    o << "\n[[trigger]]\nname = " << toml_string(tr.name) << "\nshapes = " << ids(tr.shapes) << "\n";
   for (const RigStiffness& s : r.stiffness) {
     o << "\n[[stiffness]]\n";
     if (!s.name.empty()) o << "name = " << toml::value<std::string>(s.name) << "\n";

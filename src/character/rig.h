@@ -13,6 +13,8 @@
 //   [[joint]]   at = [x, y]   parts = ["arm", "body"]   stiffness = 0.3   kind = "hinge" | "weld"
 //               (a hinge needs `at` or `parts`; a weld needs `parts`)
 //   [[part]]    id = "torso"   stiffness = 4.0
+//   [[swap]]    name = "mouth"   members = ["mouth-a", "mouth-o"]   default = "mouth-a"
+//   [[trigger]] name = "blink"   shapes = ["eyes-shut"]
 #pragma once
 
 #include "character/character.h"
@@ -67,6 +69,22 @@ struct RigKey {
   int line = 0;
 };
 
+/// A swap set (`[[swap]]`): sub-shapes of which one shows at a time (mouth shapes, hands);
+/// the others are hidden but deform with the rest, so a swap never jumps.
+struct RigSwap {
+  std::string name;
+  std::vector<std::string> members;  ///< sub-shape ids
+  int default_member = 0;            ///< index into members
+  int line = 0;
+};
+/// A trigger (`[[trigger]]`): sub-shapes hidden until it fires (a blink, a blush). A shape that
+/// is also a swap member takes its set over while the trigger is on.
+struct RigTrigger {
+  std::string name;
+  std::vector<std::string> shapes;  ///< sub-shape ids
+  int line = 0;
+};
+
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
@@ -96,6 +114,8 @@ struct Rig {
   std::string grid_junction_term = "triangles";
   std::vector<RigStiffness> stiffness;
   std::vector<RigKey> keys;
+  std::vector<RigSwap> swaps;
+  std::vector<RigTrigger> triggers;
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;

@@ -8,12 +8,42 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 }
 
+double ease(Ease e, double s) {
+  s = std::clamp(s, 0.0, 1.0);
+  switch (e) {
+    case Ease::Linear: return s;
+    case Ease::In: return s * s * s;
+    case Ease::Out: return 1 - (1 - s) * (1 - s) * (1 - s);
+    case Ease::InOut: return s < 0.5 ? 4 * s * s * s : 1 - 4 * (1 - s) * (1 - s) * (1 - s);
+  }
+  return s;
+}
+
 void Mapping::set_handles(std::vector<std::string> names, std::vector<Vec2> rest) {
   names_ = std::move(names);
   rest_ = rest;
   goal_ = rest;
   current_ = rest;
+  anim_.assign(rest.size(), Anim{});
   targets_ = std::move(rest);
+}
+
+void Mapping::set_swaps(std::vector<int> member_counts, std::vector<int> defaults, size_t triggers) {
+  swap_count_ = std::move(member_counts);
+  swap_now_ = std::move(defaults);
+  swap_now_.resize(swap_count_.size(), 0);
+  trigger_on_.assign(triggers, 0);
+}
+
+void Mapping::ease_handle(int h, const Vec2& to, double seconds, Ease e) {
+  Anim& a = anim_[size_t(h)];
+  a.from = goal_[size_t(h)];
+  a.to = to;
+  a.t = 0;
+  a.seconds = seconds;
+  a.ease = e;
+  a.on = seconds > 0;
+  if (!a.on) goal_[size_t(h)] = to;
 }
 
 int Mapping::handle_index(const std::string& name) const {
@@ -62,8 +92,8 @@ bool Mapping::apply(const Event& e) {
           hit = true;
           if (b.tf.relative != RelativeMode::Absolute)
             relative(b, relative_delta(b.tf.relative, e.value));
-          else if (b.target == TargetKind::Pose || b.tf.toggle)
-            button(b, e.value >= 64);
+          else if (button_target(b.target) || b.tf.toggle)
+            button(b, e.value / 127.0 >= b.tf.threshold);
           else
             absolute(b, e.value / 127.0, e.t_ns);
         }
@@ -108,8 +138,8 @@ bool Mapping::apply(const Event& e) {
           hit = true;
           if (b.tf.relative != RelativeMode::Absolute)
             relative(b, e.value);
-          else if (b.target == TargetKind::Pose || b.tf.toggle || (e.lo == 0 && e.hi == 1))
-            button(b, e.value != 0);
+          else if (button_target(b.target) || b.tf.toggle || (e.lo == 0 && e.hi == 1))
+            button(b, e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) >= b.tf.threshold : e.value != 0);
           else
             absolute(b, e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0, e.t_ns);
         }
@@ -133,7 +163,10 @@ bool Mapping::apply(const Event& e) {
         } else if (e.number == c.py) {
           b.py = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
         } else if (e.number == c.ptip) {
+          const bool was = b.tip;
           b.tip = e.value != 0;
+          if (was && !b.tip && b.target == TargetKind::HandlePoint && b.tf.ret >= 0)  // released: back to rest
+            ease_handle(b.index, rest_[size_t(b.index)], b.tf.ret, b.tf.ease);
         } else {
           break;
         }
@@ -210,6 +243,8 @@ double Mapping::current_norm(const Binding& b) const {
 }
 
 void Mapping::written_by(const Binding* w, TargetKind k, int index) {
+  // A control moved the handle: an ease toward a pose or rest stops there.
+  if (k == TargetKind::HandleX || k == TargetKind::HandleY || k == TargetKind::HandlePoint) anim_[size_t(index)].on = false;
   // Another writer moved the target: absolute controls on it must pick it up again.
   for (Binding& b : bindings_)
     if (&b != w && b.target == k && b.index == index) b.engaged = false;
@@ -259,18 +294,46 @@ void Mapping::relative(Binding& b, double d) {
 }
 
 void Mapping::button(Binding& b, bool down) {
-  const bool edge = down && !b.pressed;
+  const bool edge = down && !b.pressed, released = !down && b.pressed;
   b.pressed = down;
-  if (b.target == TargetKind::Pose) {
-    if (!edge) return;
-    const Pose& p = poses_[size_t(b.index)];
-    for (size_t h = 0; h < p.positions.size() && h < goal_.size(); ++h)
-      if (std::isfinite(p.positions[h].x())) {
-        goal_[h] = p.positions[h];
-        written_by(&b, TargetKind::HandleX, int(h));
-        written_by(&b, TargetKind::HandleY, int(h));
+  switch (b.target) {
+    case TargetKind::Pose: {  // every handle it names eases there
+      if (!edge) return;
+      const Pose& p = poses_[size_t(b.index)];
+      for (size_t h = 0; h < p.positions.size() && h < goal_.size(); ++h)
+        if (std::isfinite(p.positions[h].x())) {
+          written_by(&b, TargetKind::HandleX, int(h));
+          written_by(&b, TargetKind::HandleY, int(h));
+          ease_handle(int(h), p.positions[h], b.tf.transition, b.tf.ease);
+        }
+      return;
+    }
+    case TargetKind::Recall:
+      if (edge) {
+        recall_ = {b.index, b.tf.transition, b.tf.ease};
+        recall_pending_ = true;
       }
-    return;
+      return;
+    case TargetKind::Swap: {  // latch: the member stays; momentary: until released
+      int& now = swap_now_[size_t(b.index)];
+      if (edge) {
+        b.before = now;
+        shown_changed_ = shown_changed_ || now != b.member;
+        now = b.member;
+      } else if (released && !b.tf.toggle && now == b.member) {
+        shown_changed_ = shown_changed_ || now != b.before;
+        now = b.before;
+      }
+      return;
+    }
+    case TargetKind::Trigger: {  // momentary: while held; toggle: each press
+      char& on = trigger_on_[size_t(b.index)];
+      const char next = b.tf.toggle ? char(edge ? !on : on) : char(edge ? 1 : released ? 0 : on);
+      shown_changed_ = shown_changed_ || next != on;
+      on = next;
+      return;
+    }
+    default: break;
   }
   if (b.tf.toggle) {
     if (!edge) return;
@@ -282,6 +345,15 @@ void Mapping::button(Binding& b, bool down) {
 }
 
 void Mapping::update(double dt) {
+  // Timed eases (a pose, a return to rest) move the goals.
+  for (size_t h = 0; h < anim_.size(); ++h) {
+    Anim& a = anim_[h];
+    if (!a.on) continue;
+    a.t += std::max(0.0, dt);
+    const double s = a.t >= a.seconds * (1 - 1e-9) ? 1.0 : a.t / a.seconds;  // (frame steps add up inexactly)
+    goal_[h] = s >= 1 ? a.to : Vec2(a.from + ease(a.ease, s) * (a.to - a.from));
+    if (s >= 1) a.on = false;
+  }
   // Slew: the slowest limit among a target's bindings (0 = none).
   for (size_t h = 0; h < goal_.size(); ++h) {
     double slew = 0;

@@ -6,9 +6,14 @@
 // transforms. Absolute controls: normalise by the control's range, deadzone (about the
 // centre), invert, curve (exponent), One Euro filter, soft takeover, then scale to the
 // target range. Relative controls (encoders, jog wheels, relative CCs in any encoding)
-// add delta x step. Buttons: momentary (low/high of the range while held) or toggle; a
-// pose target applies its pose on press. 14-bit CC pairs and NRPN assemble their value
-// before the transforms. Slew limits act per frame on the final targets.
+// add delta x step. Buttons (notes, GPIO and HID buttons, or a CC / HID value / OSC value
+// crossing the binding's threshold): momentary (low/high of the range while held) or toggle.
+// A pose target eases every handle it names to its position over the binding's transition
+// (pose.KEY of a rig key asks the loop for the same along the key interpolation: take_recall);
+// a swap target shows one member of a swap set (latched, or while held); a trigger shows its
+// shapes while held (or toggles). A pointer dragging a handle may return it to rest on release,
+// eased over `return` seconds. 14-bit CC pairs and NRPN assemble their value before the
+// transforms. Slew limits act per frame on the final targets.
 //
 // All state is sized when the show loads; apply() and update() allocate nothing.
 #pragma once
@@ -34,7 +39,16 @@ struct ControlSpec {
   std::string text;     ///< as written (for messages and learn)
 };
 
-enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab };
+enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab, Swap, Trigger, Recall };
+
+/// Targets a control presses rather than sets (a CC or HID value presses past the threshold).
+inline bool button_target(TargetKind k) {
+  return k == TargetKind::Pose || k == TargetKind::Swap || k == TargetKind::Trigger || k == TargetKind::Recall;
+}
+
+/// Easing of a timed transition, s in [0, 1] -> [0, 1].
+enum class Ease : uint8_t { Linear, In, Out, InOut };
+double ease(Ease e, double s);
 
 /// A named number a binding may drive (its meaning belongs to whoever reads it).
 struct Setting {
@@ -53,20 +67,26 @@ struct Transform {
   bool takeover = true;        ///< soft takeover for absolute controls
   RelativeMode relative = RelativeMode::Absolute;
   double step = 1;             ///< units per relative tick
-  bool toggle = false;         ///< buttons: toggle instead of momentary
+  bool toggle = false;         ///< buttons: toggle (latch) instead of momentary
+  double threshold = 0.5;      ///< a CC / HID / OSC value presses a button target from here (0..1)
+  double transition = 0.3;     ///< pose targets: seconds to reach the pose (0: jump)
+  Ease ease = Ease::InOut;
+  double ret = -1;             ///< pointer on a handle: seconds back to rest on release (< 0: hold)
   double area[4] = {0, 0, 1, 1};  ///< pointer: target rectangle x0 y0 x1 y1
 };
 
 struct Binding {
   ControlSpec control;
   TargetKind target = TargetKind::HandleX;
-  int index = 0;  ///< handle, group, pose or setting index
+  int index = 0;  ///< handle, group, pose, setting, swap set, trigger or key (-1: rest) index
+  int member = 0; ///< swap targets: the member shown
   Transform tf;
   int line = 0;   ///< show-file line (messages)
   // state
   bool engaged = false;      ///< soft takeover has picked the target up
   double last_norm = -1;     ///< previous normalised control value (-1: none yet)
   bool toggled = false, pressed = false;
+  int before = 0;            ///< momentary swap: the member shown before the press
   int msb = 0, lsb = 0;      ///< 14-bit parts
   int nrpn_hi = 0, nrpn_param = -1;  ///< NRPN parameter selected by CC 99/98
   double px = 0.5, py = 0.5; ///< pointer position (normalised)
@@ -83,6 +103,13 @@ struct RotationGroup {
 struct Pose {
   std::string name;
   std::vector<Vec2> positions;  ///< per handle; NaN = leave alone
+};
+
+/// A pose recall along the key interpolation, asked by a pose.KEY binding.
+struct Recall {
+  int key = -1;  ///< rig key index, -1: rest
+  double seconds = 0;
+  Ease ease = Ease::InOut;
 };
 
 struct MappingStats {
@@ -102,6 +129,21 @@ class Mapping {
   std::vector<Binding>& bindings() { return bindings_; }
   /// Adds a setting; returns its index.
   int add_setting(Setting s);
+  /// Swap sets (member count, shown member) and triggers, in the rig's order.
+  void set_swaps(std::vector<int> member_counts, std::vector<int> defaults, size_t triggers);
+  int swap_member(size_t set) const { return swap_now_[set]; }
+  bool trigger_on(size_t t) const { return trigger_on_[t] != 0; }
+  /// Whether a swap or trigger changed since the last call.
+  bool take_shown_changed() { bool c = shown_changed_; shown_changed_ = false; return c; }
+  /// The latest pose recall asked for since the last call, if any.
+  bool take_recall(Recall& out) {
+    if (!recall_pending_) return false;
+    recall_pending_ = false;
+    out = recall_;
+    return true;
+  }
+  /// Whether handle h is easing toward a pose or back to rest.
+  bool easing(int handle) const { return anim_[size_t(handle)].on; }
 
   /// Updates goals from one event. Returns true when some binding used it.
   bool apply(const Event& e);
@@ -128,6 +170,7 @@ class Mapping {
   void set_target(Binding& b, double value);
   double current_norm(const Binding& b) const;
   void written_by(const Binding* b, TargetKind k, int index);
+  void ease_handle(int h, const Vec2& to, double seconds, Ease e);
 
   std::vector<std::string> names_;
   std::vector<Vec2> rest_, goal_, current_, targets_;
@@ -138,6 +181,18 @@ class Mapping {
   void put_setting(size_t i, double v);
   std::vector<Setting> settings_;
   bool settings_changed_ = false;
+  struct Anim {
+    bool on = false;
+    Vec2 from = Vec2::Zero(), to = Vec2::Zero();
+    double t = 0, seconds = 0;
+    Ease ease = Ease::InOut;
+  };
+  std::vector<Anim> anim_;  ///< per handle
+  std::vector<int> swap_now_, swap_count_;
+  std::vector<char> trigger_on_;
+  bool shown_changed_ = false;
+  Recall recall_;
+  bool recall_pending_ = false;
   bool grab_active_ = false;
   Vec2 grab_point_ = Vec2::Zero();
   MappingStats stats_;

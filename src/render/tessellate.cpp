@@ -196,9 +196,10 @@ void stroke_polyline(std::span<const Vec2> pts, bool closed, const StrokeStyle& 
 
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view, double tolerance_px,
-                     DrawList& out) {
+                     DrawList& out, std::span<const char> shown) {
   const double scale = std::sqrt(std::abs(view.det()));
   for (size_t i = 0; i < ch.shapes.size(); ++i) {
+    if (i < shown.size() && !shown[i]) continue;  // a swap member not showing, a trigger that is off
     const SubShape& s = ch.shapes[i];
     const Points& pts = positions.empty() ? s.points : positions[i];
     if (pts.size() != s.points.size()) continue;

@@ -57,9 +57,10 @@ void stroke_polyline(std::span<const Vec2> pts, bool closed, const StrokeStyle& 
 
 /// Appends fill and stroke triangles of every shape, in paint order, mapped by `view`
 /// (character units -> pixels). `positions` gives per-shape deformed points (same sizes
-/// as the rest points); empty = rest pose. `tolerance_px` bounds round join error.
+/// as the rest points); empty = rest pose. `tolerance_px` bounds round join error. `shown`:
+/// per shape, 0 leaves it out (empty = every shape).
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view,
-                     double tolerance_px, DrawList& out);
+                     double tolerance_px, DrawList& out, std::span<const char> shown = {});
 
 }  // namespace mar

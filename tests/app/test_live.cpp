@@ -510,5 +510,107 @@ TEST(Live, KeyShowMorphsAndBlendsTheRigsKeys) {
   EXPECT_NE(bad.err.find("blend.wave, blend.kick"), std::string::npos) << bad.err;
 }
 
+// The singer's show (config/shows/singer.toml): pads swap the mouth (latched), M 1 blinks while
+// held, M 2 toggles the blush; hidden members deform with the face; R 1 recalls the wave key over
+// 0.5 s and R 2 rest over 0.8 s; nothing allocates after warm-up. Bad swap names: exit 2, file:line.
+TEST(Live, SingerShowSwapsTriggersAndRecallsPosesSmoothly) {
+  const std::string show = (test::source_dir() / "config/shows/singer.toml").string();
+  auto sing = load_puppet("", (test::source_dir() / "config/rigs/singer.toml").string());
+  ASSERT_TRUE(sing.ok()) << sing.error;
+  Puppet& sp = **sing.value;
+  auto keys = solve_keys(sp);
+  ASSERT_TRUE(keys.ok()) << keys.error;
+  const size_t hand = size_t(sp.rig.find_handle("right-hand"));
+  const Vec2 wave_hand = eval_param(sp.feature_frame()->bindings()[hand], (*keys.value)[0]);
+  auto shape = [&](const char* id) {
+    for (size_t k = 0; k < sp.character.shapes.size(); ++k)
+      if (sp.character.shapes[k].id == id) return k;
+    ADD_FAILURE() << id;
+    return size_t(0);
+  };
+  // Rest: the rig's defaults show.
+  EXPECT_TRUE(sp.shown[shape("mouth-smile")] && sp.shown[shape("eyes-open")]);
+  EXPECT_FALSE(sp.shown[shape("mouth-o")] || sp.shown[shape("eyes-shut")] || sp.shown[shape("cheeks")]);
+
+  struct At {
+    std::vector<char> shown;
+    Vec2 hand;
+    std::vector<Points> shapes;
+  };
+  auto at_frame = [&](int frames) {
+    RunOptions o;
+    o.headless = true;
+    o.quiet = true;
+    o.frames = frames;
+    auto s = LiveShow::load(show, o);
+    EXPECT_TRUE(s.ok()) << s.error;
+    if (!s.ok()) return At{};
+    EXPECT_EQ((*s.value)->run(), 0);
+    const Puppet& p = (*s.value)->puppet();
+    return At{p.shown, p.solver->handle_point(hand), p.shapes};
+  };
+  auto only = [&](const At& a, const char* id, std::initializer_list<const char*> hidden) {
+    EXPECT_TRUE(a.shown[shape(id)]) << id;
+    for (const char* h : hidden) EXPECT_FALSE(a.shown[shape(h)]) << h << " shows with " << id;
+  };
+  only(at_frame(61), "mouth-o", {"mouth-smile", "mouth-a", "mouth-e"});  // S 2 at 0.4 s, S 4 at 0.8 s
+  only(at_frame(111), "eyes-shut", {"eyes-open"});                       // M 1 held from 1.8 s
+  only(at_frame(126), "eyes-open", {"eyes-shut"});                       // released at 1.95 s
+  EXPECT_TRUE(at_frame(151).shown[shape("cheeks")]);                      // M 2 at 2.2 s: on
+  const At sway = at_frame(261);                                          // 4.33 s: sway and cheer blended
+  EXPECT_TRUE(sway.shown[shape("cheeks")]);
+  only(sway, "mouth-a", {"mouth-o", "mouth-smile"});                      // S 2 at 4.2 s
+  EXPECT_FALSE(at_frame(291).shown[shape("cheeks")]);                     // M 2 again at 4.6 s: off
+  // The hidden mouth moved with the face.
+  auto centroid = [](const Points& p) {
+    Vec2 c = Vec2::Zero();
+    for (const Vec2& q : p) c += q;
+    return Vec2(c / double(std::max<size_t>(1, p.size())));
+  };
+  const size_t face = shape("face"), mo = shape("mouth-o");
+  const Vec2 face_moved = centroid(sway.shapes[face]) - centroid(sp.character.shapes[face].points);
+  const Vec2 mouth_moved = centroid(sway.shapes[mo]) - centroid(sp.character.shapes[mo].points);
+  EXPECT_GT(face_moved.norm(), 5.0);
+  EXPECT_LT((mouth_moved - face_moved).norm(), 0.25 * face_moved.norm()) << mouth_moved.transpose() << " vs face "
+                                                                        << face_moved.transpose();
+  // R 1 at 5.6 s recalls wave over 0.5 s: on the way at 5.75 s, there by 6.2 s; R 2 at 7.4 s: rest by 8.3 s.
+  const Vec2 rest_hand = sp.rig.handles[hand].rest;
+  const double way = (wave_hand - rest_hand).norm();
+  const double early = (at_frame(346).hand - rest_hand).norm();
+  EXPECT_GT(early, 0.05 * way);
+  EXPECT_LT(early, 0.6 * way);
+  EXPECT_LT((at_frame(373).hand - wave_hand).norm(), 0.1 * way);
+  EXPECT_LT((at_frame(499).hand - rest_hand).norm(), 0.1 * way);
+
+  const auto dir = test::temp_dir("singer-show");
+  auto r = test::run_cli("run " + show + " --headless --stats " + (dir / "s.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream f(dir / "s.json");
+  EXPECT_EQ(nlohmann::json::parse(f)["heap_allocations_after_warmup"], 0);
+  // A swap member that is no sub-shape: exit 2 naming the rig's line; an unknown swap target: the
+  // show's line and the members there are.
+  std::ifstream rin(test::source_dir() / "config/rigs/singer.toml");
+  std::string rig((std::istreambuf_iterator<char>(rin)), std::istreambuf_iterator<char>());
+  rig.replace(rig.find("../characters/singer.svg"), 24, (test::source_dir() / "config/characters/singer.svg").string());
+  const std::string good_rig = rig;
+  rig.replace(rig.find("\"mouth-o\"]"), 10, "\"mouth-u\"]");
+  std::ofstream(dir / "bad_rig.toml") << rig;
+  auto bad = test::run_cli("pose " + (test::source_dir() / "config/characters/singer.svg").string() + " --rig " +
+                          (dir / "bad_rig.toml").string() + " -o " + (dir / "x.png").string());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("bad_rig.toml:52: swap set 'mouth' names 'mouth-u', which is not a sub-shape"), std::string::npos)
+      << bad.err;
+  std::ofstream(dir / "rig.toml") << good_rig;
+  std::ifstream in(show);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.replace(text.find("../rigs/singer.toml"), 19, (dir / "rig.toml").string());
+  text.replace(text.find("swap.mouth.mouth-e"), 18, "swap.mouth.mouth-u");
+  std::ofstream(dir / "bad.toml") << text;
+  auto bad_show = test::run_cli("run " + (dir / "bad.toml").string() + " --headless --frames 5");
+  EXPECT_EQ(bad_show.exit_code, 2);
+  EXPECT_NE(bad_show.err.find("no swap set member 'mouth.mouth-u' (mouth.mouth-smile, mouth.mouth-a"), std::string::npos)
+      << bad_show.err;
+}
+
 }  // namespace
 }  // namespace mar

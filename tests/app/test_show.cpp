@@ -102,3 +102,96 @@ TEST(Show, TheRigLoadersErrorIsReturnedAndASyntaxErrorNeverLoadsTheRig) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+ShowRig singer_rig() {
+  ShowRig r = two_handles();
+  r.swaps = {{"mouth", {"m-a", "m-o"}}};
+  r.triggers = {"blink"};
+  r.keys = {"wave"};
+  return r;
+}
+
+// swap.SET.MEMBER, trigger.NAME and pose.KEY (a rig key, along the interpolation) resolve against
+// the rig; swaps latch unless told momentary; transition, ease, threshold and return are read
+// where they make sense and refused (file:line) where they do not.
+TEST(Show, SwapTriggerAndRecallTargetsWithTheirKeys) {
+  const std::string head = R"([show]
+rig = "r.toml"
+[[device]]
+name = "k"
+sim = "nanokontrol2"
+[[device]]
+name = "pen"
+sim = "pen_tablet"
+)";
+  const std::string path = test::write_temp("swaps.toml", head + R"([[binding]]
+device = "k"
+control = "cc 32"
+target = "swap.mouth.m-o"
+threshold = 0.2
+[[binding]]
+device = "k"
+control = "cc 33"
+target = "trigger.blink"
+[[binding]]
+device = "k"
+control = "cc 34"
+target = "pose.wave"
+transition = 0.4
+ease = "out"
+[[binding]]
+device = "k"
+control = "cc 35"
+target = "pose.rest"
+[[binding]]
+device = "pen"
+control = "pointer"
+target = "handle.hand"
+return = 0.3
+)");
+  auto s = load_show(path, [](const ShowConfig&) { return Result<ShowRig>::success(singer_rig()); });
+  ASSERT_TRUE(s.ok()) << s.error;
+  const auto& b = s.value->bindings;
+  ASSERT_EQ(b.size(), 5u);
+  EXPECT_EQ(b[0].target, TargetKind::Swap);
+  EXPECT_EQ(b[0].index, 0);
+  EXPECT_EQ(b[0].member, 1);
+  EXPECT_TRUE(b[0].tf.toggle);  // latched
+  EXPECT_EQ(b[0].tf.threshold, 0.2);
+  EXPECT_EQ(b[1].target, TargetKind::Trigger);
+  EXPECT_FALSE(b[1].tf.toggle);  // momentary
+  EXPECT_EQ(b[2].target, TargetKind::Recall);
+  EXPECT_EQ(b[2].index, 0);
+  EXPECT_EQ(b[2].tf.transition, 0.4);
+  EXPECT_EQ(b[2].tf.ease, Ease::Out);
+  EXPECT_EQ(b[3].target, TargetKind::Recall);
+  EXPECT_EQ(b[3].index, -1);
+  EXPECT_EQ(b[4].tf.ret, 0.3);
+
+  struct Case {
+    const char* binding;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"swap.mouth.m-u\"\n", ":12: no swap set member 'mouth.m-u' (mouth.m-a, mouth.m-o)"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"trigger.wink\"\n", ":12: no trigger 'wink' (blink)"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"pose.dance\"\n", ":12: no [[pose]] or rig key named 'dance' (wave)"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"handle.hand.x\"\ntransition = 1\n", ":13: transition goes with a pose.NAME target"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"handle.hand\"\nreturn = 0.2\n", ":13: return goes with a pointer"},
+      {"device = \"pen\"\ncontrol = \"pointer\"\ntarget = \"handle.hand\"\nreturn = \"soon\"\n", ":13: return must be"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"trigger.blink\"\nthreshold = 0\n", ":13: threshold must be in (0, 1]"},
+      {"device = \"k\"\ncontrol = \"cc 32\"\ntarget = \"pose.wave\"\nease = \"bounce\"\n", ":13: ease must be linear, in, out or in_out"},
+  };
+  for (const Case& c : cases) {
+    const std::string bad = test::write_temp("bad-swap.toml", head + "[[binding]]\n" + c.binding);
+    auto e = load_show(bad, [](const ShowConfig&) { return Result<ShowRig>::success(singer_rig()); });
+    ASSERT_FALSE(e.ok()) << c.binding;
+    EXPECT_NE(e.error.find(bad + c.expect), std::string::npos) << e.error;
+  }
+}
+
+}  // namespace
+}  // namespace mar

@@ -308,3 +308,53 @@ TEST(load_rig, ExampleRigsLoad) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+TEST(parse_rig, SwapSetsAndTriggersRoundTripAndErrorsNameTheLine) {
+  const char* text = R"toml(character = "c.svg"
+[[swap]]
+name = "mouth"
+members = ["m-a", "m-o", "m-e"]
+default = "m-o"
+
+[[trigger]]
+name = "blink"
+shapes = ["lids"]
+)toml";
+  auto a = parse_rig(text, "s.toml");
+  ASSERT_TRUE(a.ok()) << a.error;
+  const Rig& r = *a.value;
+  ASSERT_EQ(r.swaps.size(), 1u);
+  EXPECT_EQ(r.swaps[0].members, (std::vector<std::string>{"m-a", "m-o", "m-e"}));
+  EXPECT_EQ(r.swaps[0].default_member, 1);
+  EXPECT_EQ(r.swaps[0].line, 2);
+  ASSERT_EQ(r.triggers.size(), 1u);
+  EXPECT_EQ(r.triggers[0].shapes, std::vector<std::string>{"lids"});
+  auto back = parse_rig(write_rig(r), "s.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
+  EXPECT_EQ(write_rig(*back.value), write_rig(r));
+  EXPECT_EQ(back.value->swaps[0].default_member, 1);
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"character = \"a.svg\"\n[[swap]]\nname = \"m\"\nmembers = [\"a\"]\ndefault = \"b\"\n", "r.toml:5: default 'b' is not one of the members"},
+      {"character = \"a.svg\"\n[[swap]]\nname = \"m\"\n", "r.toml:2: swap set 'm' needs members"},
+      {"character = \"a.svg\"\n[[swap]]\nname = \"m\"\nmembers = []\n", "r.toml:4: members must be a list of sub-shape ids"},
+      {"character = \"a.svg\"\n[[trigger]]\nshapes = [\"a\"]\n", "r.toml:2: a trigger needs a name"},
+      {"character = \"a.svg\"\n[[swap]]\nname = \"x\"\nmembers = [\"a\"]\n[[trigger]]\nname = \"x\"\nshapes = [\"a\"]\n",
+       "r.toml:5: 'x' is already a swap set"},
+      {"character = \"a.svg\"\n[[trigger]]\nname = \"x\"\nshapes = [\"a\"]\nmode = 1\n", "r.toml:5: unknown key 'mode'"},
+  };
+  for (const Case& c : cases) {
+    auto e = parse_rig(c.text, "r.toml");
+    ASSERT_FALSE(e.ok()) << c.text;
+    EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
+  }
+}
+
+}  // namespace
+}  // namespace mar

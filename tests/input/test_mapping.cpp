@@ -1,5 +1,6 @@
 // Mapping transforms: relative encodings, 14-bit CC and NRPN, deadzone, curve, invert,
-// toggle and momentary buttons, One Euro filter, slew, soft takeover handing over.
+// toggle and momentary buttons, One Euro filter, slew, soft takeover handing over, swap sets
+// and triggers, timed pose eases and returns.
 #include "input/mapping.h"
 
 #include <gtest/gtest.h>
@@ -221,6 +222,152 @@ TEST(Settings, EncodersStepIntegerSettingsByOne) {
   e.value = -20;
   m.apply(e);
   EXPECT_EQ(m.setting(it), 2.0);
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+Event note_event(int n, bool on) {
+  Event e;
+  e.kind = on ? ControlKind::MidiNoteOn : ControlKind::MidiNoteOff;
+  e.number = uint32_t(n);
+  e.value = on ? 100 : 0;
+  return e;
+}
+
+Event hid_value(uint32_t usage, int v, int lo, int hi) {
+  Event e;
+  e.kind = ControlKind::HidValue;
+  e.number = usage;
+  e.value = v;
+  e.lo = lo;
+  e.hi = hi;
+  return e;
+}
+
+Event gpio(int n, bool down) {
+  Event e;
+  e.kind = ControlKind::Button;
+  e.number = uint32_t(n);
+  e.value = down ? 1 : 0;
+  return e;
+}
+
+// A mouth swap set of three members and two triggers, pressed from a note, a CC past its
+// threshold, a HID button, a GPIO button and an OSC value; latched and momentary.
+TEST(Swaps, NotesCcsAndButtonsSwapMembersAndFireTriggers) {
+  Mapping m = one_handle();
+  m.set_swaps({3}, {0}, 2);
+  Binding a = bind(ControlSpec::Note, 60, TargetKind::Swap);  // latch (a show's default for swaps)
+  a.member = 1;
+  a.tf.toggle = true;
+  m.add_binding(a);
+  Binding o = bind(ControlSpec::CC, 20, TargetKind::Swap);  // momentary, from a CC at a low threshold
+  o.member = 2;
+  o.tf.threshold = 0.25;
+  m.add_binding(o);
+  m.add_binding(bind(ControlSpec::Hid, 0x090001, TargetKind::Trigger));  // trigger 0, momentary
+  Binding latch = bind(ControlSpec::GpioButton, 4, TargetKind::Trigger);
+  latch.index = 1;
+  latch.tf.toggle = true;
+  m.add_binding(latch);
+  Binding osc = bind(ControlSpec::Hid, 0xFF000000u, TargetKind::Swap);  // an OSC address as the show numbers it
+  osc.member = 0;
+  m.add_binding(osc);
+
+  EXPECT_EQ(m.swap_member(0), 0);
+  EXPECT_FALSE(m.take_shown_changed());
+  m.apply(note_event(60, true));
+  m.apply(note_event(60, false));
+  EXPECT_EQ(m.swap_member(0), 1);  // latched: stays after the release
+  EXPECT_TRUE(m.take_shown_changed());
+  m.apply(cc(20, 20));  // below 0.25 of 127: not pressed
+  EXPECT_EQ(m.swap_member(0), 1);
+  m.apply(cc(20, 40));
+  EXPECT_EQ(m.swap_member(0), 2);
+  m.apply(cc(20, 90));  // still held: no new press
+  m.apply(cc(20, 0));   // released: back to the member before the press
+  EXPECT_EQ(m.swap_member(0), 1);
+  m.apply(hid_value(0xFF000000u, 800, 0, 1000));  // OSC 0.8 presses member 0
+  EXPECT_EQ(m.swap_member(0), 0);
+
+  m.apply(hid_value(0x090001, 1, 0, 1));
+  EXPECT_TRUE(m.trigger_on(0));
+  m.apply(hid_value(0x090001, 0, 0, 1));
+  EXPECT_FALSE(m.trigger_on(0));
+  m.apply(gpio(4, true));
+  m.apply(gpio(4, false));
+  EXPECT_TRUE(m.trigger_on(1));  // toggled on, stays
+  m.apply(gpio(4, true));
+  EXPECT_FALSE(m.trigger_on(1));
+  EXPECT_TRUE(m.take_shown_changed());
+  EXPECT_FALSE(m.take_shown_changed());
+}
+
+// A pose eases every handle it names there over the binding's transition; a pose.KEY asks the
+// loop for a recall; a pen dragging a handle returns it to rest over `return` seconds.
+TEST(Poses, APoseEasesThereInItsTransitionAndAPenReturnsToRest) {
+  Mapping m;
+  m.set_handles({"a", "b"}, {Vec2(0, 0), Vec2(100, 0)});
+  Pose p;
+  p.name = "up";
+  p.positions = {Vec2(0, -60), Vec2(NAN, NAN)};
+  m.add_pose(p);
+  Binding b = bind(ControlSpec::Note, 36, TargetKind::Pose);
+  b.tf.transition = 0.5;
+  m.add_binding(b);
+  m.apply(note_event(36, true));
+  const double dt = 1.0 / 60;
+  int frames = 0;
+  while (m.easing(0) && frames < 1000) {
+    m.update(dt);
+    ++frames;
+    if (frames == 15) {
+      EXPECT_NEAR(m.targets()[0].y(), -30, 1e-9);  // half way at half the time (in_out)
+    }
+    if (frames < 30) {
+      EXPECT_GT(m.targets()[0].y(), -60);
+    }
+  }
+  EXPECT_EQ(frames, 30);  // 0.5 s at 60 Hz
+  EXPECT_DOUBLE_EQ(m.targets()[0].y(), -60);
+  EXPECT_EQ(m.targets()[1], Vec2(100, 0));  // not named: left alone
+
+  Binding r = bind(ControlSpec::Note, 37, TargetKind::Recall);
+  r.index = 2;
+  r.tf.transition = 0.8;
+  r.tf.ease = Ease::Linear;
+  m.add_binding(r);
+  Recall rc;
+  EXPECT_FALSE(m.take_recall(rc));
+  m.apply(note_event(37, true));
+  ASSERT_TRUE(m.take_recall(rc));
+  EXPECT_EQ(rc.key, 2);
+  EXPECT_EQ(rc.seconds, 0.8);
+  EXPECT_EQ(rc.ease, Ease::Linear);
+  EXPECT_FALSE(m.take_recall(rc));
+
+  Binding pen = bind(ControlSpec::Pointer, 0, TargetKind::HandlePoint);
+  pen.index = 1;
+  pen.control.px = 1, pen.control.py = 2, pen.control.ptip = 3;
+  pen.tf.area[0] = 0, pen.tf.area[1] = 0, pen.tf.area[2] = 200, pen.tf.area[3] = 200;
+  pen.tf.ret = 0.25;
+  pen.tf.ease = Ease::Linear;
+  m.add_binding(pen);
+  m.apply(hid_value(3, 1, 0, 1));
+  m.apply(hid_value(1, 150, 0, 200));
+  m.apply(hid_value(2, 50, 0, 200));
+  m.update(dt);
+  EXPECT_EQ(m.targets()[1], Vec2(150, 50));
+  m.apply(hid_value(3, 0, 0, 1));  // lifted: back to rest in 0.25 s
+  for (int k = 0; k < 6; ++k) m.update(dt);
+  EXPECT_NEAR(m.targets()[1].x(), 150 - 50 * 0.4, 1e-9);  // linear: 0.1 s of 0.25
+  for (int k = 0; k < 9; ++k) m.update(dt);
+  EXPECT_EQ(m.targets()[1], Vec2(100, 0));
+  EXPECT_FALSE(m.easing(1));
 }
 
 }  // namespace
