@@ -87,27 +87,30 @@ DeviceState UsbMidiBackend::open() {
   }
   libusb_device** list = nullptr;
   const ssize_t n = libusb_get_device_list(ctx_, &list);
-  libusb_device* found = nullptr;
   libusb_device_descriptor dd{};
-  for (ssize_t i = 0; i < n && !found; ++i) {
+  int rc = LIBUSB_ERROR_NO_DEVICE;
+  bool any = false;
+  // Every match is tried in turn: one that cannot be opened (held elsewhere, or gone with its
+  // entry still listed) must not hide the next.
+  for (ssize_t i = 0; i < n && !h_; ++i) {
     if (libusb_get_device_descriptor(list[i], &dd) != 0) continue;
     if (spec_.vid >= 0 && dd.idVendor != spec_.vid) continue;
     if (spec_.pid >= 0 && dd.idProduct != spec_.pid) continue;
-    if (find_midi_interface(list[i], iface_, ep_in_, ep_out_)) found = list[i];
+    if (!find_midi_interface(list[i], iface_, ep_in_, ep_out_)) continue;
+    any = true;
+    char path[64];
+    std::snprintf(path, sizeof path, "/dev/bus/usb/%03d/%03d", libusb_get_bus_number(list[i]), libusb_get_device_address(list[i]));
+    node_ = path;
+    identity_ = devutil::vid_pid(dd.idVendor, dd.idProduct) + " interface " + std::to_string(iface_);
+    rc = libusb_open(list[i], &h_);
+    if (rc != 0) h_ = nullptr;
   }
-  if (!found) {
-    libusb_free_device_list(list, 1);
+  if (n >= 0) libusb_free_device_list(list, 1);
+  if (!any) {
     problem_ = "no USB-MIDI device" + (spec_.vid >= 0 ? " " + devutil::vid_pid(spec_.vid, spec_.pid) : std::string());
     return DeviceState::Waiting;
   }
-  char path[64];
-  std::snprintf(path, sizeof path, "/dev/bus/usb/%03d/%03d", libusb_get_bus_number(found), libusb_get_device_address(found));
-  node_ = path;
-  identity_ = devutil::vid_pid(dd.idVendor, dd.idProduct) + " interface " + std::to_string(iface_);
-  const int rc = libusb_open(found, &h_);
-  libusb_free_device_list(list, 1);
-  if (rc != 0) {
-    h_ = nullptr;
+  if (!h_) {
     problem_ = rc == LIBUSB_ERROR_ACCESS ? denied_hint(node_) : node_ + ": " + libusb_strerror(rc);
     return rc == LIBUSB_ERROR_ACCESS ? DeviceState::Denied : DeviceState::Waiting;
   }

@@ -39,6 +39,12 @@ void VirtualBench::Impl::describe_usb(BenchDev& d) {
 }
 
 bool VirtualBench::Impl::usb_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg) {
+  // Unplugged: URBs that died with the device are still reaped, anything else is ENODEV.
+  const bool reap = req == USBDEVFS_REAPURB || req == USBDEVFS_REAPURBNDELAY;
+  if (!d.plugged && !(reap && !d.discarded.empty()) && req != USBDEVFS_DISCARDURB) {
+    complete(c, -1, ENODEV);
+    return true;
+  }
   switch (req) {
     case USBDEVFS_GET_CAPABILITIES:
       return answer(c, arg, uint32_t(USBDEVFS_CAP_BULK_CONTINUATION | USBDEVFS_CAP_NO_PACKET_SIZE_LIM |

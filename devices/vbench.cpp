@@ -187,7 +187,17 @@ void VirtualBench::unplug(int dev) {
   if (!d.plugged) return;
   d.plugged = false;
   umockdev_testbed_uevent(p_->tb, d.syspath.c_str(), "remove");
-  umockdev_testbed_remove_device(p_->tb, d.syspath.c_str());
+  if (d.kind == BenchKind::Usb) {
+    // As the kernel does: the node goes at once (nothing opens it again) and descriptors still
+    // open get ENODEV from the handler. The testbed keeps the device's record: umockdev answers
+    // nothing more on the streams of a removed device, and libusb reaping URBs on the frame
+    // thread would wait forever (the hang this replaced). A replug is a new device.
+    gchar* root = umockdev_testbed_get_root_dir(p_->tb);
+    ::unlink((std::string(root) + d.node).c_str());
+    g_free(root);
+  } else {
+    umockdev_testbed_remove_device(p_->tb, d.syspath.c_str());
+  }
   for (int& fd : d.line_fd) {  // the kernel hangs up a removed chip's event fds
     if (fd >= 0) ::close(fd);
     fd = -1;

@@ -195,6 +195,23 @@ TEST(UsbMidiBackend, GarbageBytesAreCountedAndUnplugIsSeen) {
   EXPECT_EQ(got[1].number, 8u);
 }
 
+// Just after an unplug the device's entry may still be listed with its node gone: the next
+// controller with the same IDs is opened instead (and an open descriptor of the gone one gets
+// ENODEV, never a wait: the bench answers it as the kernel does).
+TEST(UsbMidiBackend, AListedDeviceThatCannotBeOpenedDoesNotHideTheNext) {
+  for (int gone : {0, 1}) {  // whichever of the two is listed first
+    VirtualBench bench;
+    bench.add_usb_midi({0x0944, 0x0117, false});
+    bench.add_usb_midi({0x0944, 0x0117, false});
+    bench.unplug(gone);
+    DeviceSet set(monotonic_ns());
+    set.add(make_usb_midi_backend(midi_spec(), 0));
+    set.start();
+    ASSERT_EQ(set.state(0), DeviceState::Connected) << set.problem(0);
+    EXPECT_EQ(set.backend(0).node(), gone == 0 ? "/dev/bus/usb/001/003" : "/dev/bus/usb/001/002");
+  }
+}
+
 TEST(TabletBackend, PenStrokeWithPressureAndTiltKeepsTheKernelTimestamps) {
   VirtualBench bench;
   VirtualBench::Evdev pen;
