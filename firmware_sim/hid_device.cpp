@@ -100,7 +100,7 @@ void PenTabletSim::stroke(const std::vector<std::pair<double, double>>& pts, dou
   std::vector<double> len(pts.size(), 0);
   for (size_t i = 1; i < pts.size(); ++i)
     len[i] = len[i - 1] + std::hypot(pts[i].first - pts[i - 1].first, pts[i].second - pts[i - 1].second);
-  for (int k = 0; k <= n; ++k) {
+  for (int k = 0; k <= n && !too_many_; ++k) {
     const double s = len.back() * k / n;
     size_t i = 1;
     while (i + 1 < pts.size() && len[i] < s) ++i;
@@ -175,7 +175,7 @@ void GamepadSim::stick(const std::string& which, double x, double y, double t_s,
   const uint32_t uy = s ? (has(usage::Rz) ? usage::Rz : usage::Ry) : usage::Y;
   const double x0 = pos_[s][0], y0 = pos_[s][1];
   const int n = std::max(1, int(std::ceil(std::max(dur_s, 0.0) * 250)));
-  for (int k = 1; k <= n; ++k) {
+  for (int k = 1; k <= n && !too_many_; ++k) {
     const double u = double(k) / n;
     set_unit(ux, 0.5 + 0.5 * (x0 + (x - x0) * u));
     set_unit(uy, 0.5 + 0.5 * (y0 + (y - y0) * u));

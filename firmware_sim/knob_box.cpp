@@ -28,7 +28,7 @@ void KnobBoxSim::turn(int enc, double t_s, int detents, double dur_s) {
   const int64_t t0 = to_ns(t_s), span = to_ns(std::max(dur_s, 0.0));
   const int64_t gap = std::max<int64_t>(span / steps, 1);
   int& ph = phase_[enc - 1];
-  for (int s = 0; s < steps; ++s) {
+  for (int s = 0; s < steps && !too_many_; ++s) {
     const int next = (ph + (detents > 0 ? 1 : 3)) % 4;
     const int which = kSeq[ph][0] != kSeq[next][0] ? 0 : 1;
     edge(t0 + s * gap, which == 0 ? line_a(enc) : line_b(enc), kSeq[next][which], gap);

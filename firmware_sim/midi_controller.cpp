@@ -44,7 +44,7 @@ void MidiControllerSim::move(const std::string& control, double t_s, double to, 
   // The firmware scans its ADC at 1 kHz and sends a CC when the 7-bit value changes.
   const int steps = int(std::ceil(dur_s * 1000));
   int last = from;
-  for (int k = 1; k <= steps; ++k) {
+  for (int k = 1; k <= steps && !too_many_; ++k) {
     const double u = double(k) / steps;
     const int v = int(std::lround(from + (target - from) * u));
     if (v != last) {

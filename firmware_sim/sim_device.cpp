@@ -7,7 +7,7 @@
 namespace mar {
 
 double seconds(int64_t ns) { return double(ns) * 1e-9; }
-int64_t to_ns(double s) { return int64_t(std::llround(s * 1e9)); }
+int64_t to_ns(double s) { return int64_t(std::llround(std::clamp(s, -9e9, 9e9) * 1e9)); }  // (within int64)
 
 bool parse_number(const std::string& s, double& out) {
   if (s.empty()) return false;
@@ -25,7 +25,15 @@ Result<bool> SimDevice::load_script(const std::string& text) {
   auto fail = [&](const std::string& msg) {
     timeline_ = saved;
     loop_ns_ = saved_loop;
+    too_many_ = false;
     return Result<bool>::failure("line " + std::to_string(n) + ": " + msg);
+  };
+  auto seconds_ok = [](const std::vector<std::string>& w) {  // the time, and what follows over / for / loop
+    for (size_t i = 0; i < w.size(); ++i)
+      if (double v = 0; (i == 0 || w[i - 1] == "over" || w[i - 1] == "for" || w[i - 1] == "loop") && parse_number(w[i], v) &&
+                        std::fabs(v) > kMaxSeconds)
+        return false;
+    return true;
   };
   while (std::getline(in, line)) {
     ++n;
@@ -35,8 +43,10 @@ Result<bool> SimDevice::load_script(const std::string& text) {
     for (std::string tok; ls >> tok;) w.push_back(tok);
     if (w.empty()) continue;
     double t = 0;
+    if (!seconds_ok(w)) return fail("a time or duration past " + std::to_string(int(kMaxSeconds)) + " s");
     if (w[0] == "loop") {
-      if (w.size() != 2 || !parse_number(w[1], t) || t <= 0) return fail("expected 'loop SECONDS' with SECONDS > 0");
+      if (w.size() != 2 || !parse_number(w[1], t) || t < kMinLoopSeconds)
+        return fail("expected 'loop SECONDS' with SECONDS >= " + std::to_string(kMinLoopSeconds).substr(0, 4));
       set_loop(t);
       continue;
     }
@@ -45,8 +55,16 @@ Result<bool> SimDevice::load_script(const std::string& text) {
     w.erase(w.begin());
     auto r = action(t, w);
     if (!r.ok()) return fail(r.error);
+    if (too_many_) return fail("the script makes more than " + std::to_string(kMaxRecords) + " records (a move over a very long time?)");
   }
   finish();
+  if (loop_ns_ > 0 && loop_ns_ < end_ns()) {
+    const int64_t end = end_ns();
+    timeline_ = saved;
+    loop_ns_ = saved_loop;
+    return Result<bool>::failure("loop: the period is shorter than the script (" + std::to_string(double(end) * 1e-9) +
+                                 " s); the timeline would overlap itself");
+  }
   return Result<bool>::success(true);
 }
 
@@ -61,6 +79,10 @@ void SimDevice::finish() {
 int64_t SimDevice::end_ns() const { return timeline_.empty() ? 0 : timeline_.back().t_ns; }
 
 void SimDevice::emit(int64_t t_ns, std::span<const uint8_t> bytes) {
+  if (timeline_.size() >= kMaxRecords) {
+    too_many_ = true;
+    return;
+  }
   timeline_.push_back(WireRecord::make(t_ns, wire(), bytes));
 }
 

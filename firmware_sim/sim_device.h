@@ -40,6 +40,10 @@ class SimDevice {
   void set_loop(double period_s);
   /// Sorts the timeline; call after scheduling actions and before drain().
   void finish();
+  /// Limits of a script: times and durations up to kMaxSeconds, at most kMaxRecords records
+  /// (about 28 MB), and a loop period at least the timeline's length and kMinLoopSeconds.
+  static constexpr double kMaxSeconds = 1e5, kMinLoopSeconds = 0.01;
+  static constexpr size_t kMaxRecords = 250000;
 
   /// Calls `on(const WireRecord&)` for records with time <= now_ns, in time order.
   template <class F>
@@ -49,6 +53,10 @@ class SimDevice {
         if (loop_ns_ <= 0) return;
         next_ = 0;
         offset_ns_ += loop_ns_;
+        // Far behind (a stalled show): periods long past are skipped, the last 64 replayed, so
+        // a catch-up costs a bounded amount of work.
+        if (const int64_t behind = (now_ns - offset_ns_ - timeline_.back().t_ns) / loop_ns_; behind > 64)
+          offset_ns_ += (behind - 64) * loop_ns_;
       }
       const WireRecord& r = timeline_[next_];
       if (r.t_ns + offset_ns_ > now_ns) return;
@@ -69,6 +77,7 @@ class SimDevice {
   virtual Result<bool> action(double t, const std::vector<std::string>& w) = 0;
   void emit(int64_t t_ns, std::span<const uint8_t> bytes);
   std::vector<WireRecord> timeline_;
+  bool too_many_ = false;  ///< emit() refused records past kMaxRecords
 
  private:
   size_t next_ = 0;

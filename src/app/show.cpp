@@ -40,12 +40,11 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
     if (s.rate_hz < 1 || s.rate_hz > 1000) throw ShowError{at(path, *n) + ": rate must be 1..1000 Hz"};
   }
   if (auto* n = t.get("iterations")) {
-    s.iterations = int(number(path, *n, "iterations"));
-    if (s.iterations < 1 || s.iterations > 200) throw ShowError{at(path, *n) + ": iterations must be 1..200"};
+    s.iterations = integer(path, *n, "iterations", 1, 200);
   }
   if (auto* n = t.get("min_iterations")) {
-    s.min_iterations = int(number(path, *n, "min_iterations"));
-    if (s.min_iterations < 1 || s.min_iterations > s.iterations)
+    s.min_iterations = integer(path, *n, "min_iterations", 1, 200);
+    if (s.min_iterations > s.iterations)
       throw ShowError{at(path, *n) + ": min_iterations must be 1..iterations"};
   }
   s.min_iterations = std::min(s.min_iterations, s.iterations);
@@ -53,8 +52,8 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
     const toml::table* d = dn->as_table();
     if (!d) throw ShowError{at(path, *dn) + ": [display] must be a table"};
     check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background"}, "[display]");
-    if (auto* n = d->get("width")) s.width = int(number(path, *n, "width"));
-    if (auto* n = d->get("height")) s.height = int(number(path, *n, "height"));
+    if (auto* n = d->get("width")) s.width = integer(path, *n, "width", 16, 8192);
+    if (auto* n = d->get("height")) s.height = integer(path, *n, "height", 16, 8192);
     if (s.width < 16 || s.height < 16 || s.width > 8192 || s.height > 8192)
       throw ShowError{at(path, *dn) + ": display size must be 16..8192"};
     if (auto* n = d->get("fullscreen")) s.fullscreen = boolean(path, *n, "fullscreen");
@@ -343,9 +342,14 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
           ss << in.rdbuf();
           d.script = ss.str();
         }
-        if (auto* n = t.get("bounce_ms")) d.bounce_ms = number(path, *n, "bounce_ms");
-        if (auto* n = t.get("debounce_ms")) d.debounce_ms = number(path, *n, "debounce_ms");
-        if (auto* n = t.get("seed")) d.seed = uint32_t(number(path, *n, "seed"));
+        auto millis = [&](const toml::node& n, const char* what) {  // 0..10 s (ns fit an int64)
+          const double v = number(path, n, what);
+          if (v < 0 || v > 10000) throw ShowError{at(path, n) + ": " + what + " must be 0..10000 ms"};
+          return v;
+        };
+        if (auto* n = t.get("bounce_ms")) d.bounce_ms = millis(*n, "bounce_ms");
+        if (auto* n = t.get("debounce_ms")) d.debounce_ms = millis(*n, "debounce_ms");
+        if (auto* n = t.get("seed")) d.seed = uint32_t(integer(path, *n, "seed", 0, 2147483647));
         s.devices.push_back(std::move(d));
       }
     }

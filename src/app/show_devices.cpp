@@ -114,7 +114,10 @@ void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d)
     }
   }
   if (auto* n = t.get("buttons")) hw.buttons = strings(path, *n, "buttons");
-  if (auto* n = t.get("debounce_ms")) hw.debounce_ms = number(path, *n, "debounce_ms");
+  if (auto* n = t.get("debounce_ms")) {
+    hw.debounce_ms = number(path, *n, "debounce_ms");
+    if (hw.debounce_ms < 0 || hw.debounce_ms > 10000) throw ShowError{at(path, *n) + ": debounce_ms must be 0..10000 ms"};
+  }
   if (auto* n = t.get("host")) hw.host = text(path, *n, "host");
   if (auto* n = t.get("port")) hw.port = integer(path, *n, "port", 1, 65535);
   if (auto* n = t.get("source")) hw.alsa_source = text(path, *n, "source");

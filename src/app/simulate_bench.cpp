@@ -19,7 +19,7 @@ void present_pen_as_evdev(VirtualBench& bench, int dev, const WireRecord& r, int
                           const VirtualBench::Evdev& geom) {
   dec.feed(r, [&](const Event& e) {
     if (e.kind != ControlKind::HidValue) return;
-    const double u = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+    const double u = normalized(e);
     const int64_t t = epoch + r.t_ns;
     switch (e.number) {
       case usage::kX: bench.evdev_event(dev, EV_ABS, ABS_X, int32_t(u * geom.x_max), t); break;

@@ -579,7 +579,11 @@ class SvgLoader {
     auto close = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Close, p)); };
     const Viewport& vp = ctx.vp;
     if (name == "path") {
-      svg::PathData pd = svg::parse_path(n.attribute("d").value());
+      svg::PathData pd = svg::parse_path(n.attribute("d").value(), opt_.max_points - std::min(opt_.max_points, total_points_));
+      if (pd.too_long) {
+        fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
+        return;
+      }
       if (!pd.error.empty()) {
         warn(n, "path data error at character " + std::to_string(pd.error_pos) + ": " + pd.error +
                     " (drawn up to there)");
@@ -682,7 +686,13 @@ class SvgLoader {
   void emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds) {
     const Style& st = ctx.style;
     if (!st.visible || cmds.empty()) return;
-    const std::vector<svg::FlatContour> flat = svg::flatten_path(cmds, ctx.ctm, opt_.tolerance);
+    bool over = false;
+    const std::vector<svg::FlatContour> flat =
+        svg::flatten_path(cmds, ctx.ctm, opt_.tolerance, opt_.max_points - std::min(opt_.max_points, total_points_), &over);
+    if (over) {
+      fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
+      return;
+    }
     SubShape s;
     s.element = std::string(local_name(n));
     s.line = line_of(n);
@@ -779,8 +789,12 @@ Result<Character> load_svg_string(std::string_view text, const std::string& name
 }
 
 Result<Character> load_svg_file(const std::string& path, const SvgOptions& options) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(path, std::ios::binary | std::ios::ate);
   if (!in) return Result<Character>::failure(path + ": cannot open file");
+  if (const std::streamoff size = in.tellg(); size > std::streamoff(options.max_bytes))
+    return Result<Character>::failure(path + ": " + std::to_string(size >> 20) + " MB; an SVG character may have at most " +
+                                      std::to_string(options.max_bytes >> 20) + " MB");
+  in.seekg(0);
   std::ostringstream ss;
   ss << in.rdbuf();
   const std::string text = ss.str();

@@ -12,8 +12,11 @@ struct SvgOptions {
   /// Curves are flattened so no point is farther than this from the true curve,
   /// in output units (document px after the root viewBox).
   double tolerance = 0.1;
-  /// Upper bound on the total number of points; a larger file is rejected as bad input.
+  /// Upper bound on the total number of points; a larger file is rejected as bad input
+  /// (flattening stops there, so memory stays bounded too).
   size_t max_points = 4'000'000;
+  /// Upper bound on the file's size in bytes (64 MB).
+  size_t max_bytes = size_t(64) << 20;
 };
 
 /// Loads an SVG file. Errors (unreadable file, malformed XML, root not <svg>, too

@@ -56,7 +56,7 @@ std::optional<double> read_number(std::string_view s, size_t& pos) {
   return v;
 }
 
-PathData parse_path(std::string_view d) {
+PathData parse_path(std::string_view d, size_t max_commands) {
   PathData out;
   Vec2 cur = Vec2::Zero(), start = Vec2::Zero();
   Vec2 last_c2 = Vec2::Zero();  // for S/s reflection
@@ -80,6 +80,11 @@ PathData parse_path(std::string_view d) {
   while (true) {
     skip_ws(d, pos);
     if (pos >= d.size()) break;
+    if (out.cmds.size() > max_commands) {
+      out.cmds.clear();  // too complex to draw at all: the loader rejects the file
+      out.too_long = true;
+      return fail(pos, "more than " + std::to_string(max_commands) + " path commands");
+    }
     const char c = d[pos];
     const size_t cmd_pos = pos;
     if (std::isalpha(static_cast<unsigned char>(c))) {
@@ -456,16 +461,22 @@ std::vector<unsigned char> base64_decode(std::string_view in) {
   return out;
 }
 
-std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m,
-                                      double tolerance) {
+std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m, double tolerance,
+                                      size_t max_points, bool* over) {
   std::vector<FlatContour> out;
   FlatContour cur;
   Vec2 pen = Vec2::Zero();
+  size_t done = 0;  // points in finished contours
   auto finish = [&]() {
+    done += cur.points.size();
     if (!cur.points.empty()) out.push_back(std::move(cur));
     cur = FlatContour{};
   };
   for (const PathCmd& c : cmds) {
+    if (done + cur.points.size() > max_points) {
+      if (over) *over = true;
+      return {};
+    }
     switch (c.kind) {
       case PathCmd::Move:
         finish();

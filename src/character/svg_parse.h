@@ -6,6 +6,7 @@
 #include "geom/types.h"
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,11 +43,13 @@ struct PathData {
   std::vector<PathCmd> cmds;
   std::string error;       ///< empty when the whole string parsed
   size_t error_pos = 0;    ///< byte offset of the first bad character
+  bool too_long = false;   ///< more commands than allowed (nothing kept)
 };
 
 /// Parses `d` (M L H V C S Q T A Z, absolute and relative, implicit repeats). On error,
-/// keeps everything before the bad command, as SVG's error handling asks.
-PathData parse_path(std::string_view d);
+/// keeps everything before the bad command, as SVG's error handling asks. More than
+/// `max_commands` commands is an error (each draws at least one point).
+PathData parse_path(std::string_view d, size_t max_commands = 4'000'000);
 
 /// Parses a transform list (matrix, translate, scale, rotate with optional centre,
 /// skewX, skewY; whitespace and/or commas). Returns nullopt when malformed.
@@ -100,7 +103,8 @@ struct FlatContour {
 
 /// Transforms path commands by `m` and flattens curves so no point deviates more than
 /// `tolerance` (output units) from the curve. Sub-paths with a single point are dropped.
-std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m,
-                                      double tolerance);
+/// Past `max_points` points it stops and sets `*over` (nothing is returned then).
+std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Affine2& m, double tolerance,
+                                      size_t max_points = SIZE_MAX, bool* over = nullptr);
 
 }  // namespace mar::svg

@@ -34,6 +34,20 @@ struct Event {
   int32_t lo = 0, hi = 0;  ///< logical range of an absolute control (lo == hi: relative)
 };
 
+/// An absolute value as a fraction of its logical range (0 when the range is empty), in double
+/// precision: a range of INT32_MIN..INT32_MAX does not overflow.
+inline double normalized(const Event& e) {
+  return e.hi > e.lo ? (double(e.value) - double(e.lo)) / (double(e.hi) - double(e.lo)) : 0.0;
+}
+
+/// now − since ≥ d, without overflow: device timestamps are whatever a device or a recording
+/// says, up to the int64 limits.
+inline bool elapsed_at_least(int64_t now, int64_t since, int64_t d) {
+  int64_t diff = 0;
+  if (__builtin_sub_overflow(now, since, &diff)) return now > since;
+  return diff >= d;
+}
+
 const char* control_kind_name(ControlKind k);
 
 }  // namespace mar

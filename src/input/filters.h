@@ -23,7 +23,7 @@ struct OneEuro {
       t_ = t_ns;
       return x;
     }
-    const double dt = double(t_ns - t_) * 1e-9;
+    const double dt = (double(t_ns) - double(t_)) * 1e-9;  // (no int64 overflow at the limits)
     t_ = t_ns;
     if (dt <= 0) return x_;
     const double dx = (x - x_) / dt;

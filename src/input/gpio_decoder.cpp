@@ -40,7 +40,7 @@ class GpioDecoder final : public Decoder {
     const size_t b = size_t(-role - 1);
     const int level = r.data[1] ? 1 : 0;
     // Lockout debounce: the first edge counts, chatter within the window is ignored.
-    if (level != button_level_[b] && r.t_ns - button_t_[b] >= gpio_.debounce_ns) {
+    if (level != button_level_[b] && elapsed_at_least(r.t_ns, button_t_[b], gpio_.debounce_ns)) {
       button_level_[b] = level;
       button_t_[b] = r.t_ns;
       Event e = event(r.t_ns, ControlKind::Button);

@@ -52,7 +52,7 @@ uint32_t full_usage(uint32_t value, int size, uint16_t page) {
 
 uint32_t hid_extract_bits(std::span<const uint8_t> data, uint32_t off, uint32_t n) {
   uint32_t v = 0;
-  for (uint32_t i = 0; i < n; ++i) {
+  for (uint32_t i = 0; i < std::min(n, 32u); ++i) {  // (a wider field keeps its low 32 bits)
     const uint32_t bit = off + i;
     if (bit / 8 >= data.size()) break;
     v |= uint32_t((data[bit / 8] >> (bit % 8)) & 1u) << i;
@@ -65,7 +65,7 @@ void hid_insert_bits(std::span<uint8_t> data, uint32_t off, uint32_t n, uint32_t
     const uint32_t bit = off + i;
     if (bit / 8 >= data.size()) break;
     const uint8_t mask = uint8_t(1u << (bit % 8));
-    if ((value >> i) & 1u)
+    if (i < 32 && ((value >> i) & 1u))  // (bits past 32 of a wider field are 0)
       data[bit / 8] |= mask;
     else
       data[bit / 8] &= uint8_t(~mask);

@@ -76,9 +76,9 @@ struct HidDescriptor {
 /// sizes) name the byte offset.
 Result<HidDescriptor> parse_hid_descriptor(std::span<const uint8_t> bytes);
 
-/// Reads `bit_size` bits (<= 32) at `bit_offset`, little-endian, LSB first.
+/// Reads `bit_size` bits at `bit_offset`, little-endian, LSB first (the low 32 of a wider field).
 uint32_t hid_extract_bits(std::span<const uint8_t> data, uint32_t bit_offset, uint32_t bit_size);
-/// Writes `bit_size` bits at `bit_offset` (the inverse of hid_extract_bits).
+/// Writes `bit_size` bits at `bit_offset` (the inverse of hid_extract_bits; bits past 32 are 0).
 void hid_insert_bits(std::span<uint8_t> data, uint32_t bit_offset, uint32_t bit_size, uint32_t value);
 
 constexpr uint32_t hid_usage(uint16_t page, uint16_t id) { return uint32_t(page) << 16 | id; }

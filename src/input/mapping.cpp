@@ -139,9 +139,9 @@ bool Mapping::apply(const Event& e) {
           if (b.tf.relative != RelativeMode::Absolute)
             relative(b, e.value);
           else if (button_target(b.target) || b.tf.toggle || (e.lo == 0 && e.hi == 1))
-            button(b, e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) >= b.tf.threshold : e.value != 0);
+            button(b, e.hi > e.lo ? normalized(e) >= b.tf.threshold : e.value != 0);
           else
-            absolute(b, e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0, e.t_ns);
+            absolute(b, normalized(e), e.t_ns);
         }
         break;
       case ControlSpec::Encoder:
@@ -159,9 +159,9 @@ bool Mapping::apply(const Event& e) {
       case ControlSpec::Pointer:
         if (e.kind != ControlKind::HidValue) break;
         if (e.number == c.px) {
-          b.px = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+          b.px = normalized(e);
         } else if (e.number == c.py) {
-          b.py = e.hi > e.lo ? double(e.value - e.lo) / (e.hi - e.lo) : 0;
+          b.py = normalized(e);
         } else if (e.number == c.ptip) {
           const bool was = b.tip;
           b.tip = e.value != 0;

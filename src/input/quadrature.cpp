@@ -1,5 +1,7 @@
 #include "input/quadrature.h"
 
+#include "input/event.h"
+
 namespace mar {
 namespace {
 // Gray index of state (A << 1 | B): 00 -> 0, 01 -> 1, 11 -> 2, 10 -> 3.
@@ -35,7 +37,7 @@ int QuadratureDecoder::apply(int line, bool level, int64_t t) {
 int QuadratureDecoder::settle(int64_t now_ns) {
   int sum = 0;
   for (int line = 0; line < 2; ++line)
-    if (raw_[line] != level_[line] && now_ns - raw_t_[line] >= debounce_ns_) sum += apply(line, raw_[line], raw_t_[line]);
+    if (raw_[line] != level_[line] && elapsed_at_least(now_ns, raw_t_[line], debounce_ns_)) sum += apply(line, raw_[line], raw_t_[line]);
   return sum;
 }
 

@@ -195,3 +195,32 @@ return = 0.3
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// Numbers that become integers or nanoseconds are range-checked before any cast: 1e300 iterations,
+// a negative seed or a year of debounce are errors with file:line, never undefined behaviour.
+TEST(Show, HugeOrNegativeNumbersAreRefusedBeforeTheyAreCast) {
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"[show]\nrig = \"r.toml\"\niterations = 1e300\n", ":3: iterations must be an integer 1..200"},
+      {"[show]\nrig = \"r.toml\"\nmin_iterations = -5\n", ":3: min_iterations must be an integer 1..200"},
+      {"[show]\nrig = \"r.toml\"\n[display]\nwidth = 1e20\n", ":4: width must be an integer 16..8192"},
+      {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\nseed = -1\n", ":6: seed must be an integer 0..2147483647"},
+      {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\nbounce_ms = 1e300\n", ":6: bounce_ms must be 0..10000 ms"},
+      {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\ndebounce_ms = 3.2e10\n", ":6: debounce_ms must be 0..10000 ms"},
+  };
+  for (const Case& c : cases) {
+    const std::string path = test::write_temp("huge.toml", c.text);
+    auto s = load_show(path, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+    ASSERT_FALSE(s.ok()) << c.text;
+    EXPECT_NE(s.error.find(path + c.expect), std::string::npos) << s.error;
+  }
+}
+
+}  // namespace
+}  // namespace mar

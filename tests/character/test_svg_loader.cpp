@@ -1,6 +1,8 @@
 #include "character/color.h"
 #include "character/svg_loader.h"
+#include "character/svg_parse.h"
 #include "geom/polygon.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -306,6 +308,30 @@ TEST(load_svg, TooComplexFileIsRejected) {
   auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\">" + body + "</svg>", "big.svg", o);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error.find("too complex"), std::string::npos);
+}
+
+// One huge path stops at the point budget while it is flattened (memory stays bounded), a path
+// with more commands than the budget is refused while it is parsed, and a file past the size limit
+// is refused before it is read.
+TEST(load_svg, HugePathsAndFilesAreRefusedWithinTheirLimits) {
+  std::string d = "M0 0";
+  for (int i = 0; i < 3000; ++i) d += " L" + std::to_string(i % 97) + " " + std::to_string(i % 89);
+  SvgOptions o;
+  o.max_points = 1000;
+  auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"" + d + "\"/></svg>", "long.svg", o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("long.svg:1: <path>: more than 1000 points"), std::string::npos) << r.error;
+  const svg::PathData pd = svg::parse_path(d, 500);
+  EXPECT_NE(pd.error.find("more than 500 path commands"), std::string::npos) << pd.error;
+  EXPECT_TRUE(pd.cmds.empty());
+  bool over = false;
+  EXPECT_TRUE(svg::flatten_path(svg::parse_path(d).cmds, Affine2::identity(), 0.1, 100, &over).empty());
+  EXPECT_TRUE(over);
+  const std::string big = test::write_temp("big.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\">" + std::string(4096, ' ') + "</svg>");
+  o.max_bytes = 1024;
+  r = load_svg_file(big, o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("an SVG character may have at most"), std::string::npos) << r.error;
 }
 
 TEST(load_svg, ExampleCharactersHaveOverlappingPartsAndOpenStrokes) {

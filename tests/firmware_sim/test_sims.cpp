@@ -75,6 +75,33 @@ TEST(MidiControllerSim, ScriptErrorsNameTheLine) {
   EXPECT_FALSE(sim.load_script("0 wiggle fader1").ok());
 }
 
+// A script's limits: times and durations past 100,000 s, more than 250,000 records, and a loop
+// shorter than the script or than 10 ms are errors naming the line; nothing of it is kept.
+TEST(SimDevice, ScriptLimitsAreErrorsWithTheLine) {
+  MidiControllerSim m;
+  auto r = m.load_script("0 move fader1 0\n1e300 move fader1 1\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("line 2: a time or duration past 100000 s"), std::string::npos) << r.error;
+  r = m.load_script("0 move fader1 1 over 1e9\n");
+  EXPECT_NE(r.error.find("line 1: a time or duration past"), std::string::npos) << r.error;
+  r = m.load_script("0 press play\nloop 0.001\n");
+  EXPECT_NE(r.error.find("line 2: expected 'loop SECONDS' with SECONDS >= 0.01"), std::string::npos) << r.error;
+  r = m.load_script("0 press play\n3 press stop\nloop 1\n");
+  EXPECT_NE(r.error.find("the period is shorter than the script"), std::string::npos) << r.error;
+  EXPECT_TRUE(m.timeline().empty());
+  KnobBoxSim k;
+  r = k.load_script("0 turn 1 1000000 over 10\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("more than 250000 records"), std::string::npos) << r.error;
+  EXPECT_TRUE(k.timeline().empty());
+  // A loop far behind (a show stalled for an hour) replays at most 64 periods at once.
+  ASSERT_TRUE(m.load_script("0 press play for 0.001\nloop 0.01\n").ok());
+  int n = 0;
+  m.drain(to_ns(3600), [&](const WireRecord&) { ++n; });
+  EXPECT_LE(n, 2 * 67);
+  EXPECT_GE(n, 2 * 64);
+}
+
 TEST(KnobBoxSim, TwentyFourDetentsWithBounceDecodeExactly) {
   for (double bounce : {0.0, 1.0, 5.0}) {
     KnobBoxSim sim(bounce, 42);

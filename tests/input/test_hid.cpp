@@ -1,10 +1,13 @@
 // HID report descriptor parser against an independent parser (hid-tools): the layout of
 // every input report of all 247 corpus descriptors, field by field; and the PenPartner
 // recording decoded value by value.
+#include "input/event.h"
 #include "input/hid.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <cstdint>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -242,6 +245,32 @@ TEST(Hid, SignedFieldsExtendAndInsertRoundTrips) {
   ASSERT_TRUE(f.value(buf, 0, v));
   EXPECT_EQ(v, int32_t(0xABC) - 4096);
   EXPECT_FALSE(f.value(std::span<const uint8_t>(buf).first(1), 0, v));
+}
+
+// A descriptor may declare fields up to 1,024 bits wide: the bit reader keeps the low 32 and the
+// writer clears the rest (no shift past 31 bits: the sanitizer build checks).
+TEST(Hid, FieldsWiderThan32BitsKeepTheirLow32) {
+  std::vector<uint8_t> buf(8, 0xFF);
+  hid_insert_bits(buf, 4, 40, 0x89ABCDEFu);
+  EXPECT_EQ(hid_extract_bits(buf, 4, 40), 0x89ABCDEFu);
+  EXPECT_EQ(hid_extract_bits(buf, 36, 8), 0u);    // bits 32..39 of the field: cleared
+  EXPECT_EQ(hid_extract_bits(buf, 44, 4), 0xFu);  // past the field: untouched
+  EXPECT_EQ(hid_extract_bits(buf, 0, 1024), hid_extract_bits(buf, 0, 32));
+}
+
+// A logical range of INT32_MIN..INT32_MAX normalises without overflow.
+TEST(Hid, TheWidestLogicalRangeNormalises) {
+  Event e;
+  e.lo = INT32_MIN;
+  e.hi = INT32_MAX;
+  e.value = INT32_MAX;
+  EXPECT_DOUBLE_EQ(normalized(e), 1.0);
+  e.value = INT32_MIN;
+  EXPECT_DOUBLE_EQ(normalized(e), 0.0);
+  e.value = 0;
+  EXPECT_NEAR(normalized(e), 0.5, 1e-9);
+  e.lo = e.hi = 5;
+  EXPECT_EQ(normalized(e), 0.0);
 }
 
 }  // namespace

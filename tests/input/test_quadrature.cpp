@@ -1,9 +1,14 @@
 // Quadrature decoding of real and synthetic encoder captures (exact counts from the corpus
 // README), also with synthetic contact bounce injected.
 #include "input/quadrature.h"
+#include "input/filters.h"
+#include "input/event.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
 
 #include <fstream>
 #include <random>
@@ -179,6 +184,25 @@ TEST(Quadrature, DetentsAndDebounceFilter) {
   f.settle(100'000'000);
   EXPECT_EQ(f.take_detents(), 2);
   EXPECT_EQ(f.position(), 8);
+}
+
+// Device timestamps are whatever a device or a recording says: at the int64 limits the debounce
+// compares without overflow (the sanitizer build checks), and a One Euro filter stays finite.
+TEST(Quadrature, TimestampsAtTheInt64LimitsDoNotOverflow) {
+  EXPECT_TRUE(elapsed_at_least(INT64_MAX, INT64_MIN, 2'000'000));
+  EXPECT_FALSE(elapsed_at_least(INT64_MIN, INT64_MAX, 0));
+  EXPECT_TRUE(elapsed_at_least(INT64_MAX, INT64_MAX - 5, 5));
+  EXPECT_FALSE(elapsed_at_least(INT64_MAX, INT64_MAX - 4, 5));
+  QuadratureDecoder q(4, 2'000'000);
+  q.edge({INT64_MIN, 0, 0});
+  q.edge({INT64_MIN + 1, 1, 0});
+  q.settle(INT64_MAX);
+  q.edge({INT64_MAX, 0, 1});
+  q.settle(INT64_MAX);
+  OneEuro f;
+  f.enabled = true;
+  EXPECT_EQ(f.filter(0.25, INT64_MIN), 0.25);
+  EXPECT_TRUE(std::isfinite(f.filter(0.75, INT64_MAX)));
 }
 
 }  // namespace
