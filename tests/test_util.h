@@ -46,11 +46,12 @@ struct RunResult {
   std::string err;
 };
 
-/// Runs the marionette binary with `args` (a shell-quoted string).
-inline RunResult run_cli(const std::string& args) {
+/// Runs the marionette binary with `args` (a shell-quoted string); `env`: "NAME=value ..." set
+/// for it alone.
+inline RunResult run_cli(const std::string& args, const std::string& env = "") {
   const auto dir = temp_dir("run");
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string cmd = std::string("'") + MARIONETTE_BINARY + "' " + args + " >'" + out.string() +
+  const std::string cmd = env + (env.empty() ? "" : " ") + "'" + MARIONETTE_BINARY + "' " + args + " >'" + out.string() +
                           "' 2>'" + err.string() + "'";
   const int status = std::system(cmd.c_str());
   RunResult r;

@@ -370,7 +370,10 @@ void LiveShow::render() {
   }
 }
 
-void LiveShow::present() { canvas_->present(); }
+void LiveShow::present() {
+  canvas_->present();
+  if (service_) service_->frame_presented();
+}
 
 void LiveShow::finish(int64_t t_ns, double compute_us) {
   if (!opt_.dump_dir.empty() && stats_.frames % std::max(1, opt_.every) == 0) {
@@ -479,6 +482,8 @@ int LiveShow::run() {
               << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened
   install_quit_handler();
+  service_ = std::make_unique<ServiceNotifier>();
+  if (!service_->active()) service_.reset();
   pacer_.start();
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || stats_.frames < limit)) {
     int64_t t = pacer_.time_of(stats_.frames);

@@ -10,6 +10,7 @@
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
 #include "app/loop/recording.h"
+#include "app/loop/service.h"
 #include "app/loop/run_stats.h"
 #include "app/puppet.h"
 #include "interp/interpolation.h"
@@ -147,6 +148,7 @@ class LiveShow {
   // the run
   Pacer pacer_{1.0 / 60, false};
   RunStats stats_;
+  std::unique_ptr<ServiceNotifier> service_;      ///< under systemd: READY, then WATCHDOG while frames come
   uint64_t allocs_ = 0, alloc_base_ = 0;
   std::atomic<bool> stop_{false};
   bool quit_ = false, learned_ = false;
