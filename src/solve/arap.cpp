@@ -279,13 +279,18 @@ void OutlineArap::global_step(std::span<const Vec2> targets) {
       by_[size_t(perm[b.v[k]])] += w * b.w[k] * c.y();
     }
   };
+  // A target that is not a number (a broken control, a bad file) holds its handle where it is.
+  auto target = [&](const Bary& b, const Vec2& t) { return t.allFinite() ? t : eval(b); };
   const size_t m = std::min(targets.size(), handles_.size());
-  for (size_t h = 0; h < m; ++h) add_handle(handles_[h], targets[h], position_);
+  for (size_t h = 0; h < m; ++h) add_handle(handles_[h], target(handles_[h], targets[h]), position_);
   const bool grab = grab_active_ && targets.size() > handles_.size();
-  if (grab) add_handle(grab_, targets[handles_.size()], position_);
+  if (grab) add_handle(grab_, target(grab_, targets[handles_.size()]), position_);
   factor_.solve_permuted(bx_.data(), by_.data());
   if (grab) grab_update_.correct(factor_, bx_.data(), by_.data());
-  for (size_t i = 0; i < x_.size(); ++i) x_[i] = Vec2(bx_[size_t(perm[i])], by_[size_t(perm[i])]);
+  for (size_t i = 0; i < x_.size(); ++i) {
+    const Vec2 v(bx_[size_t(perm[i])], by_[size_t(perm[i])]);
+    if (v.allFinite()) x_[i] = v;  // (overflow near the double limits keeps the last pose)
+  }
 }
 
 void OutlineArap::solve(std::span<const Vec2> targets, int iterations) {

@@ -222,8 +222,9 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
   for (size_t i = 0; i < n; ++i)
     if (pull_[i] != 0) add(int(i), pull_[i] * x_[i]);
   const size_t m = std::min(targets.size(), handles_.size());
-  auto handle = [&](const Embed& h, const Vec2& t) {
-    for (int k = 0; k < h.n; ++k) add(h.v[k], w_p_ * h.w[k] * t);
+  auto handle = [&](const Embed& h, const Vec2& t) {  // a target that is not a number holds its handle
+    const Vec2 at = t.allFinite() ? t : eval(h);
+    for (int k = 0; k < h.n; ++k) add(h.v[k], w_p_ * h.w[k] * at);
   };
   for (size_t h = 0; h < m; ++h) handle(handles_[h], targets[h]);
   const bool grab = grab_active_ && targets.size() > handles_.size();

@@ -106,6 +106,17 @@ TEST(OutlineArap, DegenerateTargetsGiveNoNaN) {
   t.assign(f.rest.size(), Vec2(1e12, -1e12));
   f.s.solve(t, 5);
   for (const Vec2& v : f.s.vertices()) ASSERT_TRUE(std::isfinite(v.x()) && std::isfinite(v.y()));
+  // A target that is not a number holds its handle; the others still follow (found by
+  // bench_extreme: one NaN target used to turn the whole pose NaN for good).
+  f.s.reset_to_rest();
+  t = f.rest;
+  t[0] = Vec2(NAN, 60);
+  t[1] = Vec2(INFINITY, -INFINITY);
+  t[4] = f.rest[4] + Vec2(30, -40);
+  f.s.solve(t, 50);
+  for (const Vec2& v : f.s.vertices()) ASSERT_TRUE(std::isfinite(v.x()) && std::isfinite(v.y()));
+  EXPECT_LT((f.s.handle_point(4) - t[4]).norm(), 5.0);
+  EXPECT_LT((f.s.handle_point(0) - f.rest[0]).norm(), 15.0);
 }
 
 TEST(OutlineArap, ThePositionWeightIsALiveParameter) {

@@ -349,6 +349,14 @@ TEST(RigidGrid, DegenerateInputGivesNoNaN) {
   f.s.initial_guess(t);
   f.s.solve(t, 5);
   EXPECT_TRUE(finite());
+  // One target that is not a number holds its handle; the others still follow.
+  f.s.reset_to_rest();
+  t = f.rest;
+  t[0] = Vec2(NAN, 60);
+  t[4] = f.rest[4] + Vec2(30, -40);
+  f.s.solve(t, 100);
+  EXPECT_TRUE(finite());
+  EXPECT_LT((f.s.handle_point(4) - t[4]).norm(), 8.0);
   // A speck, two handles at one rest point, a single stroke of two points.
   for (const std::vector<Vec2>& pts :
        std::vector<std::vector<Vec2>>{{{0, 0}, {1e-9, 0}, {0, 1e-9}}, {{0, 0}, {10, 0}, {10, 10}, {0, 10}}}) {
