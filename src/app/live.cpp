@@ -41,6 +41,45 @@ LiveShow::~LiveShow() {
   devices_.reset();
 }
 
+namespace {
+
+// What a show's names resolve against once its rig is loaded (load_show's RigLoader): the
+// puppet's handles, the loop's and the solver's settings, the key poses, swap sets and triggers.
+ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
+  ShowRig rig;
+  for (const auto& h : p.rig.handles) rig.handles.push_back(h.name);
+  rig.rest = p.rest_targets();
+  rig.diag = p.diagonal;
+  rig.settings.push_back({"iterations", std::pair<double, double>(header.min_iterations, header.iterations)});
+  for (const SolverParameter& sp : p.solver->parameters()) rig.settings.push_back({sp.name, std::nullopt});
+  // Key poses: morph.FROM.TO for every ordered pair of rest and the keys, blend.KEY per key.
+  if (p.feature_frame() && !p.rig.keys.empty()) {
+    std::vector<std::string> names{"rest"};
+    for (const RigKey& k : p.rig.keys) names.push_back(k.name);
+    for (size_t a = 0; a < names.size(); ++a)
+      for (size_t b = 0; b < names.size(); ++b)
+        if (a != b) rig.settings.push_back({"morph." + names[a] + "." + names[b], std::pair<double, double>(0, 1)});
+    for (const RigKey& k : p.rig.keys) rig.settings.push_back({"blend." + k.name, std::pair<double, double>(0, 1)});
+    for (const RigKey& k : p.rig.keys) rig.keys.push_back(k.name);
+  }
+  for (const RigSwap& sw : p.rig.swaps) rig.swaps.push_back({sw.name, sw.members});
+  for (const RigTrigger& tr : p.rig.triggers) rig.triggers.push_back(tr.name);
+  return rig;
+}
+
+}  // namespace
+
+std::string LiveShow::validate(const std::string& path) {
+  std::unique_ptr<Puppet> puppet;
+  auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
+    auto p = load_puppet(header.character, header.rig);
+    if (!p.ok()) return Result<ShowRig>::failure(p.error);
+    puppet = std::move(*p.value);
+    return Result<ShowRig>::success(show_rig(*puppet, header));
+  });
+  return show.ok() ? std::string() : show.error;
+}
+
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o) {
   using R = Result<std::unique_ptr<LiveShow>>;
   std::unique_ptr<LiveShow> s(new LiveShow());
@@ -55,26 +94,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     const Puppet& p = *s->puppet_;
     if (!s->opt_.quiet)
       for (const std::string& w : p.character.warnings) std::cerr << "warning: " << w << "\n";
-    ShowRig rig;
-    for (const auto& h : p.rig.handles) rig.handles.push_back(h.name);
-    rig.rest = p.rest_targets();
-    rig.diag = p.diagonal;
-    rig.settings.push_back({"iterations", std::pair<double, double>(header.min_iterations, header.iterations)});
     params = p.solver->parameters();
-    for (const SolverParameter& sp : params) rig.settings.push_back({sp.name, std::nullopt});
-    // Key poses: morph.FROM.TO for every ordered pair of rest and the keys, blend.KEY per key.
-    if (p.feature_frame() && !p.rig.keys.empty()) {
-      std::vector<std::string> names{"rest"};
-      for (const RigKey& k : p.rig.keys) names.push_back(k.name);
-      for (size_t a = 0; a < names.size(); ++a)
-        for (size_t b = 0; b < names.size(); ++b)
-          if (a != b) rig.settings.push_back({"morph." + names[a] + "." + names[b], std::pair<double, double>(0, 1)});
-      for (const RigKey& k : p.rig.keys) rig.settings.push_back({"blend." + k.name, std::pair<double, double>(0, 1)});
-      for (const RigKey& k : p.rig.keys) rig.keys.push_back(k.name);
-    }
-    for (const RigSwap& sw : p.rig.swaps) rig.swaps.push_back({sw.name, sw.members});
-    for (const RigTrigger& tr : p.rig.triggers) rig.triggers.push_back(tr.name);
-    return Result<ShowRig>::success(std::move(rig));
+    return Result<ShowRig>::success(show_rig(p, header));
   });
   if (!show.ok()) return R::failure(show.error);
   s->show_ = std::move(*show.value);
@@ -482,10 +503,13 @@ int LiveShow::run() {
               << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened
   install_quit_handler();
-  service_ = std::make_unique<ServiceNotifier>();
-  if (!service_->active()) service_.reset();
   pacer_.start();
+  reload_asked_ = false;
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || stats_.frames < limit)) {
+    if (take_reload_request()) {  // SIGHUP: the caller reads the show file again
+      reload_asked_ = true;
+      break;
+    }
     int64_t t = pacer_.time_of(stats_.frames);
     if (playback_) {
       int it = governor_.iterations();

@@ -38,9 +38,11 @@ struct RunOptions {
   int warmup = 30;           ///< frames before allocations are counted
 };
 
-/// SIGINT/SIGTERM end the show cleanly (stats are still written).
+/// SIGINT/SIGTERM end the show cleanly (stats are still written); SIGHUP asks for the show file
+/// to be read again (take_reload_request; `marionette run` validates it first).
 void install_quit_handler();
 bool quit_requested();
+bool take_reload_request();
 
 /// Counts heap allocations in the program (set by main; tests install their own).
 using AllocationCounter = uint64_t (*)();
@@ -49,6 +51,14 @@ void set_allocation_counter(AllocationCounter f);
 class LiveShow {
  public:
   static Result<std::unique_ptr<LiveShow>> load(const std::string& show_path, const RunOptions& o);
+  /// Reads and checks a show file as load() would — the show, its rig, its character, every
+  /// binding — without opening a device or a window. Empty when it would load.
+  static std::string validate(const std::string& show_path);
+  /// run() returned because SIGHUP asked for the show file again.
+  bool reload_asked() const { return reload_asked_; }
+  /// Under a service manager: presented frames are counted for its watchdog (the caller owns it
+  /// across reloads).
+  void set_service(ServiceNotifier* s) { service_ = s; }
   ~LiveShow();
   /// Runs one frame at show time `t_ns` (virtual in headless, monotonic in a window).
   void frame(int64_t t_ns);
@@ -148,10 +158,10 @@ class LiveShow {
   // the run
   Pacer pacer_{1.0 / 60, false};
   RunStats stats_;
-  std::unique_ptr<ServiceNotifier> service_;      ///< under systemd: READY, then WATCHDOG while frames come
+  ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
   uint64_t allocs_ = 0, alloc_base_ = 0;
   std::atomic<bool> stop_{false};
-  bool quit_ = false, learned_ = false;
+  bool quit_ = false, learned_ = false, reload_asked_ = false;
 };
 
 }  // namespace mar

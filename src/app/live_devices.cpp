@@ -12,16 +12,19 @@
 namespace mar {
 namespace {
 
-std::atomic<bool> g_quit{false};
+std::atomic<bool> g_quit{false}, g_reload{false};
 void on_signal(int) { g_quit = true; }
+void on_hangup(int) { g_reload = true; }
 
 }  // namespace
 
 void install_quit_handler() {
   std::signal(SIGINT, on_signal);
   std::signal(SIGTERM, on_signal);
+  std::signal(SIGHUP, on_hangup);
 }
 bool quit_requested() { return g_quit.load(); }
+bool take_reload_request() { return g_reload.exchange(false); }
 
 std::string LiveShow::open_devices() {
   // Every show device is a source in one DeviceSet (source = show device index): hardware

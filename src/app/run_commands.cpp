@@ -107,7 +107,29 @@ int cmd_run(const RunArgs& a) {
     std::cerr << "error: " << show.error << "\n";
     return kExitBadInput;
   }
-  return (*show.value)->run();
+  std::unique_ptr<LiveShow> live = std::move(*show.value);
+  ServiceNotifier service;  // systemd's notify protocol, when it runs the show
+  if (service.active()) live->set_service(&service);
+  while (true) {
+    const int rc = live->run();
+    if (!live->reload_asked()) return rc;
+    // SIGHUP (systemctl reload): the edited show file is checked first; a bad edit keeps the
+    // running show and says what is wrong with file:line.
+    if (const std::string err = LiveShow::validate(a.show); !err.empty()) {
+      std::cerr << "error: " << err << " (reload refused; the running show goes on)" << std::endl;
+      continue;
+    }
+    service.reloading();
+    live.reset();  // let go of the devices and the window first
+    auto next = LiveShow::load(a.show, o);
+    if (!next.ok()) {
+      std::cerr << "error: " << next.error << "\n";
+      return kExitBadInput;
+    }
+    live = std::move(*next.value);
+    if (service.active()) live->set_service(&service);
+    std::cerr << "reloaded " << a.show << std::endl;
+  }
 }
 
 }  // namespace mar

@@ -7,8 +7,15 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <cmath>
+#include <csignal>
 #include <fstream>
+#include <thread>
 
 namespace mar {
 namespace {
@@ -610,6 +617,57 @@ TEST(Live, SingerShowSwapsTriggersAndRecallsPosesSmoothly) {
   EXPECT_EQ(bad_show.exit_code, 2);
   EXPECT_NE(bad_show.err.find("no swap set member 'mouth.mouth-u' (mouth.mouth-smile, mouth.mouth-a"), std::string::npos)
       << bad_show.err;
+}
+
+// SIGHUP reads the show file again: a bad edit is refused with file:line and the running show
+// goes on; a good one is loaded; SIGTERM still ends the show cleanly.
+TEST(Live, SighupReloadsAValidShowAndKeepsTheRunningOneOnABadEdit) {
+  const auto dir = test::temp_dir("reload");
+  const std::string show = (dir / "show.toml").string();
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  auto write = [&](const std::string& target) {
+    std::ofstream(show) << "[show]\nrig = \"" << rig
+                        << "\"\n[[device]]\nname = \"k\"\nsim = \"nanokontrol2\"\nscript = \"0 move knob1 1 over 0.5\"\n"
+                           "[[binding]]\ndevice = \"k\"\ncontrol = \"cc 16\"\ntarget = \""
+                        << target << "\"\n";
+  };
+  write("handle.head.x");
+  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string();
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int o = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644), e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(o, 1);
+    ::dup2(e, 2);
+    ::execl(MARIONETTE_BINARY, MARIONETTE_BINARY, "run", show.c_str(), "--headless", "--frames", "100000000", nullptr);
+    ::_exit(127);
+  }
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  auto wait_for = [&](const std::string& path, const std::string& what) {  // generous: a busy machine is slow
+    for (int k = 0; k < 600; ++k) {
+      if (slurp(path).find(what) != std::string::npos) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  };
+  const bool started = wait_for(out, "running");
+  if (started) {
+    write("handle.nose.x");  // no such handle
+    ::kill(pid, SIGHUP);
+    EXPECT_TRUE(wait_for(err, "reload refused")) << slurp(err);
+    EXPECT_NE(slurp(err).find(show + ":10: the rig has no handle 'nose'"), std::string::npos) << slurp(err);
+    write("handle.head.y");
+    ::kill(pid, SIGHUP);
+    EXPECT_TRUE(wait_for(err, "reloaded " + show)) << slurp(err);
+  }
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(started) << slurp(err);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status << " " << slurp(err);
 }
 
 }  // namespace

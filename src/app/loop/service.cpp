@@ -26,6 +26,12 @@ ServiceNotifier::~ServiceNotifier() {
   sd_notify(0, "STOPPING=1");
 }
 
+void ServiceNotifier::reloading() {
+  if (!thread_.joinable()) return;
+  sd_notify(0, "RELOADING=1");
+  rearm_.store(true);
+}
+
 void ServiceNotifier::loop() {
   // Until the first frame: look every 20 ms. Then ping at half the watchdog interval when the
   // frame count moved since the last look.
@@ -36,6 +42,7 @@ void ServiceNotifier::loop() {
     const auto wait = ready && watchdog_usec_ > 0 ? std::chrono::microseconds(watchdog_usec_ / 2)
                                                  : std::chrono::microseconds(ready ? 1'000'000 : 20'000);
     cv_.wait_for(lock, wait, [&] { return stop_; });
+    if (rearm_.exchange(false)) ready = false, frames_.store(0);
     const uint64_t now = frames_.load(std::memory_order_relaxed);
     if (stop_) {
       if (!ready && now > 0) sd_notify(0, "READY=1");  // a show shorter than one look

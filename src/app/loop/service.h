@@ -26,6 +26,8 @@ class ServiceNotifier {
 
   /// The frame thread: a frame was presented.
   void frame_presented() { frames_.fetch_add(1, std::memory_order_relaxed); }
+  /// The show file is being read again: RELOADING=1 now, READY=1 after the next frame.
+  void reloading();
   bool active() const { return thread_.joinable(); }
   /// The watchdog interval (µs), 0 when systemd set none.
   uint64_t watchdog_usec() const { return watchdog_usec_; }
@@ -33,6 +35,7 @@ class ServiceNotifier {
  private:
   void loop();
   std::atomic<uint64_t> frames_{0};
+  std::atomic<bool> rearm_{false};
   uint64_t watchdog_usec_ = 0;
   std::mutex m_;
   std::condition_variable cv_;
