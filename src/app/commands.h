@@ -92,6 +92,7 @@ struct RunArgs {
   std::string stats, record, dump_frames, learn, replay;
   int every = 1;
   bool simulate = false;
+  bool kiosk = false;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

@@ -103,7 +103,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   Puppet& p = *s->puppet_;
   s->pacer_ = Pacer(1.0 / (o.rate > 0 ? o.rate : sh.rate_hz), false);
   s->governor_ = Governor(sh.iterations, sh.min_iterations);
-  s->hud_ = sh.hud;
+  if (o.kiosk) sh.kiosk.enabled = true;
+  s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_color(sh.background)) s->background_ = *c;
 
   Mapping& m = s->mapping_;
@@ -210,8 +211,9 @@ bool LiveShow::open_output(std::string* err) {
   const ShowConfig& sh = show_;
   if (!opt_.headless && display_present()) {
     auto w = Canvas::window("marionette - " + std::filesystem::path(sh.path).stem().string(), sh.width, sh.height,
-                            sh.fullscreen, false);
+                            sh.fullscreen || sh.kiosk.enabled, false, sh.kiosk.enabled ? sh.kiosk.display : -1);
     if (w.ok()) canvas_ = std::move(*w.value);
+    if (canvas_ && sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);
     else if (!opt_.quiet) std::cerr << "warning: no window (" << w.error << "); running headless\n";
   }
   if (!canvas_) {
@@ -458,11 +460,11 @@ void LiveShow::replay_device(uint16_t src, std::span<const uint8_t> description)
 bool LiveShow::handle_window_events() {
   SDL_Event ev;
   while (SDL_PollEvent(&ev)) {
-    if (ev.type == SDL_QUIT) quit_ = true;
+    if (ev.type == SDL_QUIT && !show_.kiosk.enabled) quit_ = true;  // (a kiosk's window is not closed by a visitor)
     if (ev.type == SDL_KEYDOWN) {
-      const auto k = ev.key.keysym.sym;
-      if (k == SDLK_ESCAPE || k == SDLK_q) quit_ = true;
-      if (k == SDLK_h) hud_ = !hud_;
+      const WindowKey k = window_key(show_.kiosk, ev.key.keysym.sym, ev.key.keysym.mod);
+      if (k == WindowKey::Quit) quit_ = true;
+      if (k == WindowKey::ToggleHud) hud_ = !hud_;
     }
   }
   return !quit_;
@@ -498,7 +500,8 @@ int LiveShow::run() {
   if (limit < 0 && opt_.headless && !playback_ && scripted)
     limit = long(std::ceil((double(end_ns) * 1e-9 + (has_hardware_ ? 0.5 : 0)) / period)) + 1;
   if (!opt_.quiet)
-    std::cout << (playback_ ? "replaying " : "running ") << show_.path << (opt_.headless ? " headless" : " in a window")
+    std::cout << (playback_ ? "replaying " : "running ") << show_.path
+              << (!canvas_->is_window() ? " headless" : show_.kiosk.enabled ? " in a kiosk window" : " in a window")
               << " at " << std::lround(1.0 / period) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
               << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened

@@ -35,6 +35,7 @@ struct RunOptions {
   bool simulate = false;     ///< present hardware devices' simulators at the kernel interface (umockdev)
   int every = 1;
   bool quiet = false;
+  bool kiosk = false;        ///< as the show's [kiosk] (run --kiosk)
   int warmup = 30;           ///< frames before allocations are counted
 };
 

@@ -78,6 +78,8 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand("run", "Run a live show (window, or headless with --headless or no display)");
   run_cmd->add_option("show", run.show, "Show file (TOML)")->required();
   run_cmd->add_flag("--headless", run.headless, "Offscreen with a fixed-rate clock");
+  run_cmd->add_flag("--kiosk", run.kiosk,
+                    "Unattended: fullscreen, cursor hidden, no HUD, no quit keys (the show's [kiosk] exit_chord or a signal ends it)");
   run_cmd->add_option("--frames", run.frames, "Stop after N frames (headless default: until the scripts end)");
   run_cmd->add_option("--rate", run.rate, "Frame rate in Hz (default: the show's)");
   run_cmd->add_option("--stats", run.stats, "Write frame statistics as JSON");

@@ -102,6 +102,7 @@ int cmd_run(const RunArgs& a) {
   o.learn = a.learn;
   o.replay_path = a.replay;
   o.simulate = a.simulate;
+  o.kiosk = a.kiosk;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

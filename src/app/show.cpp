@@ -2,6 +2,7 @@
 #include "app/show_toml.h"
 #include "input/hid_usages.h"
 
+#include <SDL2/SDL.h>
 #include <toml++/toml.h>
 
 #include <cmath>
@@ -27,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "device", "binding", "group", "pose"}, "the show file");
+  check_keys(path, root, {"show", "display", "kiosk", "device", "binding", "group", "pose"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -59,6 +60,18 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
     if (auto* n = d->get("fullscreen")) s.fullscreen = boolean(path, *n, "fullscreen");
     if (auto* n = d->get("hud")) s.hud = boolean(path, *n, "hud");
     if (auto* n = d->get("background")) s.background = text(path, *n, "background");
+  }
+  if (const toml::node* kn = root.get("kiosk")) {
+    const toml::table* k = kn->as_table();
+    if (!k) throw ShowError{at(path, *kn) + ": [kiosk] must be a table"};
+    check_keys(path, *k, {"enabled", "display", "exit_chord"}, "[kiosk]");
+    s.kiosk.enabled = true;
+    if (auto* n = k->get("enabled")) s.kiosk.enabled = boolean(path, *n, "enabled");
+    if (auto* n = k->get("display")) s.kiosk.display = integer(path, *n, "display", 0, 15);
+    if (auto* n = k->get("exit_chord")) {
+      s.kiosk.exit_chord = text(path, *n, "exit_chord");
+      if (auto r = parse_chord(s.kiosk.exit_chord, s.kiosk.key, s.kiosk.mod); !r.ok()) throw ShowError{at(path, *n) + ": " + r.error};
+    }
   }
 }
 
@@ -281,6 +294,41 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
   return R::failure("unknown target '" + t +
                     "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, solver.SETTING, morph.A.B, blend.KEY, swap.SET.MEMBER, "
                     "trigger.NAME)");
+}
+
+Result<bool> parse_chord(const std::string& text, int32_t& key, uint16_t& mod) {
+  using R = Result<bool>;
+  key = 0;
+  mod = 0;
+  size_t a = 0;
+  while (true) {
+    const size_t b = text.find('+', a);
+    const std::string part = text.substr(a, b == std::string::npos ? std::string::npos : b - a);
+    if (b == std::string::npos) {
+      key = SDL_GetKeyFromName(part.c_str());
+      if (key == SDLK_UNKNOWN) return R::failure("exit_chord: unknown key '" + part + "' (an SDL key name such as q, F12, Escape)");
+      if (mod == 0) return R::failure("exit_chord needs a modifier (ctrl, alt, shift or gui) before the key, such as ctrl+alt+q");
+      return R::success(true);
+    }
+    if (part == "ctrl") mod |= KMOD_CTRL;
+    else if (part == "alt") mod |= KMOD_ALT;
+    else if (part == "shift") mod |= KMOD_SHIFT;
+    else if (part == "gui") mod |= KMOD_GUI;
+    else return R::failure("exit_chord: unknown modifier '" + part + "' (ctrl, alt, shift, gui)");
+    a = b + 1;
+  }
+}
+
+WindowKey window_key(const ShowConfig::Kiosk& k, int32_t key, uint16_t mod) {
+  if (k.enabled) {
+    if (k.key == 0 || key != k.key) return WindowKey::None;
+    for (uint16_t m : {uint16_t(KMOD_CTRL), uint16_t(KMOD_ALT), uint16_t(KMOD_SHIFT), uint16_t(KMOD_GUI)})
+      if ((k.mod & m) && !(mod & m)) return WindowKey::None;  // (either side's key counts)
+    return WindowKey::Quit;
+  }
+  if (key == SDLK_ESCAPE || key == SDLK_q) return WindowKey::Quit;
+  if (key == SDLK_h) return WindowKey::ToggleHud;
+  return WindowKey::None;
 }
 
 ShowConfig default_show() {

@@ -38,6 +38,16 @@ struct ShowConfig {
   int iterations = 0, min_iterations = 0;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
+  /// [kiosk] (or `run --kiosk`): fullscreen on `display`, cursor hidden, no HUD, no quit keys
+  /// (Escape, q and closing the window do nothing); only `exit_chord` (e.g. "ctrl+alt+shift+q",
+  /// empty: none) or a signal ends the show.
+  struct Kiosk {
+    bool enabled = false;
+    int display = 0;
+    std::string exit_chord;
+    int32_t key = 0;   ///< SDL keycode of the chord's key
+    uint16_t mod = 0;  ///< SDL KMOD_CTRL / KMOD_ALT / KMOD_SHIFT / KMOD_GUI bits it needs
+  } kiosk;
   std::string background;
   std::vector<ShowDevice> devices;
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
@@ -75,6 +85,14 @@ using RigLoader = std::function<Result<ShowRig>(const ShowConfig& header)>;
 /// then devices, groups, poses and bindings resolved against what it returns. Errors name
 /// file:line.
 Result<ShowConfig> load_show(const std::string& path, const RigLoader& rig);
+
+/// Parses a key chord ("ctrl+alt+q": modifiers ctrl, alt, shift, gui, then one SDL key name).
+Result<bool> parse_chord(const std::string& text, int32_t& key, uint16_t& mod);
+
+/// What a key does in a show's window: quit (Escape or q; in a kiosk only its exit chord),
+/// toggle the HUD (h; never in a kiosk), or nothing.
+enum class WindowKey { None, Quit, ToggleHud };
+WindowKey window_key(const ShowConfig::Kiosk& kiosk, int32_t key, uint16_t mod);
 
 /// Parses a control ("cc 7", "cc 7 ch 2", "cc14 1", "nrpn 300", "note 36", "pitchbend",
 /// "usage x", "usage 0x0d0030", "button 3", "encoder 2", "pointer") into `out`.

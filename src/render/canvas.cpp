@@ -25,7 +25,7 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
 }
 
 Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int width, int height,
-                                               bool fullscreen, bool software) {
+                                               bool fullscreen, bool software, int display) {
   using R = Result<std::unique_ptr<Canvas>>;
   if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
     return R::failure(std::string("no display: ") + SDL_GetError());
@@ -33,8 +33,9 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int wid
   std::unique_ptr<Canvas> c(new Canvas());
   Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
   if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
-  c->window_ = SDL_CreateWindow(title.c_str(), SDL_WINDOWPOS_CENTERED, SDL_WINDOWPOS_CENTERED,
-                                width, height, flags);
+  if (display >= SDL_GetNumVideoDisplays()) display = -1;  // (a missing display: the first one)
+  const int pos = display >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(display)) : int(SDL_WINDOWPOS_CENTERED);
+  c->window_ = SDL_CreateWindow(title.c_str(), pos, pos, width, height, flags);
   if (!c->window_) return R::failure(std::string("cannot open window: ") + SDL_GetError());
   c->renderer_ = SDL_CreateRenderer(c->window_, -1,
                                     software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);

@@ -21,9 +21,10 @@ class Canvas {
  public:
   /// Offscreen: ABGR8888 surface + SDL software renderer. Needs no display.
   static Result<std::unique_ptr<Canvas>> offscreen(int width, int height);
-  /// A window (SDL video must be available); `software` pins the software renderer.
+  /// A window (SDL video must be available); `software` pins the software renderer; `display`:
+  /// the display index to open it on (-1: SDL's choice).
   static Result<std::unique_ptr<Canvas>> window(const std::string& title, int width, int height,
-                                                bool fullscreen, bool software);
+                                                bool fullscreen, bool software, int display = -1);
   ~Canvas();
   Canvas(const Canvas&) = delete;
   Canvas& operator=(const Canvas&) = delete;

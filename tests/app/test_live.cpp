@@ -670,5 +670,19 @@ TEST(Live, SighupReloadsAValidShowAndKeepsTheRunningOneOnABadEdit) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << status << " " << slurp(err);
 }
 
+// A kiosk runs fullscreen in a window (under Xvfb here) with the same frame code.
+TEST(Live, KioskRunsFullscreenInAWindow) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const auto dir = test::temp_dir("kiosk_run");
+  const std::string show = (test::source_dir() / "config/shows/nanokontrol2.toml").string();
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
+                          "' run '" + show + "' --kiosk --frames 20 > '" + (dir / "out.txt").string() + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream out(dir / "out.txt");
+  const std::string text((std::istreambuf_iterator<char>(out)), {});
+  EXPECT_NE(text.find("in a kiosk window"), std::string::npos) << text;
+  EXPECT_NE(text.find("20 frames"), std::string::npos) << text;
+}
+
 }  // namespace
 }  // namespace mar

@@ -3,6 +3,7 @@
 #include "app/show.h"
 #include "test_util.h"
 
+#include <SDL2/SDL.h>
 #include <gtest/gtest.h>
 
 namespace mar {
@@ -219,6 +220,48 @@ TEST(Show, HugeOrNegativeNumbersAreRefusedBeforeTheyAreCast) {
     auto s = load_show(path, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
     ASSERT_FALSE(s.ok()) << c.text;
     EXPECT_NE(s.error.find(path + c.expect), std::string::npos) << s.error;
+  }
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// [kiosk]: fullscreen on a display, and only the exit chord quits (Escape, q and h do nothing);
+// a bad chord is refused with file:line.
+TEST(Show, KioskTableAndItsExitChord) {
+  const std::string path = test::write_temp("kiosk.toml", "[show]\nrig = \"r.toml\"\n[kiosk]\ndisplay = 1\nexit_chord = \"ctrl+alt+q\"\n");
+  auto s = load_show(path, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  ASSERT_TRUE(s.ok()) << s.error;
+  const ShowConfig::Kiosk& k = s.value->kiosk;
+  EXPECT_TRUE(k.enabled);
+  EXPECT_EQ(k.display, 1);
+  EXPECT_EQ(window_key(k, SDLK_ESCAPE, 0), WindowKey::None);
+  EXPECT_EQ(window_key(k, SDLK_q, 0), WindowKey::None);
+  EXPECT_EQ(window_key(k, SDLK_h, 0), WindowKey::None);
+  EXPECT_EQ(window_key(k, SDLK_q, KMOD_LCTRL), WindowKey::None);
+  EXPECT_EQ(window_key(k, SDLK_q, KMOD_LCTRL | KMOD_RALT), WindowKey::Quit);
+  EXPECT_EQ(window_key(k, SDLK_q, KMOD_RCTRL | KMOD_LALT | KMOD_SHIFT), WindowKey::Quit);
+  ShowConfig::Kiosk none;  // not a kiosk: Escape and q quit, h toggles the HUD
+  EXPECT_EQ(window_key(none, SDLK_ESCAPE, 0), WindowKey::Quit);
+  EXPECT_EQ(window_key(none, SDLK_h, 0), WindowKey::ToggleHud);
+  ShowConfig::Kiosk no_chord;  // a kiosk without a chord: only a signal ends it
+  no_chord.enabled = true;
+  EXPECT_EQ(window_key(no_chord, SDLK_ESCAPE, KMOD_CTRL), WindowKey::None);
+  struct Case {
+    const char* chord;
+    const char* expect;
+  };
+  const Case cases[] = {{"ctrl+alt+nosuchkey", ":4: exit_chord: unknown key 'nosuchkey'"},
+                        {"q", ":4: exit_chord needs a modifier"},
+                        {"meta+q", ":4: exit_chord: unknown modifier 'meta'"}};
+  for (const Case& c : cases) {
+    const std::string bad = test::write_temp("kiosk-bad.toml", std::string("[show]\nrig = \"r.toml\"\n[kiosk]\nexit_chord = \"") + c.chord + "\"\n");
+    auto e = load_show(bad, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+    ASSERT_FALSE(e.ok()) << c.chord;
+    EXPECT_NE(e.error.find(bad + c.expect), std::string::npos) << e.error;
   }
 }
 
