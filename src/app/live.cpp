@@ -212,9 +212,12 @@ bool LiveShow::open_output(std::string* err) {
   if (!opt_.headless && display_present()) {
     auto w = Canvas::window("marionette - " + std::filesystem::path(sh.path).stem().string(), sh.width, sh.height,
                             sh.fullscreen || sh.kiosk.enabled, false, sh.kiosk.enabled ? sh.kiosk.display : -1);
-    if (w.ok()) canvas_ = std::move(*w.value);
-    if (canvas_ && sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);
-    else if (!opt_.quiet) std::cerr << "warning: no window (" << w.error << "); running headless\n";
+    if (w.ok()) {
+      canvas_ = std::move(*w.value);
+      if (sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);
+    } else if (!opt_.quiet) {
+      std::cerr << "warning: no window (" << w.error << "); running headless\n";
+    }
   }
   if (!canvas_) {
     if (!opt_.headless && opt_.dump_dir.empty() && opt_.replay_path.empty()) {

@@ -579,10 +579,9 @@ class SvgLoader {
     auto close = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Close, p)); };
     const Viewport& vp = ctx.vp;
     if (name == "path") {
-      svg::PathData pd = svg::parse_path(n.attribute("d").value(), opt_.max_points - std::min(opt_.max_points, total_points_));
+      svg::PathData pd = svg::parse_path(n.attribute("d").value(), points_left());
       if (pd.too_long) {
-        fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
-        return;
+        return too_complex(n);
       }
       if (!pd.error.empty()) {
         warn(n, "path data error at character " + std::to_string(pd.error_pos) + ": " + pd.error +
@@ -683,16 +682,18 @@ class SvgLoader {
     }
   }
 
+  // The point budget (SvgOptions::max_points): what is left of it, and the error past it.
+  size_t points_left() const { return opt_.max_points - std::min(opt_.max_points, total_points_); }
+  void too_complex(const pugi::xml_node& n) {
+    fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
+  }
+
   void emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds) {
     const Style& st = ctx.style;
     if (!st.visible || cmds.empty()) return;
     bool over = false;
-    const std::vector<svg::FlatContour> flat =
-        svg::flatten_path(cmds, ctx.ctm, opt_.tolerance, opt_.max_points - std::min(opt_.max_points, total_points_), &over);
-    if (over) {
-      fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
-      return;
-    }
+    const std::vector<svg::FlatContour> flat = svg::flatten_path(cmds, ctx.ctm, opt_.tolerance, points_left(), &over);
+    if (over) return too_complex(n);
     SubShape s;
     s.element = std::string(local_name(n));
     s.line = line_of(n);
@@ -710,11 +711,7 @@ class SvgLoader {
     }
     if (s.points.empty()) return;
     total_points_ += s.points.size();
-    if (total_points_ > opt_.max_points) {
-      fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) +
-               " points after flattening; file too complex";
-      return;
-    }
+    if (total_points_ > opt_.max_points) return too_complex(n);
     const double op = st.group_opacity;
     if (auto c = resolve(st.fill, n, st)) {
       // Lines never fill; other open sub-paths are filled as if closed (SVG rules).

@@ -1,4 +1,4 @@
-// The systemd notify protocol against a stub notify socket: READY=1 after the first frame, then
+// The systemd notify protocol against a test's own notify socket: READY=1 after the first frame, then
 // WATCHDOG=1 at half the interval while frames come, none while the frame loop is stalled; and
 // `marionette run` under a notify socket says READY.
 #include "app/loop/service.h"
@@ -18,11 +18,11 @@
 namespace mar {
 namespace {
 
-// A unix datagram socket standing in for systemd's notify socket.
-struct StubNotifySocket {
+// A unix datagram socket listening where systemd's notify socket would be.
+struct NotifyListener {
   int fd = -1;
   std::string path;
-  StubNotifySocket() {
+  NotifyListener() {
     path = (test::temp_dir("notify") / "sock").string();
     ::unlink(path.c_str());
     fd = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
@@ -33,7 +33,7 @@ struct StubNotifySocket {
     timeval tv{0, 1000};
     ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
   }
-  ~StubNotifySocket() {
+  ~NotifyListener() {
     ::close(fd);
     ::unlink(path.c_str());
   }
@@ -53,8 +53,8 @@ int count(const std::vector<std::string>& msgs, const std::string& what) {
 }
 
 TEST(ServiceNotifier, ReadyThenWatchdogWhileFramesComeAndNoneWhenStalled) {
-  StubNotifySocket stub;
-  ::setenv("NOTIFY_SOCKET", stub.path.c_str(), 1);
+  NotifyListener listener;
+  ::setenv("NOTIFY_SOCKET", listener.path.c_str(), 1);
   ::setenv("WATCHDOG_USEC", "100000", 1);  // 0.1 s: a ping every 50 ms
   ::unsetenv("WATCHDOG_PID");
   {
@@ -62,27 +62,27 @@ TEST(ServiceNotifier, ReadyThenWatchdogWhileFramesComeAndNoneWhenStalled) {
     ASSERT_TRUE(s.active());
     EXPECT_EQ(s.watchdog_usec(), 100000u);
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
-    EXPECT_TRUE(stub.take().empty());  // no frame yet: not ready
+    EXPECT_TRUE(listener.take().empty());  // no frame yet: not ready
     const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(600);
     while (std::chrono::steady_clock::now() < until) {  // frames at 200 Hz
       s.frame_presented();
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
     }
-    const auto live = stub.take();
+    const auto live = listener.take();
     ASSERT_FALSE(live.empty());
     EXPECT_NE(live.front().find("READY=1"), std::string::npos) << live.front();
     EXPECT_GE(count(live, "WATCHDOG=1"), 2);  // ~11 expected; a busy machine may delay the thread
     std::this_thread::sleep_for(std::chrono::milliseconds(100));  // the last ping of the live part
-    stub.take();
+    listener.take();
     std::this_thread::sleep_for(std::chrono::milliseconds(600));  // stalled: no frames
-    EXPECT_EQ(count(stub.take(), "WATCHDOG=1"), 0);
+    EXPECT_EQ(count(listener.take(), "WATCHDOG=1"), 0);
     s.frame_presented();  // frames again: pings again
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
     s.frame_presented();
     std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    EXPECT_GE(count(stub.take(), "WATCHDOG=1"), 1);
+    EXPECT_GE(count(listener.take(), "WATCHDOG=1"), 1);
   }
-  EXPECT_EQ(count(stub.take(), "STOPPING=1"), 1);
+  EXPECT_EQ(count(listener.take(), "STOPPING=1"), 1);
   ::unsetenv("NOTIFY_SOCKET");
   ::unsetenv("WATCHDOG_USEC");
   ServiceNotifier outside;  // no service manager: nothing runs
@@ -90,12 +90,12 @@ TEST(ServiceNotifier, ReadyThenWatchdogWhileFramesComeAndNoneWhenStalled) {
 }
 
 TEST(ServiceNotifier, TheShowSaysReadyUnderANotifySocket) {
-  StubNotifySocket stub;
+  NotifyListener listener;
   const auto r = test::run_cli("run '" + (test::source_dir() / "config/shows/demo.toml").string() +
                                "' --headless --frames 30",
-                               "NOTIFY_SOCKET=" + stub.path + " WATCHDOG_USEC=2000000");
+                               "NOTIFY_SOCKET=" + listener.path + " WATCHDOG_USEC=2000000");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  const auto msgs = stub.take();
+  const auto msgs = listener.take();
   EXPECT_EQ(count(msgs, "READY=1"), 1);
   EXPECT_EQ(count(msgs, "STOPPING=1"), 1);
 }
