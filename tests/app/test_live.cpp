@@ -310,6 +310,7 @@ TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
   std::ifstream out(dir / "out.txt");
   const std::string text((std::istreambuf_iterator<char>(out)), {});
   EXPECT_NE(text.find("in a window"), std::string::npos) << text;
+  EXPECT_EQ(text.find("no window"), std::string::npos) << text;
   auto rep = test::run_cli("replay '" + (dir / "w.rec").string() + "' --show '" + show + "' --stats '" +
                            (dir / "r.json").string() + "'");
   ASSERT_EQ(rep.exit_code, 0) << rep.err;
@@ -682,6 +683,7 @@ TEST(Live, KioskRunsFullscreenInAWindow) {
   const std::string text((std::istreambuf_iterator<char>(out)), {});
   EXPECT_NE(text.find("in a kiosk window"), std::string::npos) << text;
   EXPECT_NE(text.find("20 frames"), std::string::npos) << text;
+  EXPECT_EQ(text.find("no window"), std::string::npos) << text;  // the window opened: no warning says otherwise
 }
 
 }  // namespace
