@@ -3,6 +3,8 @@
 #   bash cmake/run.sh demo   -- install what is missing, build, run the demo (window or PNG files)
 #   bash cmake/run.sh test   -- install what is missing, build, run all tests (plain + ASan/UBSan)
 #   bash cmake/run.sh bench  -- build and run the benchmarks
+#   bash cmake/run.sh fuzz   -- build the libFuzzer harnesses (clang) and run each for long
+#                               (FUZZ_SECONDS each, default 600, or 10 million executions)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -12,7 +14,8 @@ PACKAGES=(cmake g++ pkg-config
   libsdl2-dev libsdl2-image-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
   libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
-  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth)
+  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth
+  clang libclang-rt-14-dev python3)
 
 install_deps() {
   local missing=()
@@ -36,6 +39,12 @@ build() { # dir, target ('all' for everything), extra cmake args...
   cmake --build "$dir" -j "$JOBS" --target "$target"
 }
 
+build_fuzz() { # the harnesses: clang, libFuzzer, ASan+UBSan, in build-fuzz/
+  CC=clang CXX=clang++ cmake -S "$ROOT" -B "$ROOT/build-fuzz" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMARIONETTE_FUZZ=ON \
+    -DMARIONETTE_BUILD_TESTS=OFF -DMARIONETTE_BUILD_BENCH=OFF >/dev/null
+  cmake --build "$ROOT/build-fuzz" -j "$JOBS" --target fuzzers
+}
+
 cmd=${1:-}
 case "$cmd" in
   demo)
@@ -53,6 +62,14 @@ case "$cmd" in
     (cd "$ROOT/build" && ctest --output-on-failure --no-tests=error -j "$JOBS")
     build "$ROOT/build-asan" all -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_SANITIZE=ON -DMARIONETTE_BUILD_BENCH=OFF
     (cd "$ROOT/build-asan" && ctest --output-on-failure --no-tests=error -j "$JOBS" -LE measure)
+    # Every parser of outside input under libFuzzer for a short while (and its regression inputs).
+    build_fuzz
+    JOBS=$JOBS bash "$ROOT/tests/fuzz/run.sh" "$ROOT/build-fuzz" "${FUZZ_SECONDS:-20}"
+    ;;
+  fuzz)
+    install_deps
+    build_fuzz
+    RUNS=${RUNS:-10000000} JOBS=$JOBS bash "$ROOT/tests/fuzz/run.sh" "$ROOT/build-fuzz" "${FUZZ_SECONDS:-600}" "${@:2}"
     ;;
   bench)
     install_deps
@@ -60,7 +77,7 @@ case "$cmd" in
     for b in "$ROOT"/build/tests/bench/bench_*; do "$b"; done
     ;;
   *)
-    echo "usage: bash cmake/run.sh demo|test|bench" >&2
+    echo "usage: bash cmake/run.sh demo|test|bench|fuzz" >&2
     exit 2
     ;;
 esac

@@ -9,6 +9,13 @@ namespace mar {
 
 Result<Texture> read_png(const std::string& path) {
   int w = 0, h = 0, n = 0;
+  // The header first: a few bytes can declare an image of gigabytes.
+  if (stbi_info(path.c_str(), &w, &h, &n) &&
+      (w > kMaxImageSide || h > kMaxImageSide || size_t(w) * size_t(h) > kMaxImagePixels)) {
+    return Result<Texture>::failure(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
+                                    "; the limit is " + std::to_string(kMaxImageSide) + " pixels a side and " +
+                                    std::to_string(kMaxImagePixels / 1'000'000) + " million pixels");
+  }
   stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
   if (!data) {
     const char* why = stbi_failure_reason();

@@ -3,6 +3,7 @@
 
 #include "character/character.h"
 
+#include <cstddef>
 #include <string>
 
 namespace mar {
@@ -22,6 +23,11 @@ Result<Character> load_raster(const std::string& path, const RasterOptions& opti
 Result<Character> raster_character(std::shared_ptr<const Texture> image,
                                    const std::vector<std::uint8_t>& mask_rgba,
                                    const std::string& name, const RasterOptions& options = {});
+
+/// Limits of an image (or mask): at most kMaxImageSide pixels a side and kMaxImagePixels
+/// in all (64 MB as RGBA8); a larger one is refused from its header, before decoding.
+constexpr int kMaxImageSide = 8192;
+constexpr size_t kMaxImagePixels = 16'000'000;
 
 /// Reads a PNG as RGBA8.
 Result<Texture> read_png(const std::string& path);

@@ -43,7 +43,7 @@ struct WireRecord {
     r.kind = k;
     r.source = source;
     r.size = uint8_t(b.size() < kMax ? b.size() : kMax);
-    std::memcpy(r.data, b.data(), r.size);
+    if (r.size) std::memcpy(r.data, b.data(), r.size);  // an empty span's data() may be null
     return r;
   }
 };

@@ -90,6 +90,32 @@ TEST(load_character, PngFilesAndErrors) {
   EXPECT_NE(j.error.find("junk.png"), std::string::npos);
 }
 
+// A PNG is 33 bytes of header away from declaring gigabytes: the size is checked from the
+// header before anything is decoded, and the message names the file and the limit.
+TEST(load_character, AnImageOverThePixelLimitIsRefusedFromItsHeader) {
+  const auto png_header = [](uint32_t w, uint32_t h) {
+    std::string s = "\x89PNG\r\n\x1a\n";
+    s += std::string("\0\0\0\x0dIHDR", 8);
+    for (uint32_t v : {w, h})
+      for (int k = 3; k >= 0; --k) s += char((v >> (8 * k)) & 0xFF);
+    s += std::string("\x08\x06\0\0\0", 5);
+    s += std::string(4, '\0');  // CRC (stb_image does not check it)
+    return s;
+  };
+  for (auto [w, h] : {std::pair{20000u, 100u}, std::pair{6000u, 6000u}}) {
+    const std::string path = test::write_temp("huge.png", png_header(w, h));
+    auto r = load_character(path);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error.find("huge.png"), std::string::npos) << r.error;
+    EXPECT_NE(r.error.find(std::to_string(w) + "x" + std::to_string(h)), std::string::npos) << r.error;
+    EXPECT_NE(r.error.find("8192 pixels a side and 16 million pixels"), std::string::npos) << r.error;
+  }
+  // Within the limit the same header is read on and fails as a truncated file instead.
+  auto small = load_character(test::write_temp("small.png", png_header(64, 64)));
+  ASSERT_FALSE(small.ok());
+  EXPECT_EQ(small.error.find("the limit"), std::string::npos) << small.error;
+}
+
 TEST(load_character, CorpusChildDrawingWithMask) {
   if (!test::have_corpus()) GTEST_SKIP() << "corpus not present";
   const auto dir = test::corpus_dir() / "raster" / "animated-drawings" / "char1";

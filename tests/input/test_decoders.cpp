@@ -169,6 +169,16 @@ TEST(OscDecoder, BoundPatternsMatchAndArgumentsScale) {
   EXPECT_EQ(d->stats().malformed, 2u);
 }
 
+// Found by fuzz_osc on its first input: a record of no bytes copied from a null pointer
+// (undefined even for zero bytes). tests/fuzz/regressions/fuzz_osc holds the input.
+TEST(OscDecoder, AnEmptyRecordIsMadeAndCountedAsMalformed) {
+  auto d = make_osc_decoder({"/fader/1"}, 3);
+  const WireRecord r = WireRecord::make(9, WireKind::OscMessage, std::span<const uint8_t>{});
+  EXPECT_EQ(r.size, 0u);
+  EXPECT_TRUE(feed(*d, r).empty());
+  EXPECT_EQ(d->stats().malformed, 1u);
+}
+
 TEST(OscMatch, PatternsFollowOsc10WithinOnePart) {
   EXPECT_TRUE(osc_match("/pad/*/x", "/pad/12/x"));
   EXPECT_FALSE(osc_match("/pad/*", "/pad/1/x"));  // '*' stays within a part

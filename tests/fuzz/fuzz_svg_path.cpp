@@ -1,0 +1,19 @@
+// SVG path data, then its flattening to polylines (arcs become cubics while parsing). The
+// loader stops flattening at its point budget; here the budget is 100,000 points (one cubic
+// flattens to at most 2^18 points, so a huge arc still stays within the 1 s timeout).
+#include "character/svg_parse.h"
+#include "fuzz_util.h"
+#include "geom/flatten.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  const mar::svg::PathData p = mar::svg::parse_path(mar::fuzz::text(data, size), 20'000);
+  mar::Points out;
+  mar::Vec2 at = mar::Vec2::Zero();
+  for (const mar::svg::PathCmd& c : p.cmds) {
+    if (c.kind == mar::svg::PathCmd::Cubic) mar::flatten_cubic(at, c.c1, c.c2, c.p, 0.25, out);
+    else out.push_back(c.p);
+    at = c.p;
+    if (out.size() > 100'000) break;
+  }
+  return 0;
+}

@@ -1,0 +1,88 @@
+#!/usr/bin/env python3
+"""Writes each harness's seed inputs into OUT/NAME/ from config/ and the shared corpus
+(read at run time, never copied into the repository)."""
+import glob, json, os, re, struct, sys
+
+src, corpus, out = sys.argv[1], sys.argv[2], sys.argv[3]
+seeds = {}
+
+def add(name, data):
+    if isinstance(data, str):
+        data = data.encode()
+    seeds.setdefault(name, []).append(data)
+
+def read(p):
+    with open(p, 'rb') as f:
+        return f.read()
+
+def hexbytes(text):
+    return bytes(int(t, 16) for t in re.findall(r'\b[0-9a-fA-F]{2}\b', text))
+
+# SVG documents, path data, attribute values, colours, style sheets.
+svgs = sorted(glob.glob(f'{src}/config/characters/*.svg'))
+svgs += sorted(glob.glob(f'{corpus}/svg/characters-dicebear-cc0/*.svg'))
+svgs += sorted(glob.glob(f'{corpus}/svg/resvg/**/*.svg', recursive=True))[::12]
+svgs += sorted(glob.glob(f'{corpus}/svg/w3c-svg11-2e/**/*.svg', recursive=True))[::8]
+for p in svgs:
+    data = read(p)
+    if len(data) <= 65536:
+        add('fuzz_svg_document', data)
+    text = data.decode('utf-8', 'replace')
+    for d in re.findall(r'\sd="([^"]{1,4000})"', text)[:4]:
+        add('fuzz_svg_path', d)
+    for v in re.findall(r'(?:transform|points|viewBox|width|x|opacity)="([^"]{1,400})"', text)[:6]:
+        add('fuzz_svg_values', v)
+    for c in re.findall(r'(?:fill|stroke|stop-color)[=:]\s*"?([^";>]{1,60})', text)[:6]:
+        add('fuzz_color', c)
+    for s in re.findall(r'<style[^>]*>(.{1,4000}?)</style>', text, re.S)[:2]:
+        add('fuzz_css', s.replace('<![CDATA[', '').replace(']]>', '') + '\0shape')
+    for s in re.findall(r'style="([^"]{1,400})"', text)[:2]:
+        add('fuzz_css', s)
+
+# Rigs, shows, device profiles (TOML).
+for p in sorted(glob.glob(f'{src}/config/rigs/*.toml')):
+    add('fuzz_rig_toml', read(p))
+for p in sorted(glob.glob(f'{src}/config/shows/*.toml')):
+    add('fuzz_show_toml', read(p))
+    for script in re.findall(rb'script = """\n(.*?)"""', read(p), re.S):
+        for kind in range(4):
+            add('fuzz_timeline', bytes([kind | 0x80]) + script)
+for p in sorted(glob.glob(f'{src}/config/devices/*.toml')):
+    add('fuzz_device_profile', read(p))
+
+# MIDI 1.0 streams and USB-MIDI packets (the parser vectors), HID descriptors with reports.
+v = json.load(open(f'{corpus}/midi/parser-vectors/midi1_stream_vectors.json'))
+for t in v['vectors']:
+    add('fuzz_midi', hexbytes(t['input_hex']))
+v = json.load(open(f'{corpus}/midi/parser-vectors/usb_midi_packet_vectors.json'))
+packets = [hexbytes(t['packet_hex']) for t in v['decode'] if 'packet_hex' in t]
+for i in range(0, len(packets), 4):
+    add('fuzz_usb_midi', b''.join(packets[i:i + 4]))
+for p in sorted(glob.glob(f'{corpus}/hid/*descriptors/*.hex'))[:40]:
+    d = hexbytes(open(p).read())[:65535]
+    reports = b''.join(bytes([n]) + bytes((k * 37 + n) & 0xFF for k in range(n)) for n in (8, 16, 64))
+    add('fuzz_hid', struct.pack('<H', len(d)) + d + reports)
+
+# OSC: a pattern, NUL, a message (address, type tags, one float).
+def osc_string(s):
+    b = s.encode() + b'\0'
+    return b + b'\0' * (-len(b) % 4)
+for pat, addr in [('/fader/*', '/fader/1'), ('/{a,b}/[0-9]', '/a/3'), ('/xy/?', '/xy/1'), ('/*/*', '/pad/x')]:
+    add('fuzz_osc', pat.encode() + b'\0' + osc_string(addr) + osc_string(',f') + struct.pack('>f', 0.5))
+
+# PNG images (small ones: the harness refuses inputs over 64 KB).
+for p in sorted(glob.glob(f'{src}/config/characters/*.png') + glob.glob(f'{corpus}/raster/**/*.png', recursive=True)):
+    if os.path.getsize(p) <= 65536:
+        add('fuzz_raster', read(p))
+
+# Recordings made by the caller (run.sh records a few simulated shows when it can).
+for p in sorted(glob.glob(f'{out}/../recordings/*.marrec')):
+    add('fuzz_recording', read(p))
+
+for name, items in seeds.items():
+    d = os.path.join(out, name)
+    os.makedirs(d, exist_ok=True)
+    for i, data in enumerate(items):
+        with open(os.path.join(d, f'seed{i:04d}'), 'wb') as f:
+            f.write(data)
+print(' '.join(f'{n}:{len(i)}' for n, i in sorted(seeds.items())))
