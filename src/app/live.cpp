@@ -77,7 +77,12 @@ std::string LiveShow::validate(const std::string& path) {
     puppet = std::move(*p.value);
     return Result<ShowRig>::success(show_rig(*puppet, header));
   });
-  return show.ok() ? std::string() : show.error;
+  if (!show.ok()) return show.error;
+  if (const AttractConfig& ac = show.value->attract; !ac.take.empty()) {  // a take is read whole, as load() does
+    auto a = Attract::make(ac, Mapping{}, "", "", 0, 0);
+    if (!a.ok()) return path + ":" + std::to_string(ac.line) + ": [attract]: " + a.error;
+  }
+  return std::string();
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o) {
@@ -190,6 +195,14 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     s->sims_.resize(sh.devices.size());
     s->sims_[i] = std::move(*dev.value);
   }
+  if (sh.attract.after > 0) {  // after the bindings: the attract starts from the mapping as loaded
+    const AttractConfig& ac = sh.attract;
+    const ShowDevice* d = ac.device >= 0 ? &sh.devices[size_t(ac.device)] : nullptr;
+    auto a = Attract::make(ac, m, d ? d->sim : "", d ? d->descriptor : "", uint16_t(std::max(0, ac.device)),
+                           d ? int64_t(d->debounce_ms * 1e6) : 0);
+    if (!a.ok()) return R::failure(sh.path + ":" + std::to_string(ac.line) + ": [attract]: " + a.error);
+    s->attract_ = std::move(*a.value);
+  }
   s->wires_.resize(4096);
   s->events_.resize(4096);
   s->targets_ = rest;
@@ -287,15 +300,25 @@ void LiveShow::inputs(int64_t t_ns) {
 }
 
 void LiveShow::map(int64_t t_ns) {
-  for (size_t i = 0; i < n_events_; ++i) mapping_.apply(events_[i]);
+  bool input = false;  // a visitor moved a bound control (what keeps the attract away)
+  for (size_t i = 0; i < n_events_; ++i) input = mapping_.apply(events_[i]) || input;
   const double dt = stats_.frames ? double(t_ns - last_t_) * 1e-9 : 0;
   dt_ = dt;
   last_t_ = t_ns;
   mapping_.update(dt);
   if (mapping_.take_settings_changed()) apply_settings();
-  if (mapping_.take_shown_changed()) {  // a swap or a trigger: what shows changes, the pose does not
-    for (size_t i = 0; i < swap_members_.size(); ++i) swap_members_[i] = mapping_.swap_member(i);
-    for (size_t i = 0; i < triggers_on_.size(); ++i) triggers_on_[i] = mapping_.trigger_on(i);
+  if (attract_) attract_->step(dt, input);
+  // Swaps and triggers follow whichever side of the crossfade is stronger.
+  const bool by_attract = attract_ && attract_->weight() >= 0.5;
+  Mapping* attract_mapping = attract_ ? &attract_->mapping() : nullptr;
+  const bool attract_changed = attract_mapping && attract_mapping->take_shown_changed();
+  const bool live_changed = mapping_.take_shown_changed();
+  if (live_changed || (by_attract && attract_changed) || by_attract != shown_by_attract_) {
+    // a swap or a trigger: what shows changes, the pose does not
+    const Mapping& by = by_attract ? *attract_mapping : mapping_;
+    shown_by_attract_ = by_attract;
+    for (size_t i = 0; i < swap_members_.size(); ++i) swap_members_[i] = by.swap_member(i);
+    for (size_t i = 0; i < triggers_on_.size(); ++i) triggers_on_[i] = by.trigger_on(i);
     puppet_->show(swap_members_, triggers_on_);
   }
   if (!playback_)  // replays use the recorded counts
@@ -303,6 +326,11 @@ void LiveShow::map(int64_t t_ns) {
   if (mapping_.grab_active() != grab_.active()) grab_.set(mapping_.grab_active(), mapping_.grab_point(), *puppet_);
   const auto mt = mapping_.targets();
   for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];
+  if (attract_ && attract_->shown()) {  // the crossfade: from the visitor's targets to the attract's
+    const double w = attract_->weight();
+    const auto at = attract_->mapping().targets();
+    for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
+  }
   n_targets_ = grab_.apply(mapping_.grab_point(), targets_);
 }
 
@@ -333,8 +361,10 @@ void LiveShow::poses() {
   // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
   if (!interp_) return;
   std::fill(key_weights_.begin(), key_weights_.end(), 0.0);
+  const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;  // the crossfade
   for (const KeySetting& k : key_settings_) {
-    const double v = mapping_.setting(k.setting);
+    double v = mapping_.setting(k.setting);
+    if (w > 0) v += w * (attract_->mapping().setting(k.setting) - v);
     if (k.from == -2) {
       key_weights_[size_t(k.to)] += v;
       continue;

@@ -6,6 +6,7 @@
 // fixed-rate virtual clock).
 #pragma once
 
+#include "app/loop/attract.h"
 #include "app/loop/governor.h"
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
@@ -68,6 +69,8 @@ class LiveShow {
   uint64_t run_hash() const { return stats_.hash.value(); }
   long frames() const { return stats_.frames; }
   const Mapping& mapping() const { return mapping_; }
+  /// The attract loop ([attract]), or nullptr.
+  const Attract* attract() const { return attract_.get(); }
   const Puppet& puppet() const { return *puppet_; }
   std::string stats_json() const;
   /// Heap allocations counted after warm-up (needs an allocation counter).
@@ -75,6 +78,8 @@ class LiveShow {
   bool learned() const { return learned_; }
   /// The show's input sources, index = show device index (nullptr when replaying).
   DeviceSet* devices() { return devices_.get(); }
+  /// This frame's handle targets (after the crossfade and the key poses), what the solver got.
+  std::span<const Vec2> targets() const { return {targets_.data(), n_targets_}; }
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
   /// Whether frames follow the wall clock (a window, or hardware devices).
@@ -120,6 +125,8 @@ class LiveShow {
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
   std::vector<WireStats> replay_retired_;                  ///< counts of a source's earlier connections
   // map
+  std::unique_ptr<Attract> attract_;               ///< [attract]: plays when nobody touches the show
+  bool shown_by_attract_ = false;                  ///< swaps and triggers follow the attract's mapping
   int setting_iterations_ = 0;                     ///< Mapping setting: the solver's iteration count
   int setting_solver_ = 0;                         ///< first of the solver's parameters
   std::vector<double> solver_params_;              ///< as last given to the solver

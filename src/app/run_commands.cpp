@@ -72,6 +72,9 @@ std::string LiveShow::stats_json() const {
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
       {"warmup_frames", opt_.warmup},
+      {"attract", attract_ ? json{{"starts", attract_->starts()}, {"handovers", attract_->handovers()},
+                                  {"seconds_shown", attract_->seconds_shown()}}
+                           : json(nullptr)},
       {"devices", devices},
       {"run_hash", [&] {
          char buf[20];

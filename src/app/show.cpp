@@ -28,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "kiosk", "device", "binding", "group", "pose"}, "the show file");
+  check_keys(path, root, {"show", "display", "kiosk", "attract", "device", "binding", "group", "pose"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -401,6 +401,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         s.devices.push_back(std::move(d));
       }
     }
+    read_attract(path, root, s);  // show_devices.cpp
     auto handle_of = [&](const toml::node& n) {
       const std::string h = text(path, n, "handle");
       for (size_t i = 0; i < handles.size(); ++i)

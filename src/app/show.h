@@ -29,6 +29,17 @@ struct ShowDevice {
   int line = 0;
 };
 
+/// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).
+struct AttractConfig {
+  double after = 0;              ///< seconds without input before it plays (0: no attract)
+  double fade = 0.6;             ///< crossfade seconds, both ways
+  int device = -1;               ///< script: the show device whose simulator speaks it
+  std::string script;            ///< a timeline script in that simulator's language
+  double loop = 0;               ///< script: repeat period (0: its length plus one second)
+  std::string take;              ///< or a recording (`run --record`) of this show, looped
+  int line = 0;                  ///< show-file line of [attract]
+};
+
 /// A parsed, validated show file. Every default lives in default_show().
 struct ShowConfig {
   std::string path;             ///< the show file
@@ -48,6 +59,7 @@ struct ShowConfig {
     int32_t key = 0;   ///< SDL keycode of the chord's key
     uint16_t mod = 0;  ///< SDL KMOD_CTRL / KMOD_ALT / KMOD_SHIFT / KMOD_GUI bits it needs
   } kiosk;
+  AttractConfig attract;
   std::string background;
   std::vector<ShowDevice> devices;
   std::vector<Binding> bindings;         ///< resolved against the rig's handles

@@ -1,7 +1,12 @@
-// [[device]] tables for hardware (usb_midi, hid, gpio, tablet, alsa, osc, sdl) and the
-// device profiles in config/devices/.
+// [[device]] tables for hardware (usb_midi, hid, gpio, tablet, alsa, osc, sdl), the
+// device profiles in config/devices/, and [attract] (whose script a device's simulator speaks).
 #include "app/show.h"
 #include "app/show_toml.h"
+#include "firmware_sim/sim_device.h"
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
 
 namespace mar {
 
@@ -173,6 +178,73 @@ std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
     }
   }
   return out;
+}
+
+}  // namespace mar
+
+namespace mar {
+
+void read_attract(const std::string& path, const toml::table& root, ShowConfig& s) {
+  using namespace showtoml;
+  const toml::node* an = root.get("attract");
+  if (!an) return;
+  const toml::table* t = an->as_table();
+  if (!t) throw ShowError{at(path, *an) + ": [attract] must be a table"};
+  check_keys(path, *t, {"after", "fade", "device", "script", "script_file", "loop", "take"}, "[attract]");
+  AttractConfig& a = s.attract;
+  a.line = int(an->source().begin.line);
+  auto seconds = [&](const char* key, double lo, double hi, const char* range) {
+    const toml::node* n = t->get(key);
+    const double v = number(path, *n, key);
+    if (!(v >= lo && v <= hi)) throw ShowError{at(path, *n) + ": " + key + " must be " + range + " s"};
+    return v;
+  };
+  if (!t->get("after")) throw ShowError{at(path, *an) + ": [attract] needs after = SECONDS without input"};
+  a.after = seconds("after", 1, 86400, "1..86400");
+  if (t->get("fade")) a.fade = seconds("fade", 0, 10, "0..10");
+  if (t->get("loop")) a.loop = seconds("loop", 0.01, 1e5, "0.01..100000");
+  const int sources = (t->get("script") ? 1 : 0) + (t->get("script_file") ? 1 : 0) + (t->get("take") ? 1 : 0);
+  if (sources != 1)
+    throw ShowError{at(path, *an) + ": [attract] plays one of script, script_file (with device) or take"};
+  if (const toml::node* n = t->get("take")) {
+    a.take = resolve(path, text(path, *n, "take"));
+    if (t->get("device") || t->get("loop"))
+      throw ShowError{at(path, *n) + ": a take replays this show's own devices (no device or loop)"};
+    return;
+  }
+  const toml::node* dn = t->get("device");
+  if (!dn) throw ShowError{at(path, *an) + ": an attract script needs device = \"NAME\" (whose simulator speaks it)"};
+  const std::string dname = text(path, *dn, "device");
+  for (size_t i = 0; i < s.devices.size(); ++i)
+    if (s.devices[i].name == dname) a.device = int(i);
+  if (a.device < 0) throw ShowError{at(path, *dn) + ": no [[device]] named '" + dname + "'"};
+  const ShowDevice& d = s.devices[size_t(a.device)];
+  if (d.sim.empty()) throw ShowError{at(path, *dn) + ": device '" + dname + "' has no sim = ... to speak the script"};
+  // The script is checked here, with the line it is on ("file:line: what").
+  std::string where = path;
+  int first_line = 0;
+  if (const toml::node* n = t->get("script")) {
+    a.script = text(path, *n, "script");
+    first_line = int(n->source().begin.line);
+  } else {
+    const toml::node* f = t->get("script_file");
+    where = resolve(path, text(path, *f, "script_file"));
+    std::ifstream in(where);
+    if (!in) throw ShowError{at(path, *f) + ": cannot open script file " + where};
+    std::stringstream ss;
+    ss << in.rdbuf();
+    a.script = ss.str();
+  }
+  auto sim = make_sim_device(d.sim, "", 0, 1);
+  if (!sim.ok()) throw ShowError{at(path, *dn) + ": " + sim.error};
+  if (auto ok = (*sim.value)->load_script(a.script); !ok.ok()) {
+    int line = 0;
+    if (std::sscanf(ok.error.c_str(), "line %d:", &line) == 1) {
+      const size_t colon = ok.error.find(':');
+      throw ShowError{where + ":" + std::to_string(first_line + line) + ":" + ok.error.substr(colon + 1)};
+    }
+    throw ShowError{where + ":" + std::to_string(first_line) + ": attract script: " + ok.error};
+  }
 }
 
 }  // namespace mar

@@ -44,4 +44,7 @@ struct ShowDevice;
 void check_device_keys(const std::string& path, const toml::table& t);
 /// Reads a hardware device's keys (and its profile) into `d.hw` / `d.controls`.
 void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d);
+struct ShowConfig;
+/// [attract] (after the devices: a script names the device whose simulator speaks it).
+void read_attract(const std::string& path, const toml::table& root, ShowConfig& s);
 }  // namespace mar

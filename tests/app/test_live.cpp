@@ -686,5 +686,16 @@ TEST(Live, KioskRunsFullscreenInAWindow) {
   EXPECT_EQ(text.find("no window"), std::string::npos) << text;  // the window opened: no warning says otherwise
 }
 
+// Every show shipped in config/shows/ reads and checks (show, rig, character, bindings, attract).
+TEST(Live, EveryShippedShowValidates) {
+  int n = 0;
+  for (const auto& e : std::filesystem::directory_iterator(test::source_dir() / "config/shows")) {
+    if (e.path().extension() != ".toml") continue;
+    EXPECT_EQ(LiveShow::validate(e.path().string()), "") << e.path();
+    ++n;
+  }
+  EXPECT_GE(n, 11);
+}
+
 }  // namespace
 }  // namespace mar

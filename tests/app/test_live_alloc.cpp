@@ -52,5 +52,26 @@ TEST(LiveAlloc, PenGrabsAndReleasesAllocateNothing) {
   EXPECT_EQ(j["refactorizations"]["count"], 0);
 }
 
+// The attract loop starting (its mapping reset to the show's as loaded, its script rewound),
+// playing and handing over allocates nothing either.
+TEST(LiveAlloc, TheAttractLoopStartingAndHandingOverAllocatesNothing) {
+  set_allocation_counter(&heap_allocation_count);
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.warmup = 30;
+  auto s = LiveShow::load((test::source_dir() / "tests/data/shows/attract.toml").string(), o);
+  ASSERT_TRUE(s.ok()) << s.error;
+  LiveShow& show = **s.value;
+  for (int f = 0; f < 30; ++f) show.frame(int64_t(f * 1e9 / 60));
+  const long before = test::allocation_count();
+  for (int f = 30; f < 660; ++f) show.frame(int64_t(f * 1e9 / 60));  // starts at 2.6 s, hands over at 9 s
+  EXPECT_EQ(test::allocation_count() - before, 0);
+  EXPECT_EQ(show.allocations_after_warmup(), 0u);
+  ASSERT_NE(show.attract(), nullptr);
+  EXPECT_EQ(show.attract()->starts(), 1u);
+  EXPECT_EQ(show.attract()->handovers(), 1u);
+}
+
 }  // namespace
 }  // namespace mar
