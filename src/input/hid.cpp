@@ -25,7 +25,7 @@ struct Locals {
 };
 
 constexpr uint32_t kMaxReportBits = 1u << 16;  // 8 KiB: far above any real device
-constexpr size_t kMaxUsages = 1u << 16;
+constexpr size_t kMaxUsages = 1u << 16;        // per local list, and in all the fields together
 
 int32_t sdata(const uint8_t* p, int n) {
   switch (n) {
@@ -121,6 +121,10 @@ Result<HidDescriptor> parse_hid_descriptor(std::span<const uint8_t> bytes) {
   auto fail = [](size_t at, const std::string& what) {
     return R::failure("report descriptor byte " + std::to_string(at) + ": " + what);
   };
+  if (bytes.size() > kMaxHidDescriptorBytes)
+    return R::failure("report descriptor is " + std::to_string(bytes.size()) + " bytes; the limit is " +
+                      std::to_string(kMaxHidDescriptorBytes) + " (the kernel's HID_MAX_DESCRIPTOR_SIZE)");
+  size_t total_usages = 0;  // every field's usage list together (array fields copy their list)
 
   size_t i = 0;
   while (i < bytes.size()) {
@@ -162,7 +166,7 @@ Result<HidDescriptor> parse_hid_descriptor(std::span<const uint8_t> bytes) {
           break;
         case 9:
           g.report_count = udata(p, n);
-          if (g.report_count > kMaxReportBits) return fail(at, "absurd report count");
+          if (g.report_count > 65535) return fail(at, "absurd report count " + std::to_string(g.report_count));
           break;
         case 10:
           if (stack.size() > 64) return fail(at, "push stack too deep");
@@ -229,15 +233,17 @@ Result<HidDescriptor> parse_hid_descriptor(std::span<const uint8_t> bytes) {
           f.unit_exponent = g.unit_exponent;
           f.application = application;
           f.usage_page = g.usage_page;
+          const uint64_t bits = uint64_t(f.bit_size) * f.count;
+          if (r.size_bits + bits > kMaxReportBits) return fail(at, "report longer than 8 KiB");
           const std::vector<uint32_t>& us = l.usages;
+          total_usages += f.is_array() ? us.size() : f.count;
+          if (total_usages > kMaxUsages) return fail(at, "more than 65536 usages in all the fields");
           if (f.is_array()) {
             f.usages = us;
           } else if (f.count > 0) {
             f.usages.resize(f.count, us.empty() ? uint32_t(g.usage_page) << 16 : us.back());
             for (size_t k = 0; k < us.size() && k < f.count; ++k) f.usages[k] = us[k];
           }
-          const uint64_t bits = uint64_t(f.bit_size) * f.count;
-          if (r.size_bits + bits > kMaxReportBits) return fail(at, "report longer than 8 KiB");
           r.size_bits += uint32_t(bits);
           if (f.count > 0 && f.bit_size > 0) r.fields.push_back(std::move(f));
           break;

@@ -74,6 +74,10 @@ struct HidDescriptor {
 
 /// Parses a report descriptor. Errors (truncated items, unbalanced collections, absurd
 /// sizes) name the byte offset.
+/// Limits: at most kMaxHidDescriptorBytes bytes, report counts up to 65,535, report sizes up
+/// to 1,024 bits, each report up to 8 KiB, 65,536 usages in all the fields together, push
+/// depth 64, collection depth 256 — each refused with the byte offset and the limit.
+constexpr size_t kMaxHidDescriptorBytes = 4096;
 Result<HidDescriptor> parse_hid_descriptor(std::span<const uint8_t> bytes);
 
 /// Reads `bit_size` bits at `bit_offset`, little-endian, LSB first (the low 32 of a wider field).

@@ -334,6 +334,31 @@ TEST(load_svg, HugePathsAndFilesAreRefusedWithinTheirLimits) {
   EXPECT_NE(r.error.find("an SVG character may have at most"), std::string::npos) << r.error;
 }
 
+// The hostile files: 100,000 nested groups load (what is deeper than 200 levels is
+// skipped with a warning; the XML parser and the walk are not recursive past that), and a path
+// of 10 million commands is refused at the 4 million command budget without keeping any.
+TEST(load_svg, ADeeplyNestedFileAndTenMillionPathCommandsStayWithinTheirLimits) {
+  std::string deep = "<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0 0 L10 0 L10 10 Z\"/>";
+  for (int i = 0; i < 100000; ++i) deep += "<g>";
+  deep += "<path d=\"M0 0 L5 0 L5 5 Z\"/>";
+  for (int i = 0; i < 100000; ++i) deep += "</g>";
+  deep += "</svg>";
+  auto r = load_svg_string(deep, "deep.svg");
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.value->shapes.size(), 1u);
+  bool warned = false;
+  for (const std::string& w : r.value->warnings) warned = warned || w.find("nesting deeper than 200 levels") != std::string::npos;
+  EXPECT_TRUE(warned);
+
+  std::string d = "M0 0";
+  d.reserve(50'000'010);
+  for (int i = 0; i < 10'000'000; ++i) d += " l1 1";
+  const svg::PathData pd = svg::parse_path(d);
+  EXPECT_TRUE(pd.too_long);
+  EXPECT_TRUE(pd.cmds.empty());
+  EXPECT_NE(pd.error.find("more than 4000000 path commands"), std::string::npos) << pd.error;
+}
+
 TEST(load_svg, ExampleCharactersHaveOverlappingPartsAndOpenStrokes) {
   for (const char* name : {"butterfly", "figure", "koi"}) {
     auto r = load_svg_file(std::string(MARIONETTE_SOURCE_DIR) + "/config/characters/" + name + ".svg");

@@ -231,6 +231,38 @@ TEST(Hid, MalformedDescriptorsAreRejectedWithAnOffset) {
   EXPECT_FALSE(parse_hid_descriptor(huge).ok());
 }
 
+// Hostile descriptors stay small: before these limits, 9,000 array items each naming 65,536
+// usages (63 KB of descriptor) took 5.6 GB and 23 s to parse (found by fuzz_hid's seeds).
+TEST(Hid, HostileDescriptorsAreRefusedWithTheirLimit) {
+  const std::vector<uint8_t> head = {0x05, 0x09, 0x09, 0x05, 0xA1, 0x01, 0x75, 0x01, 0x95, 0x01, 0x15, 0x00, 0x27, 0xFF, 0xFF, 0x00, 0x00};
+  const std::vector<uint8_t> array_item = {0x19, 0x00, 0x2A, 0xFF, 0xFF, 0x81, 0x00};  // usages 0..65535, one array element
+  auto build = [&](int items) {
+    std::vector<uint8_t> d = head;
+    for (int k = 0; k < items; ++k) d.insert(d.end(), array_item.begin(), array_item.end());
+    d.push_back(0xC0);
+    return d;
+  };
+  // Over the kernel's 4,096 bytes: refused before anything is read.
+  const auto big = parse_hid_descriptor(build(9000));
+  ASSERT_FALSE(big.ok());
+  EXPECT_NE(big.error.find("63018 bytes; the limit is 4096"), std::string::npos) << big.error;
+  // Within it, the second array item's copy of 65,536 usages passes the limit in all fields.
+  const auto many = parse_hid_descriptor(build(500));
+  ASSERT_FALSE(many.ok());
+  EXPECT_NE(many.error.find("more than 65536 usages"), std::string::npos) << many.error;
+  EXPECT_NE(many.error.find("byte 29:"), std::string::npos) << many.error;  // the second Input item
+  // One field of 65,535 32-bit elements: 2 Mbit, refused as a report over 8 KiB.
+  const std::vector<uint8_t> wide = {0x05, 0x01, 0x09, 0x05, 0xA1, 0x01, 0x75, 0x20, 0x96, 0xFF, 0xFF, 0x09, 0x30, 0x81, 0x02, 0xC0};
+  const auto w = parse_hid_descriptor(wide);
+  ASSERT_FALSE(w.ok());
+  EXPECT_NE(w.error.find("byte 13: report longer than 8 KiB"), std::string::npos) << w.error;
+  // 65,536 elements (one more than a report count can say) is refused, not wrapped to 0.
+  const std::vector<uint8_t> count = {0x05, 0x01, 0x09, 0x05, 0xA1, 0x01, 0x75, 0x01, 0x97, 0x00, 0x00, 0x01, 0x00, 0x81, 0x02, 0xC0};
+  const auto c = parse_hid_descriptor(count);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.error.find("byte 8: absurd report count 65536"), std::string::npos) << c.error;
+}
+
 TEST(Hid, SignedFieldsExtendAndInsertRoundTrips) {
   std::vector<uint8_t> buf(6, 0);
   hid_insert_bits(buf, 3, 12, 0xABC);

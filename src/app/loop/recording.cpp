@@ -85,7 +85,7 @@ bool Playback::next_frame(std::vector<WireRecord>& wires, int64_t& t_ns, int& it
     if (type == kDevice) {
       uint16_t src = 0;
       uint32_t n = 0;
-      if (!get(src, f_) || !get(n, f_) || n > (1u << 20)) return false;
+      if (!get(src, f_) || !get(n, f_) || n > kMaxDescriptionBytes) return false;
       description_.resize(n);
       if (std::fread(description_.data(), 1, n, f_) != n) return false;
       on_device(src, description_);
@@ -93,7 +93,7 @@ bool Playback::next_frame(std::vector<WireRecord>& wires, int64_t& t_ns, int& it
     }
     WireRecord r;
     if (type != kWire || !get(r.t_ns, f_) || !get(r.source, f_) || !get(r.kind, f_) || !get(r.size, f_) ||
-        r.size > WireRecord::kMax || std::fread(r.data, 1, r.size, f_) != r.size)
+        r.size > WireRecord::kMax || std::fread(r.data, 1, r.size, f_) != r.size || wires.size() == kMaxFrameRecords)
       return false;
     wires.push_back(r);
   }

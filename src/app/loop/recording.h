@@ -43,6 +43,10 @@ class Playback {
   Playback(const Playback&) = delete;
   Playback& operator=(const Playback&) = delete;
   using OnDevice = std::function<void(uint16_t source, std::span<const uint8_t> description)>;
+  /// Limits of a recording: a device description up to 1 MiB, a frame up to 65,536 wire records
+  /// (a live frame reads at most 4,096), each up to WireRecord::kMax bytes; past one is damage.
+  static constexpr uint32_t kMaxDescriptionBytes = 1u << 20;
+  static constexpr size_t kMaxFrameRecords = 65536;
   /// Reads the records of the next frame: wire records into `wires` (cleared first), device
   /// descriptions through `on_device` as they come; the frame's time and iteration count.
   /// False at the end of the recording or at a damaged record (what was read stays played).

@@ -45,6 +45,26 @@ TEST(Recording, WhatIsWrittenIsReadBackFrameByFrame) {
   EXPECT_FALSE((*p.value)->next_frame(wires, t, it, on_device));
 }
 
+// A hostile recording cannot make a frame hold more than its limit in memory: a frame of
+// 70,000 records (no frame marker) is damage, read up to the limit and no further.
+TEST(Recording, AFrameOverTheRecordLimitIsDamageNotMemory) {
+  const auto path = (test::temp_dir("recording") / "long.rec").string();
+  const uint8_t cc[] = {0x0B, 0xB0, 7, 100};
+  {
+    auto r = Recorder::open(path);
+    ASSERT_TRUE(r.ok()) << r.error;
+    for (int k = 0; k < 70000; ++k) (*r.value)->wire(WireRecord::make(k, WireKind::UsbMidi, cc, 0));
+    (*r.value)->frame(1, 8);
+  }
+  auto p = Playback::open(path);
+  ASSERT_TRUE(p.ok()) << p.error;
+  std::vector<WireRecord> wires;
+  int64_t t = 0;
+  int it = 0;
+  EXPECT_FALSE((*p.value)->next_frame(wires, t, it, [](uint16_t, std::span<const uint8_t>) {}));
+  EXPECT_EQ(wires.size(), Playback::kMaxFrameRecords);
+}
+
 TEST(Recording, ATruncatedRecordingStopsCleanlyAndOtherFilesAreRefused) {
   const auto dir = test::temp_dir("recording-bad");
   const auto path = (dir / "cut.rec").string();
