@@ -2,6 +2,8 @@
 // timestamps through a pipe per requested line.
 #include "devices/vbench_impl.h"
 
+#include <poll.h>
+
 namespace mar {
 using namespace vb;
 
@@ -12,6 +14,15 @@ void VirtualBench::Impl::describe_gpio(BenchDev& d) {
   d.record = "P: /devices/platform/gpio" + num + "/gpiochip" + num + "\nN: gpiochip" + num +
              "\nE: SUBSYSTEM=gpio\nE: DEVNAME=/dev/gpiochip" + num + "\nA: dev=254:" + num + "\\n\n";
 }
+
+namespace {
+// As in the kernel, closing a line's event fd releases the line: the read end of its pipe is
+// gone when the write end polls as an error.
+bool released(int write_fd) {
+  pollfd p{write_fd, 0, 0};
+  return ::poll(&p, 1, 0) == 1 && (p.revents & POLLERR);
+}
+}  // namespace
 
 bool VirtualBench::Impl::gpio_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg) {
   switch (req) {
@@ -45,6 +56,10 @@ bool VirtualBench::Impl::gpio_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigne
       if (r->lineoffset >= d.gpio.lines.size()) {
         complete(c, -1, EINVAL);
         return true;
+      }
+      if (d.line_fd[r->lineoffset] >= 0 && released(d.line_fd[r->lineoffset])) {
+        ::close(d.line_fd[r->lineoffset]);  // the program closed its event fd: the line is free again
+        d.line_fd[r->lineoffset] = -1;
       }
       if (d.line_fd[r->lineoffset] >= 0) {
         complete(c, -1, EBUSY);

@@ -1,15 +1,22 @@
 #include "devices/vbench_impl.h"
 
+#include <filesystem>
+
 namespace mar {
 using namespace vb;
 
 gboolean VirtualBench::Impl::on_ioctl(UMockdevIoctlBase*, UMockdevIoctlClient* c, gpointer self) {
   auto* impl = static_cast<Impl*>(self);
-  BenchDev* d = impl->by_node(umockdev_ioctl_client_get_devnode(c));
+  const char* node = umockdev_ioctl_client_get_devnode(c);
+  BenchDev* d = impl->by_node(node);
   if (!d) return FALSE;
   const unsigned long req = umockdev_ioctl_client_get_request(c);
   UMockdevIoctlData* arg = umockdev_ioctl_client_get_arg(c);
   std::lock_guard lock(d->m);
+  if (d->kind != BenchKind::Usb && d->node != node) {  // a node of an earlier plug: gone, as in the kernel
+    complete(c, -1, ENODEV);
+    return TRUE;
+  }
   switch (d->kind) {
     case BenchKind::Usb: return impl->usb_ioctl(*d, c, req, arg);
     case BenchKind::Gpio: return impl->gpio_ioctl(*d, c, req, arg);
@@ -51,6 +58,15 @@ VirtualBench::VirtualBench() : p_(std::make_unique<Impl>()) {
   p_->handler = umockdev_ioctl_base_new();
   g_signal_connect(p_->handler, "handle-ioctl", G_CALLBACK(&Impl::on_ioctl), p_.get());
   g_signal_connect(p_->handler, "handle-read", G_CALLBACK(&Impl::on_read), p_.get());
+  // The GPIO bus folder exists from the start, as on a board with a GPIO driver, so a label is
+  // looked up in sysfs even while no chip is plugged: libgpiod's own search scans /dev, and a
+  // scan of /dev under umockdev's preload leaves a stale entry in its map of emulated fds — a
+  // later device fd with the same number then sends its ioctls nowhere and waits for ever (the
+  // USB-MIDI reap that hung after the GPIO tests in the same process).
+  gchar* root = umockdev_testbed_get_root_dir(p_->tb);
+  std::error_code ec;
+  std::filesystem::create_directories(std::string(root) + "/sys/bus/gpio/devices", ec);
+  g_free(root);
 }
 
 VirtualBench::~VirtualBench() {
@@ -197,6 +213,15 @@ void VirtualBench::unplug(int dev) {
     g_free(root);
   } else {
     umockdev_testbed_remove_device(p_->tb, d.syspath.c_str());
+    // umockdev leaves an input device's class link (/sys/class/input/eventN) and node behind;
+    // the kernel removes both, and a program scanning the class must not find the old one.
+    if (d.kind == BenchKind::Evdev) {
+      gchar* root = umockdev_testbed_get_root_dir(p_->tb);
+      const std::string name = d.node.substr(d.node.rfind('/') + 1);
+      ::unlink((std::string(root) + "/sys/class/input/" + name).c_str());
+      ::unlink((std::string(root) + d.node).c_str());
+      g_free(root);
+    }
   }
   for (int& fd : d.line_fd) {  // the kernel hangs up a removed chip's event fds
     if (fd >= 0) ::close(fd);
