@@ -5,6 +5,9 @@
 #   bash cmake/run.sh bench  -- build and run the benchmarks
 #   bash cmake/run.sh fuzz   -- build the libFuzzer harnesses (clang) and run each for long
 #                               (FUZZ_SECONDS each, default 600, or 10 million executions)
+#   bash cmake/run.sh soak   -- 1,000,000 frames of every simulated device, 1,000 replugs per
+#                               backend class, 1,000,000 extreme target sets per rig
+#   bash cmake/run.sh tsan   -- the device and live-loop tests under ThreadSanitizer (clang)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
@@ -71,13 +74,26 @@ case "$cmd" in
     build_fuzz
     RUNS=${RUNS:-10000000} JOBS=$JOBS bash "$ROOT/tests/fuzz/run.sh" "$ROOT/build-fuzz" "${FUZZ_SECONDS:-600}" "${@:2}"
     ;;
+  soak)
+    install_deps
+    build "$ROOT/build" all -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_BUILD_BENCH=ON
+    bash "$ROOT/tests/tools/soak.sh" "$ROOT/build" "${SOAK_FRAMES:-1000000}"
+    ;;
+  tsan)
+    install_deps
+    CC=clang CXX=clang++ cmake -S "$ROOT" -B "$ROOT/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMARIONETTE_TSAN=ON \
+      -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_BUILD_BENCH=OFF >/dev/null
+    cmake --build "$ROOT/build-tsan" -j "$JOBS" --target test_devices test_live test_app_loop
+    (cd "$ROOT/build-tsan" && TSAN_OPTIONS="halt_on_error=1 ${TSAN_OPTIONS:-}" ctest --output-on-failure --no-tests=error \
+      -j "$JOBS" -R '^(LiveHotplug|EveryClass|UsbMidi|Hid|Gpio|Tablet|Osc|Alsa|Sdl|RunSimulate|DeviceSet|ServiceNotifier|Live\.)')
+    ;;
   bench)
     install_deps
     build "$ROOT/build" all -DMARIONETTE_BUILD_BENCH=ON
     for b in "$ROOT"/build/tests/bench/bench_*; do "$b"; done
     ;;
   *)
-    echo "usage: bash cmake/run.sh demo|test|bench|fuzz" >&2
+    echo "usage: bash cmake/run.sh demo|test|bench|fuzz|soak|tsan" >&2
     exit 2
     ;;
 esac

@@ -9,7 +9,7 @@
 namespace {
 const std::string& folder() {
   static const std::string dir = [] {
-    const std::string d = "/tmp/marionette-fuzz-" + std::to_string(getpid());
+    const std::string d = std::string(mar::fuzz::scratch_dir()) + "/marionette-fuzz-" + std::to_string(getpid());
     std::filesystem::create_directories(d + "/shows");
     std::filesystem::create_directories(d + "/devices");
     if (std::FILE* f = std::fopen((d + "/shows/show.toml").c_str(), "wb")) {

@@ -22,9 +22,13 @@ inline std::pair<std::string_view, std::string_view> split(std::string_view s) {
   return {s.substr(0, k), s.substr(k + 1)};
 }
 
-/// Writes the bytes to this process's scratch file `/tmp/marionette-fuzz-PID-NAME` and returns its path.
+/// Memory-backed when it can be (/dev/shm): a write to disk can stall past the 1 s timeout on
+/// a busy machine (a fuzz_show_toml "timeout" once was fopen waiting for the disk).
+inline const char* scratch_dir() { return access("/dev/shm", W_OK) == 0 ? "/dev/shm" : "/tmp"; }
+
+/// Writes the bytes to this process's scratch file `DIR/marionette-fuzz-PID-NAME` and returns its path.
 inline std::string scratch_file(const char* name, std::string_view bytes) {
-  std::string path = "/tmp/marionette-fuzz-" + std::to_string(getpid()) + "-" + name;
+  std::string path = std::string(scratch_dir()) + "/marionette-fuzz-" + std::to_string(getpid()) + "-" + name;
   if (std::FILE* f = std::fopen(path.c_str(), "wb")) {
     if (!bytes.empty()) std::fwrite(bytes.data(), 1, bytes.size(), f);
     std::fclose(f);
