@@ -83,9 +83,11 @@ case "$cmd" in
     install_deps
     CC=clang CXX=clang++ cmake -S "$ROOT" -B "$ROOT/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMARIONETTE_TSAN=ON \
       -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_BUILD_BENCH=OFF >/dev/null
-    cmake --build "$ROOT/build-tsan" -j "$JOBS" --target test_devices test_live test_app_loop
-    (cd "$ROOT/build-tsan" && TSAN_OPTIONS="halt_on_error=1 ${TSAN_OPTIONS:-}" ctest --output-on-failure --no-tests=error \
-      -j "$JOBS" -R '^(LiveHotplug|EveryClass|UsbMidi|Hid|Gpio|Tablet|Osc|Alsa|Sdl|RunSimulate|DeviceSet|ServiceNotifier|Live\.)')
+    cmake --build "$ROOT/build-tsan" -j "$JOBS" --target test_devices test_live test_app_loop marionette
+    export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
+    "$ROOT/build-tsan/tests/test_devices"
+    "$ROOT/build-tsan/tests/test_app_loop"
+    "$ROOT/build-tsan/tests/test_live" --gtest_filter='Live.*:LiveAttract.*:LiveRandom.*'
     ;;
   bench)
     install_deps

@@ -166,11 +166,16 @@ std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
       const toml::table t = toml::parse_file(e.path().string());
       ProfileId p;
       p.name = e.path().stem().string();
-      p.vid = int(t["device"]["vid"].value_or(int64_t(-1)));
+      // A VID or PID that is not a 16-bit whole number matches nothing (-1).
+      const auto id = [](const toml::node* n) {
+        const auto v = n ? cfg::whole(*n) : std::nullopt;
+        return v && *v >= 0 && *v <= 0xFFFF ? int(*v) : -1;
+      };
+      p.vid = id(t["device"]["vid"].node());
       if (const toml::array* a = t["device"]["pid"].as_array()) {
-        for (const toml::node& n : *a) p.pids.push_back(int(n.value_or(int64_t(-1))));
+        for (const toml::node& n : *a) p.pids.push_back(id(&n));
       } else {
-        p.pids.push_back(int(t["device"]["pid"].value_or(int64_t(-1))));
+        p.pids.push_back(id(t["device"]["pid"].node()));
       }
       out.push_back(p);
     } catch (const toml::parse_error& err) {

@@ -8,6 +8,7 @@
 #include <toml++/toml.h>
 
 #include <cmath>
+#include <optional>
 #include <cstdint>
 #include <initializer_list>
 #include <string>
@@ -29,8 +30,20 @@ inline double number(const std::string& path, const toml::node& n, const char* w
   throw ConfigError{at(path, n) + ": " + what + " must be a finite number"};
 }
 
+/// A whole number: an integer, or a float with no fraction within ±2^53. toml++'s own
+/// value<int64_t>() converts any float, which is undefined past int64's range (found by
+/// fuzz_show_toml: `height = 4e048`).
+inline std::optional<int64_t> whole(const toml::node& n) {
+  if (const auto* i = n.as_integer()) return i->get();
+  if (const auto* f = n.as_floating_point()) {
+    const double v = f->get();
+    if (std::isfinite(v) && v == std::trunc(v) && std::fabs(v) <= 9007199254740992.0) return int64_t(v);
+  }
+  return std::nullopt;
+}
+
 inline int integer(const std::string& path, const toml::node& n, const char* what, int lo, int hi) {
-  if (auto v = n.value<int64_t>(); v && *v >= lo && *v <= hi) return int(*v);
+  if (auto v = whole(n); v && *v >= lo && *v <= hi) return int(*v);
   throw ConfigError{at(path, n) + ": " + what + " must be an integer " + std::to_string(lo) + ".." + std::to_string(hi)};
 }
 

@@ -55,7 +55,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
       r.mask = *m->value<std::string>();
     }
     if (const toml::node* it = root.get("iterations")) {
-      const auto v = it->value<int64_t>();
+      const auto v = cfg::whole(*it);
       if (!v || *v < 1 || *v > 1000) throw RigError{at(path, *it) + ": iterations must be a whole number 1..1000"};
       r.iterations = static_cast<int>(*v);
     }
@@ -156,7 +156,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
       if (!t) throw RigError{at(path, *sv) + ": [feature_frame] must be a table"};
       check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[feature_frame]");
       if (const toml::node* n = t->get("anderson")) {
-        const auto v = n->value<int64_t>();
+        const auto v = cfg::whole(*n);
         if (!v || *v < 0 || *v > 16) throw RigError{at(path, *n) + ": anderson must be a whole number 0..16"};
         r.anderson = static_cast<int>(*v);
       }
@@ -238,12 +238,12 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         if (!(r.grid_cell > 0)) throw RigError{at(path, *n) + ": cell must be positive (character units)"};
       }
       if (const toml::node* n = t->get("half_width")) {
-        const auto v = n->value<int64_t>();
+        const auto v = cfg::whole(*n);
         if (!v || *v < 1 || *v > 32) throw RigError{at(path, *n) + ": half_width must be a whole number 1..32 (cells)"};
         r.grid_half_width = static_cast<int>(*v);
       }
       if (const toml::node* n = t->get("stride")) {
-        const auto v = n->value<int64_t>();
+        const auto v = cfg::whole(*n);
         if (!v || *v < 0 || *v > 32)
           throw RigError{at(path, *n) + ": stride must be a whole number 0..32 (0: about half_width / 2; 1: every node)"};
         r.grid_stride = static_cast<int>(*v);

@@ -211,6 +211,9 @@ TEST(Show, HugeOrNegativeNumbersAreRefusedBeforeTheyAreCast) {
       {"[show]\nrig = \"r.toml\"\niterations = 1e300\n", ":3: iterations must be an integer 1..200"},
       {"[show]\nrig = \"r.toml\"\nmin_iterations = -5\n", ":3: min_iterations must be an integer 1..200"},
       {"[show]\nrig = \"r.toml\"\n[display]\nwidth = 1e20\n", ":4: width must be an integer 16..8192"},
+      // fuzz_show_toml: past int64's range, toml++'s own conversion is undefined (now never made)
+      {"[show]\nrig = \"r.toml\"\n[display]\nheight = 4e048\n", ":4: height must be an integer 16..8192"},
+      {"[show]\nrig = \"r.toml\"\n[display]\nheight = 640.5\n", ":4: height must be an integer 16..8192"},
       {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\nseed = -1\n", ":6: seed must be an integer 0..2147483647"},
       {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\nbounce_ms = 1e300\n", ":6: bounce_ms must be 0..10000 ms"},
       {"[show]\nrig = \"r.toml\"\n[[device]]\nname = \"k\"\nsim = \"knob_box\"\ndebounce_ms = 3.2e10\n", ":6: debounce_ms must be 0..10000 ms"},

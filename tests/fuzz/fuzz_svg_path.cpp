@@ -1,5 +1,5 @@
 // SVG path data, then its flattening to polylines (arcs become cubics while parsing). The
-// loader stops flattening at its point budget; here the budget is 100,000 points (one cubic
+// loader stops flattening at its point budget; here the budget is 50,000 points (one cubic
 // flattens to at most 2^18 points, so a huge arc still stays within the 1 s timeout).
 #include "character/svg_parse.h"
 #include "fuzz_util.h"
@@ -13,7 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (c.kind == mar::svg::PathCmd::Cubic) mar::flatten_cubic(at, c.c1, c.c2, c.p, 0.25, out);
     else out.push_back(c.p);
     at = c.p;
-    if (out.size() > 100'000) break;
+    if (out.size() > 50'000) break;
   }
   return 0;
 }

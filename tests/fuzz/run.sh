@@ -6,7 +6,9 @@
 # time); what a run finds grows BUILD_DIR/fuzz/work/NAME, kept for the next run. Every input
 # in tests/fuzz/regressions/NAME is run first. Harnesses run two at a time (JOBS). Prints one
 # line per harness (executions, crashes) and fails when any harness found a crash, a leak, a
-# timeout over 1 s or ran out of memory; the input is kept in BUILD_DIR/fuzz/artifacts.
+# timeout (TIMEOUT seconds, default 2: the harnesses carry ASan, UBSan and coverage, which make
+# an input at a parser's limit several times slower than a Release build) or ran out of memory
+# (2 GB); the failing input is kept in BUILD_DIR/fuzz/artifacts.
 set -uo pipefail
 ROOT=$(cd "$(dirname "$0")/../.." && pwd)
 BUILD=$(cd "$1" && pwd); SECONDS_EACH=$2; shift 2
@@ -32,10 +34,10 @@ run_one() {
   local name=$1 exe=$BUILD/tests/fuzz/$1
   mkdir -p "$F/work/$name" "$F/seeds/$name"
   local reg=$ROOT/tests/fuzz/regressions/$name
-  if [ -d "$reg" ] && ! "$exe" -timeout=1 -rss_limit_mb=2048 "$reg"/* >"$F/logs/$name.regressions" 2>&1; then
+  if [ -d "$reg" ] && ! "$exe" -timeout="$TIMEOUT" -rss_limit_mb=2048 "$reg"/* >"$F/logs/$name.regressions" 2>&1; then
     echo "$name: a regression input fails (see $F/logs/$name.regressions)"; return 1
   fi
-  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} -timeout=1 -rss_limit_mb=2048 -max_len=65536 \
+  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} -timeout="$TIMEOUT" -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 -artifact_prefix="$F/artifacts/$name-" \
     "$F/work/$name" "$F/seeds/$name" >"$F/logs/$name.log" 2>&1
   local rc=$?
@@ -49,5 +51,6 @@ run_one() {
   echo "$name: ${execs:-0} executions (${rate:-0}/s), 0 crashes"
 }
 RUNS=${RUNS:-}
-export -f run_one; export BUILD F ROOT SECONDS_EACH RUNS
+TIMEOUT=${TIMEOUT:-2}
+export -f run_one; export BUILD F ROOT SECONDS_EACH RUNS TIMEOUT
 printf '%s\n' "${HARNESSES[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}' | tee "$F/summary.txt"
