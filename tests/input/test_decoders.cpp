@@ -164,7 +164,8 @@ TEST(OscDecoder, BoundPatternsMatchAndArgumentsScale) {
   const uint8_t junk[] = "\x01garbage";
   EXPECT_TRUE(feed(*d, WireRecord::make(9, WireKind::OscMessage, junk)).empty());
   auto cut = osc("/fader/1", 'f', half);
-  cut.resize(cut.size() - 2);  // argument cut short
+  cut.pop_back();  // argument cut short by two bytes (pop_back: GCC's sanitizer build warns
+  cut.pop_back();  // falsely about resize(size() - 2))
   EXPECT_TRUE(feed(*d, WireRecord::make(9, WireKind::OscMessage, cut)).empty());
   EXPECT_EQ(d->stats().malformed, 2u);
 }
