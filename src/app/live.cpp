@@ -198,7 +198,11 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   if (sh.attract.after > 0) {  // after the bindings: the attract starts from the mapping as loaded
     const AttractConfig& ac = sh.attract;
     const ShowDevice* d = ac.device >= 0 ? &sh.devices[size_t(ac.device)] : nullptr;
-    auto a = Attract::make(ac, m, d ? d->sim : "", d ? d->descriptor : "", uint16_t(std::max(0, ac.device)),
+    // The descriptor as the device's simulator uses it: a corpus file that is not here leaves the
+    // built-in one (as above, and as the show file's check of the script did).
+    const bool absent = d && d->descriptor_in_corpus && !std::filesystem::exists(d->descriptor);
+    const std::string descriptor = d && !absent ? d->descriptor : "";
+    auto a = Attract::make(ac, m, d ? d->sim : "", descriptor, uint16_t(std::max(0, ac.device)),
                            d ? int64_t(d->debounce_ms * 1e6) : 0);
     if (!a.ok()) return R::failure(sh.path + ":" + std::to_string(ac.line) + ": [attract]: " + a.error);
     s->attract_ = std::move(*a.value);

@@ -382,14 +382,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
           d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
         }
         if (auto* n = t.get("script")) d.script = text(path, *n, "script");
-        if (auto* n = t.get("script_file")) {
-          const std::string f = resolve(path, text(path, *n, "script_file"));
-          std::ifstream in(f);
-          if (!in) throw ShowError{at(path, *n) + ": cannot open script file " + f};
-          std::stringstream ss;
-          ss << in.rdbuf();
-          d.script = ss.str();
-        }
+        if (auto* n = t.get("script_file")) d.script = read_script_file(path, *n);
         auto millis = [&](const toml::node& n, const char* what) {  // 0..10 s (ns fit an int64)
           const double v = number(path, n, what);
           if (v < 0 || v > 10000) throw ShowError{at(path, n) + ": " + what + " must be 0..10000 ms"};

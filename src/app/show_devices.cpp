@@ -5,8 +5,6 @@
 #include "firmware_sim/sim_device.h"
 
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 
 namespace mar {
 
@@ -232,13 +230,7 @@ void read_attract(const std::string& path, const toml::table& root, ShowConfig& 
     a.script = text(path, *n, "script");
     first_line = int(n->source().begin.line);
   } else {
-    const toml::node* f = t->get("script_file");
-    where = resolve(path, text(path, *f, "script_file"));
-    std::ifstream in(where);
-    if (!in) throw ShowError{at(path, *f) + ": cannot open script file " + where};
-    std::stringstream ss;
-    ss << in.rdbuf();
-    a.script = ss.str();
+    a.script = read_script_file(path, *t->get("script_file"), &where);
   }
   auto sim = make_sim_device(d.sim, "", 0, 1);
   if (!sim.ok()) throw ShowError{at(path, *dn) + ": " + sim.error};

@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <cstdlib>
 #include <string>
 
@@ -34,6 +36,17 @@ inline std::string resolve(const std::string& show_path, const std::string& p) {
     return (fs::path(env && *env ? env : MARIONETTE_DEFAULT_CORPUS_DIR) / p.substr(7)).string();
   }
   return (fs::path(show_path).parent_path() / p).lexically_normal().string();
+}
+
+/// The text of a `script_file` (resolved against the show file); refused with the key's line.
+inline std::string read_script_file(const std::string& show_path, const toml::node& n, std::string* resolved = nullptr) {
+  const std::string f = resolve(show_path, text(show_path, n, "script_file"));
+  std::ifstream in(f);
+  if (!in) throw ShowError{at(show_path, n) + ": cannot open script file " + f};
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (resolved) *resolved = f;
+  return ss.str();
 }
 
 }  // namespace mar::showtoml
