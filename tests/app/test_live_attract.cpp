@@ -138,6 +138,8 @@ TEST(LiveAttract, PlaysWhenIdleHandsOverWithoutAJumpAndLeavesNoTrace) {
   double step_in = 0, step_out = 0;
   for (int k = start; k <= playing; ++k) step_in = std::max(step_in, max_diff(f[k].targets, f[k - 1].targets));
   for (int k = handover; k <= live_again; ++k) step_out = std::max(step_out, max_diff(f[k].targets, f[k - 1].targets));
+  std::printf("[ measure ] attract: starts at frame %d, hands over at %d; largest step %.1f / %.1f units against "
+              "gaps of %.1f / %.1f\n", start, handover, step_in, step_out, gap_in, gap_out);
   EXPECT_LT(step_in, 0.15 * gap_in) << "gap " << gap_in;
   EXPECT_LT(step_out, 0.15 * gap_out) << "gap " << gap_out;
   // The attract's mouth (S 3 at 0.4 s of its script) shows while the attract is the stronger
