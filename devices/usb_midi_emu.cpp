@@ -26,22 +26,34 @@ std::vector<uint8_t> midi_descriptors(int vid, int pid) {
 }  // namespace
 
 void VirtualBench::Impl::describe_usb(BenchDev& d) {
-  const int n = ++usb_n + 1;
+  // Addresses run 2..127 on a bus, as the kernel's do; after 126 plugs the next bus is used, so
+  // each plug keeps a node of its own (the old node's record is kept, see unplug) and libusb's
+  // 8-bit bus and device numbers never overflow (they did at the 255th replug).
+  const int k = usb_n++;
+  const int bus = 1 + k / 126, dev = 2 + k % 126, n = k + 2;
+  if (bus > 255) throw std::runtime_error("vbench: more than 32,130 USB plugs in one bench");
   char node[32], vp[64];
-  std::snprintf(node, sizeof node, "bus/usb/001/%03d", n);
+  std::snprintf(node, sizeof node, "bus/usb/%03d/%03d", bus, dev);
   std::snprintf(vp, sizeof vp, "A: idVendor=%04x\\n\nA: idProduct=%04x\\n\n", d.usb.vid, d.usb.pid);
+  const std::string b = std::to_string(bus), v = std::to_string(dev);
   d.node = std::string("/dev/") + node;
   d.syspath = "/sys/devices/usbmidi" + std::to_string(n);
   d.record = "P: /devices/usbmidi" + std::to_string(n) + "\nN: " + node + "\nE: SUBSYSTEM=usb\nE: DEVTYPE=usb_device\n" +
-             "E: DRIVER=usb\nE: BUSNUM=001\nE: DEVNUM=" + std::to_string(n) + "\nE: DEVNAME=/dev/" + node + "\n" +
-             "A: busnum=1\\n\nA: devnum=" + std::to_string(n) + "\\n\nA: speed=12\\n\nA: bConfigurationValue=1\\n\n" +
-             vp + "A: dev=189:" + std::to_string(n) + "\\n\nH: descriptors=" + hex(midi_descriptors(d.usb.vid, d.usb.pid)) + "\n";
+             "E: DRIVER=usb\nE: BUSNUM=" + std::string(node + 8, 3) + "\nE: DEVNUM=" + v + "\nE: DEVNAME=/dev/" + node + "\n" +
+             "A: busnum=" + b + "\\n\nA: devnum=" + v + "\\n\nA: speed=12\\n\nA: bConfigurationValue=1\\n\n" + vp +
+             "A: dev=189:" + std::to_string((bus - 1) * 128 + dev - 1) + "\\n\nH: descriptors=" +
+             hex(midi_descriptors(d.usb.vid, d.usb.pid)) + "\n";
 }
 
 bool VirtualBench::Impl::usb_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg) {
+  // A closed descriptor's URBs are gone (the kernel discards them on close).
+  for (auto* q : {&d.in_urbs, &d.done_urbs, &d.discarded})
+    q->erase(std::remove_if(q->begin(), q->end(), [](const BenchUrb& u) { return !umockdev_ioctl_client_get_connected(u.fd); }),
+             q->end());
+  auto mine = [c](std::deque<BenchUrb>& q) { return std::find_if(q.begin(), q.end(), [c](const BenchUrb& u) { return u.fd == c; }); };
   // Unplugged: URBs that died with the device are still reaped, anything else is ENODEV.
   const bool reap = req == USBDEVFS_REAPURB || req == USBDEVFS_REAPURBNDELAY;
-  if (!d.plugged && !(reap && !d.discarded.empty()) && req != USBDEVFS_DISCARDURB) {
+  if (!d.plugged && !(reap && mine(d.discarded) != d.discarded.end()) && req != USBDEVFS_DISCARDURB) {
     complete(c, -1, ENODEV);
     return true;
   }
@@ -79,55 +91,52 @@ bool VirtualBench::Impl::usb_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned
       UMockdevIoctlData* urb_data = umockdev_ioctl_data_resolve(arg, 0, sizeof(usbdevfs_urb), nullptr);
       auto* urb = reinterpret_cast<usbdevfs_urb*>(urb_data->data);
       UMockdevIoctlData* buf = umockdev_ioctl_data_resolve(urb_data, offsetof(usbdevfs_urb, buffer), size_t(urb->buffer_length), nullptr);
-      umockdev_ioctl_data_ref(urb_data);
       if (urb->endpoint & 0x80) {
-        d.in_urbs.push_back(urb_data);
+        d.in_urbs.emplace_back(urb_data, c);
       } else {
         if (buf) d.out_bytes.insert(d.out_bytes.end(), buf->data, buf->data + urb->buffer_length);
         urb->actual_length = urb->buffer_length;
         urb->status = 0;
-        d.done_urbs.push_back(urb_data);
+        d.done_urbs.emplace_back(urb_data, c);
       }
       complete(c, 0, 0);
       return true;
     }
     case USBDEVFS_REAPURB:
     case USBDEVFS_REAPURBNDELAY: {
-      UMockdevIoctlData* urb_data = nullptr;
-      if (!d.discarded.empty()) {
-        urb_data = d.discarded.front();
-        d.discarded.pop_front();
-        reinterpret_cast<usbdevfs_urb*>(urb_data->data)->status = -ENOENT;
-        reinterpret_cast<usbdevfs_urb*>(urb_data->data)->actual_length = 0;
-      } else if (!d.done_urbs.empty()) {
-        urb_data = d.done_urbs.front();
-        d.done_urbs.pop_front();
-      } else if (!d.in_urbs.empty() && !d.in_packets.empty()) {
-        urb_data = d.in_urbs.front();
-        d.in_urbs.pop_front();
-        auto* urb = reinterpret_cast<usbdevfs_urb*>(urb_data->data);
+      std::deque<BenchUrb>* from = nullptr;
+      std::deque<BenchUrb>::iterator it;
+      if (it = mine(d.discarded); it != d.discarded.end()) {
+        from = &d.discarded;
+        it->urb().status = -ENOENT;
+        it->urb().actual_length = 0;
+      } else if (it = mine(d.done_urbs); it != d.done_urbs.end()) {
+        from = &d.done_urbs;
+      } else if (it = mine(d.in_urbs); it != d.in_urbs.end() && !d.in_packets.empty()) {
+        from = &d.in_urbs;
+        usbdevfs_urb& urb = it->urb();
         std::vector<uint8_t>& p = d.in_packets.front();
-        const size_t n = std::min(p.size(), size_t(urb->buffer_length));
-        std::memcpy(urb->buffer, p.data(), n);
-        urb->actual_length = int(n);
-        urb->status = 0;
+        const size_t n = std::min(p.size(), size_t(urb.buffer_length));
+        std::memcpy(urb.buffer, p.data(), n);
+        urb.actual_length = int(n);
+        urb.status = 0;
         d.in_packets.pop_front();
       }
-      if (!urb_data) {
+      if (!from) {
         complete(c, -1, EAGAIN);
         return true;
       }
       UMockdevIoctlData* ptr = umockdev_ioctl_data_resolve(arg, 0, sizeof(void*), nullptr);
-      umockdev_ioctl_data_set_ptr(ptr, 0, urb_data);
-      umockdev_ioctl_data_unref(urb_data);
+      umockdev_ioctl_data_set_ptr(ptr, 0, it->data);
+      from->erase(it);
       complete(c, 0, 0);
       return true;
     }
     case USBDEVFS_DISCARDURB: {
       const gulong addr = *reinterpret_cast<gulong*>(arg->data);
       for (auto it = d.in_urbs.begin(); it != d.in_urbs.end(); ++it)
-        if ((*it)->client_addr == addr) {
-          d.discarded.push_back(*it);
+        if (it->fd == c && it->data->client_addr == addr) {
+          d.discarded.push_back(std::move(*it));
           d.in_urbs.erase(it);
           complete(c, 0, 0);
           return true;

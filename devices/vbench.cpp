@@ -74,8 +74,7 @@ VirtualBench::~VirtualBench() {
   for (auto& d : p_->devs) {
     for (int fd : d->line_fd)
       if (fd >= 0) ::close(fd);
-    for (auto* q : {&d->in_urbs, &d->done_urbs, &d->discarded})
-      for (auto* u : *q) umockdev_ioctl_data_unref(u);
+    for (auto* q : {&d->in_urbs, &d->done_urbs, &d->discarded}) q->clear();
   }
   g_object_unref(p_->tb);
   g_object_unref(p_->handler);
@@ -229,8 +228,8 @@ void VirtualBench::unplug(int dev) {
   }
   for (auto* q : {&d.in_urbs, &d.done_urbs})  // in-flight URBs die with the device
     while (!q->empty()) {
-      reinterpret_cast<usbdevfs_urb*>(q->front()->data)->status = -ENODEV;
-      d.discarded.push_back(q->front());
+      q->front().urb().status = -ENODEV;
+      d.discarded.push_back(std::move(q->front()));
       q->pop_front();
     }
   d.in_packets.clear();

@@ -29,10 +29,33 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 namespace mar {
 
 enum class BenchKind { Usb, Hid, Gpio, Evdev };
+
+/// A submitted URB and the open descriptor (umockdev client) it belongs to, as in usbfs: only
+/// that descriptor reaps it, and closing the descriptor discards it. Holds a reference on both.
+struct BenchUrb {
+  UMockdevIoctlData* data = nullptr;
+  UMockdevIoctlClient* fd = nullptr;
+  BenchUrb(UMockdevIoctlData* d, UMockdevIoctlClient* c) : data(d), fd(c) {
+    umockdev_ioctl_data_ref(data);
+    g_object_ref(fd);
+  }
+  BenchUrb(BenchUrb&& o) noexcept : data(std::exchange(o.data, nullptr)), fd(std::exchange(o.fd, nullptr)) {}
+  BenchUrb& operator=(BenchUrb&& o) noexcept {
+    std::swap(data, o.data);
+    std::swap(fd, o.fd);
+    return *this;
+  }
+  ~BenchUrb() {
+    if (data) umockdev_ioctl_data_unref(data);
+    if (fd) g_object_unref(fd);
+  }
+  usbdevfs_urb& urb() const { return *reinterpret_cast<usbdevfs_urb*>(data->data); }
+};
 
 struct BenchDev {
   BenchKind kind;
@@ -44,7 +67,7 @@ struct BenchDev {
   std::deque<std::vector<uint8_t>> reports;  // hidraw: one per read
   std::mutex m;
   // USB
-  std::deque<UMockdevIoctlData*> in_urbs, done_urbs, discarded;
+  std::deque<BenchUrb> in_urbs, done_urbs, discarded;
   std::deque<std::vector<uint8_t>> in_packets;
   std::vector<uint8_t> out_bytes;
   bool driver = false, detached = false;

@@ -3,7 +3,7 @@
 // The device is unplugged and replugged while frames run: each time it is seen unplugged and
 // reconnected by identity within 1 s, and after the last replug its binding still moves the
 // handle. 100 cycles a class here; MARIONETTE_HOTPLUG_CYCLES sets another count (the soak runs
-// 1,000: `bash cmake/run.sh soak`). The USB-MIDI class needs MARIONETTE_HOTPLUG_USB (below).
+// 1,000: `bash cmake/run.sh soak`).
 #include "app/alloc_count.h"
 #include "app/live.h"
 #include "devices/bench_util.h"
@@ -155,12 +155,7 @@ class LiveHotplug : public testing::TestWithParam<int> {};
 
 TEST_P(LiveHotplug, UnplugReplugDuringAShow) { unplug_replug(classes()[size_t(GetParam())]); }
 
-// USB-MIDI runs only when MARIONETTE_HOTPLUG_USB is set (the soak sets it): on the bench its
-// replug loop hung once in a clean-clone CI run under ASan (a URB reap waiting on umockdev,
-// as before the GPIO fix, cause not yet found), and a hang would hold CI for its timeout.
-int first_class() { return std::getenv("MARIONETTE_HOTPLUG_USB") ? 0 : 1; }
-
-INSTANTIATE_TEST_SUITE_P(EveryClass, LiveHotplug, testing::Range(first_class(), 4), [](const testing::TestParamInfo<int>& i) {
+INSTANTIATE_TEST_SUITE_P(EveryClass, LiveHotplug, testing::Range(0, 4), [](const testing::TestParamInfo<int>& i) {
   return std::string(classes()[size_t(i.param)].name);
 });
 

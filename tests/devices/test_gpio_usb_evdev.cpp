@@ -7,9 +7,14 @@
 #include "devices/vbench.h"
 
 #include <gtest/gtest.h>
+#include <libusb-1.0/libusb.h>
 #include <poll.h>
 #include <linux/gpio.h>
 #include <linux/input.h>
+
+#include <atomic>
+#include <cstdio>
+#include <thread>
 
 namespace mar {
 namespace {
@@ -210,6 +215,92 @@ TEST(UsbMidiBackend, AListedDeviceThatCannotBeOpenedDoesNotHideTheNext) {
     ASSERT_EQ(set.state(0), DeviceState::Connected) << set.problem(0);
     EXPECT_EQ(set.backend(0).node(), gone == 0 ? "/dev/bus/usb/001/003" : "/dev/bus/usb/001/002");
   }
+}
+
+// The bench as the kernel: URBs belong to the descriptor that submitted them, and closing it
+// discards them. A handle closed after an unplug without reaping its transfers (as a close
+// that gives up waiting does) left them queued on the device, and the next plug's first reap
+// was answered with one of them: umockdev then wrote it back through the closed descriptor's
+// stream, failed, and never answered — the USB-MIDI hot-plug hang seen under ASan in CI.
+TEST(UsbMidiBench, UrbsOfAClosedHandleAreNeverReapedByTheNextPlug) {
+  VirtualBench bench;
+  const int dev = bench.add_usb_midi({});
+  libusb_context* ctx = nullptr;
+  ASSERT_EQ(libusb_init(&ctx), 0);
+  auto open_first = [&] {
+    libusb_device** list = nullptr;
+    libusb_device_handle* h = nullptr;
+    const ssize_t n = libusb_get_device_list(ctx, &list);
+    for (ssize_t i = 0; i < n && !h; ++i)
+      if (libusb_open(list[i], &h) != 0) h = nullptr;
+    if (n >= 0) libusb_free_device_list(list, 1);
+    if (h && libusb_claim_interface(h, 1) != 0) {
+      libusb_close(h);
+      h = nullptr;
+    }
+    return h;
+  };
+  struct In {
+    uint8_t buf[64];
+    int done = 0, length = 0;
+    libusb_transfer_status status = LIBUSB_TRANSFER_ERROR;
+  };
+  auto submit = [](libusb_device_handle* h, In& in) {
+    libusb_transfer* t = libusb_alloc_transfer(0);
+    libusb_fill_bulk_transfer(t, h, 0x81, in.buf, sizeof in.buf,
+                              [](libusb_transfer* x) {
+                                auto* p = static_cast<In*>(x->user_data);
+                                p->status = x->status;
+                                p->length = x->actual_length;
+                                ++p->done;
+                              },
+                              &in, 0);
+    EXPECT_EQ(libusb_submit_transfer(t), 0);
+    return t;
+  };
+  libusb_device_handle* old = open_first();
+  ASSERT_NE(old, nullptr);
+  In stale[4];
+  libusb_transfer* ts[4];
+  for (int i = 0; i < 4; ++i) ts[i] = submit(old, stale[i]);
+  bench.unplug(dev);
+  for (auto* t : ts) libusb_cancel_transfer(t);
+  libusb_release_interface(old, 1);
+  libusb_close(old);  // nothing reaped: the four URBs are still the old descriptor's
+  for (auto* t : ts) libusb_free_transfer(t);
+
+  bench.replug(dev);
+  libusb_device_handle* h = open_first();
+  ASSERT_NE(h, nullptr);
+  In fresh;
+  libusb_transfer* t = submit(h, fresh);
+  const uint8_t cc[] = {0x0B, 0xB0, 9, 42};
+  bench.usb_in(dev, cc);
+  // Before the fix the first reap below never returned: it runs on its own thread so that the
+  // test can fail with a message instead of hanging.
+  std::atomic<bool> finished{false};
+  std::thread events([&] {
+    timeval tv{0, 10000};
+    for (int k = 0; k < 1000 && !fresh.done; ++k) libusb_handle_events_timeout_completed(ctx, &tv, nullptr);
+    finished = true;
+  });
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  while (!finished && std::chrono::steady_clock::now() < end) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  if (!finished) {
+    ADD_FAILURE() << "a reap on the replugged device never returned";
+    std::fflush(nullptr);
+    std::_Exit(1);
+  }
+  events.join();
+  EXPECT_EQ(fresh.done, 1);
+  EXPECT_EQ(fresh.status, LIBUSB_TRANSFER_COMPLETED);
+  ASSERT_EQ(fresh.length, 4);
+  EXPECT_EQ(std::vector<uint8_t>(fresh.buf, fresh.buf + 4), std::vector<uint8_t>(cc, cc + 4));
+  for (const In& s : stale) EXPECT_EQ(s.done, 0);  // the old handle's callbacks never ran
+  libusb_release_interface(h, 1);
+  libusb_close(h);
+  libusb_free_transfer(t);
+  libusb_exit(ctx);
 }
 
 TEST(TabletBackend, PenStrokeWithPressureAndTiltKeepsTheKernelTimestamps) {

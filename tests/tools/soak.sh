@@ -47,7 +47,7 @@ h2=$(section section_after)
 if [ -n "$h1" ] && [ "$h1" = "$h2" ]; then echo "deterministic section: run_hash $h1 before and after -> ok"
 else echo "deterministic section: run_hash $h1 before, $h2 after -> FAILED"; fail=1; fi
 
-if MARIONETTE_HOTPLUG_USB=1 MARIONETTE_HOTPLUG_CYCLES=${HOTPLUG_CYCLES:-1000} "$BUILD/tests/test_devices" --gtest_filter='*LiveHotplug*' >"$OUT/hotplug.log" 2>&1; then
+if MARIONETTE_HOTPLUG_CYCLES=${HOTPLUG_CYCLES:-1000} "$BUILD/tests/test_devices" --gtest_filter='*LiveHotplug*' >"$OUT/hotplug.log" 2>&1; then
   grep -h '\[ measure \]' "$OUT/hotplug.log" | sed 's/^\[ measure \] /hotplug /; s/$/ -> ok/'
 else echo "hotplug: FAILED (see $OUT/hotplug.log)"; grep -h '\[ measure \]' "$OUT/hotplug.log"; fail=1; fi
 
