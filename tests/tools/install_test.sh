@@ -16,6 +16,12 @@ if grep -q umockdev "$prefix/ldd.txt"; then echo "bin/marionette links umockdev:
 ldd "$prefix/bin/marionette-simulate" > "$prefix/ldd.txt"
 grep -q umockdev "$prefix/ldd.txt" || { echo "bin/marionette-simulate should carry the bench"; exit 1; }
 test -f "$prefix/lib/udev/rules.d/70-marionette.rules"
+test -f "$prefix/lib/systemd/system/marionette-kiosk.service"
+# The hardware watchdog drop-in: systemd keeps /dev/watchdog within the Raspberry Pi's 15 s.
+wd="$prefix/share/marionette/systemd/marionette-watchdog.conf"
+sec=$(sed -n 's/^RuntimeWatchdogSec=\([0-9]*\)s$/\1/p' "$wd")
+[ -n "$sec" ] && [ "$sec" -gt 0 ] && [ "$sec" -le 15 ] || { echo "$wd: RuntimeWatchdogSec must be 1..15 s"; exit 1; }
+grep -qx '\[Manager\]' "$wd" || { echo "$wd: no [Manager] section"; exit 1; }
 for d in characters rigs shows devices; do
   test -n "$(ls "$prefix/share/marionette/$d")" || { echo "empty: share/marionette/$d"; exit 1; }
 done
@@ -28,4 +34,4 @@ grep -q "joints:" inspect.txt
 "$prefix/bin/marionette" run "$prefix/share/marionette/shows/demo.toml" --headless --frames 30 --stats stats.json > run.txt 2> run.err
 grep -q '"frames": 30' stats.json
 if [ -s run.err ]; then echo "the installed demo printed:"; cat run.err; exit 1; fi
-echo "installed into a temporary prefix: binary, profiles, udev rule, characters, rigs, shows; the program finds them"
+echo "installed into a temporary prefix: binary, profiles, udev rule, service and watchdog drop-in, characters, rigs, shows; the program finds them"
