@@ -21,6 +21,7 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
   if (!c->renderer_) return R::failure(std::string("cannot create software renderer: ") + SDL_GetError());
   SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
   c->software_ = true;
+  c->make_white();
   return R::success(std::move(c));
 }
 
@@ -44,12 +45,14 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int wid
   SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
   SDL_RendererInfo info;
   c->software_ = SDL_GetRendererInfo(c->renderer_, &info) == 0 && (info.flags & SDL_RENDERER_SOFTWARE);
+  if (c->software_) c->make_white();
   c->refresh_size();
   return R::success(std::move(c));
 }
 
 Canvas::~Canvas() {
   for (auto& [k, t] : textures_) SDL_DestroyTexture(t);
+  if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
   if (window_) {
@@ -58,6 +61,15 @@ Canvas::~Canvas() {
     // Last subsystem gone: SDL_Quit also closes SDL's D-Bus connection.
     if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0) SDL_Quit();
   }
+}
+
+// One white texel: translucent fills are drawn through it on software renderers (draw_software).
+void Canvas::make_white() {
+  white_ = SDL_CreateTexture(renderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, 1, 1);
+  if (!white_) return;  // (then translucent fills go the allocating way)
+  const Uint32 px = 0xffffffffu;
+  SDL_UpdateTexture(white_, nullptr, &px, 4);
+  SDL_SetTextureBlendMode(white_, SDL_BLENDMODE_BLEND);
 }
 
 void Canvas::refresh_size() {
@@ -99,22 +111,51 @@ std::string Canvas::draw(const DrawList& list) {
     int nverts = static_cast<int>(list.vertices.size());
     const int* idx = list.indices.data() + b.first_index;
     if (software_) {
-      // SDL 2.26's software path redraws two consecutive triangles that share two vertex
-      // indices as an axis-aligned rectangle when its (loose) corner test passes, which
-      // it also does for sheared quads. Distinct indices for every triangle avoid that.
-      sw_vertices_.clear();
-      sw_indices_.clear();
-      for (int k = 0; k < b.index_count; ++k) {
-        sw_vertices_.push_back(list.vertices[static_cast<size_t>(idx[k])]);
-        sw_indices_.push_back(k);
-      }
-      verts = sw_vertices_.data();
-      nverts = static_cast<int>(sw_vertices_.size());
-      idx = sw_indices_.data();
+      if (std::string e = draw_software(list, b, tex); !e.empty()) return e;
+      continue;
     }
     if (SDL_RenderGeometry(renderer_, tex, verts, nverts, idx, b.index_count) != 0) {
       return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
     }
+  }
+  return {};
+}
+
+// SDL 2.26's software path redraws two consecutive triangles that share two vertex indices
+// as an axis-aligned rectangle when its (loose) corner test passes, which it also does for
+// sheared quads: distinct indices for every triangle avoid that. And it fills a blended
+// untextured triangle through a temporary surface it allocates for each one
+// (SDL_SW_FillTriangle): thousands of mallocs a frame. So, in runs: an opaque fill is drawn
+// with blending off (the same pixels, written in place), and a translucent fill as the white
+// texel modulated by its colour (SDL_SW_BlitTriangle blends in place). Textured triangles
+// already blend in place.
+std::string Canvas::draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex) {
+  const int* idx = list.indices.data() + b.first_index;
+  const auto& in = list.vertices;
+  enum Way { Textured, Opaque, Translucent };
+  auto way = [&](int k) {
+    if (tex || !white_) return Textured;  // (no white texel: the blended fill as before)
+    for (int j = 0; j < 3; ++j)
+      if (in[static_cast<size_t>(idx[k + j])].color.a != 255) return Translucent;
+    return Opaque;
+  };
+  for (int k = 0; k + 2 < b.index_count;) {
+    const Way w = way(k);
+    sw_vertices_.clear();
+    sw_indices_.clear();
+    for (; k + 2 < b.index_count && way(k) == w; k += 3)
+      for (int j = 0; j < 3; ++j) {
+        SDL_Vertex v = in[static_cast<size_t>(idx[k + j])];
+        if (w == Translucent) v.tex_coord = {0.5f, 0.5f};
+        sw_vertices_.push_back(v);
+        sw_indices_.push_back(static_cast<int>(sw_indices_.size()));
+      }
+    SDL_SetRenderDrawBlendMode(renderer_, w == Opaque ? SDL_BLENDMODE_NONE : SDL_BLENDMODE_BLEND);
+    const int rc = SDL_RenderGeometry(renderer_, w == Translucent ? white_ : tex, sw_vertices_.data(),
+                                      static_cast<int>(sw_vertices_.size()), sw_indices_.data(),
+                                      static_cast<int>(sw_indices_.size()));
+    SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_BLEND);
+    if (rc != 0) return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
   }
   return {};
 }

@@ -52,7 +52,10 @@ class Canvas {
 
   int width_ = 0, height_ = 0;
   bool software_ = false;
-  // Software renderers get every triangle with its own vertices (see draw()); these
+  std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
+  void make_white();
+  SDL_Texture* white_ = nullptr;  ///< software renderers: one white texel (draw_software)
+  // Software renderers get every triangle with its own vertices (see draw_software()); these
   // keep their capacity, so drawing allocates nothing once warmed up.
   std::vector<SDL_Vertex> sw_vertices_;
   std::vector<int> sw_indices_;
