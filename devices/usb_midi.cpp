@@ -1,20 +1,27 @@
 // Class-compliant USB-MIDI controllers through libusb 1.0: the MIDIStreaming interface
 // (Audio class 1, subclass 3) is found from the descriptors, its bulk IN endpoint read
-// with asynchronous transfers serviced from the frame loop (libusb's poll fds polled with
-// a zero timeout), and bulk OUT used for feedback (LEDs).
+// with asynchronous transfers, and bulk OUT used for feedback (LEDs). The transfers are
+// serviced on a thread of the backend's own: libusb's Linux backend allocates the URBs of
+// every transfer it submits (and each packet in resubmits one), so the frame thread only
+// takes finished packets from a lock-free ring and leaves feedback in another.
 #include "devices/backends.h"
 #include "devices/util.h"
 #include "input/usb_midi.h"
 
-#include <libusb-1.0/libusb.h>
-#include <poll.h>
+#include "devices/spsc.h"
 
+#include <libusb-1.0/libusb.h>
+
+#include <array>
+#include <atomic>
+#include <chrono>
 #include <cstring>
+#include <thread>
 
 namespace mar {
 namespace {
 
-constexpr int kInTransfers = 4, kInSize = 512, kRing = 256;
+constexpr int kInTransfers = 4, kInSize = 512;
 
 class UsbMidiBackend final : public Backend {
  public:
@@ -32,26 +39,26 @@ class UsbMidiBackend final : public Backend {
  private:
   static void LIBUSB_CALL on_in(libusb_transfer* t);
   static void LIBUSB_CALL on_out(libusb_transfer* t);
+  void service();  // the I/O thread
   void start_out();
 
   libusb_context* ctx_ = nullptr;
   libusb_device_handle* h_ = nullptr;
   int iface_ = -1;
   uint8_t ep_in_ = 0, ep_out_ = 0;
+  // Owned by the I/O thread while it runs (and by open()/close() otherwise).
   libusb_transfer* in_[kInTransfers] = {};
   libusb_transfer* out_ = nullptr;
   uint8_t in_buf_[kInTransfers][kInSize];
   uint8_t out_buf_[kInSize];
-  uint8_t pending_out_[kInSize];
-  size_t pending_n_ = 0;
+  size_t out_n_ = 0;
   bool out_busy_ = false;
-  int in_flight_ = 0;
-  bool in_active_[kInTransfers] = {};  ///< libusb owns in_[i] (submitted, not yet finished)
-  bool failed_ = false;
-  pollfd pfds_[16];
-  nfds_t nfds_ = 0;
-  WireRecord ring_[kRing];
-  size_t ring_n_ = 0;
+  // Shared with the frame thread.
+  std::atomic<int> in_flight_{0};
+  std::atomic<bool> failed_{false}, stop_{false};
+  SpscRing<WireRecord, 256> in_ring_;                 ///< I/O thread -> frame
+  SpscRing<std::array<uint8_t, 4>, 128> out_ring_;    ///< frame -> I/O thread (USB-MIDI packets)
+  std::thread io_;
 };
 
 // The MIDIStreaming interface and its bulk (or interrupt) endpoints.
@@ -137,21 +144,15 @@ DeviceState UsbMidiBackend::open() {
     return c == LIBUSB_ERROR_ACCESS ? DeviceState::Denied : DeviceState::Waiting;
   }
   failed_ = false;
-  ring_n_ = 0;
+  in_flight_ = 0;
   for (int i = 0; i < kInTransfers; ++i) {
     in_[i] = libusb_alloc_transfer(0);
     libusb_fill_bulk_transfer(in_[i], h_, ep_in_, in_buf_[i], kInSize, &UsbMidiBackend::on_in, this, 0);
-    in_active_[i] = libusb_submit_transfer(in_[i]) == 0;
-    if (in_active_[i]) ++in_flight_;
+    if (libusb_submit_transfer(in_[i]) == 0) ++in_flight_;
   }
   if (ep_out_) out_ = libusb_alloc_transfer(0);
-  nfds_ = 0;
-  if (const libusb_pollfd** pf = libusb_get_pollfds(ctx_)) {
-    for (size_t i = 0; pf[i] && nfds_ < std::size(pfds_); ++i) pfds_[nfds_++] = {pf[i]->fd, pf[i]->events, 0};
-    fds_.clear();
-    for (nfds_t i = 0; i < nfds_; ++i) fds_.push_back(pfds_[i].fd);
-    libusb_free_pollfds(pf);
-  }
+  stop_ = false;
+  io_ = std::thread([this] { service(); });
   config_ = DecoderConfig{};
   config_.kind = WireKind::UsbMidi;
   problem_.clear();
@@ -160,6 +161,8 @@ DeviceState UsbMidiBackend::open() {
 
 void UsbMidiBackend::close() {
   if (!h_) return;
+  stop_ = true;
+  if (io_.joinable()) io_.join();
   for (auto* t : in_)
     if (t) libusb_cancel_transfer(t);
   if (out_ && out_busy_) libusb_cancel_transfer(out_);
@@ -172,11 +175,9 @@ void UsbMidiBackend::close() {
   libusb_release_interface(h_, iface_);
   libusb_close(h_);
   h_ = nullptr;
-  fds_.clear();
-  for (int i = 0; i < kInTransfers; ++i) {
-    if (in_[i]) libusb_free_transfer(in_[i]);
-    in_[i] = nullptr;
-    in_active_[i] = false;
+  for (auto*& t : in_) {
+    if (t) libusb_free_transfer(t);
+    t = nullptr;
   }
   if (out_) libusb_free_transfer(out_);
   out_ = nullptr;
@@ -184,15 +185,26 @@ void UsbMidiBackend::close() {
   out_busy_ = false;
 }
 
+// The I/O thread: finishes transfers (their callbacks run here) and sends feedback. The wait
+// is short so that feedback queued by the frame goes out within a few milliseconds.
+void UsbMidiBackend::service() {
+  while (!stop_) {
+    timeval tv{0, 2000};
+    libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
+    if (!out_busy_ && !failed_) start_out();
+    if (failed_ && in_flight_ == 0) {  // gone: nothing more to finish until close()
+      while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+}
+
 void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {
   auto* self = static_cast<UsbMidiBackend*>(t->user_data);
   if (t->status == LIBUSB_TRANSFER_COMPLETED) {
     for (int off = 0; off < t->actual_length; off += int(WireRecord::kMax)) {
       const size_t len = size_t(std::min<int>(t->actual_length - off, int(WireRecord::kMax)));
-      if (self->ring_n_ < kRing)
-        self->ring_[self->ring_n_++] = WireRecord::make(monotonic_ns() - self->epoch_ns_, WireKind::UsbMidi, {t->buffer + off, len}, self->source_);
-      else
-        self->count_malformed();
+      if (!self->in_ring_.push(WireRecord::make(monotonic_ns() - self->epoch_ns_, WireKind::UsbMidi, {t->buffer + off, len}, self->source_)))
+        self->count_malformed();  // the frame has not taken the last 256 packets
     }
     if (libusb_submit_transfer(t) == 0) return;
     self->failed_ = true;
@@ -201,9 +213,6 @@ void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {
   } else if (t->status != LIBUSB_TRANSFER_CANCELLED) {
     self->failed_ = true;  // NO_DEVICE, ERROR, STALL, OVERFLOW
   }
-  for (int i = 0; i < kInTransfers; ++i) {
-    if (self->in_[i] == t) self->in_active_[i] = false;
-  }
   --self->in_flight_;
 }
 
@@ -211,34 +220,32 @@ void LIBUSB_CALL UsbMidiBackend::on_out(libusb_transfer* t) {
   auto* self = static_cast<UsbMidiBackend*>(t->user_data);
   self->out_busy_ = false;
   if (t->status == LIBUSB_TRANSFER_NO_DEVICE) self->failed_ = true;
-  if (self->pending_n_ && !self->failed_) self->start_out();
 }
 
+// Sends every packet the frame has queued, in one bulk OUT transfer.
 void UsbMidiBackend::start_out() {
-  std::memcpy(out_buf_, pending_out_, pending_n_);
-  libusb_fill_bulk_transfer(out_, h_, ep_out_, out_buf_, int(pending_n_), &UsbMidiBackend::on_out, this, 1000);
-  pending_n_ = 0;
+  if (!out_) return;
+  std::array<uint8_t, 4> p;
+  out_n_ = 0;
+  while (out_n_ + 4 <= sizeof out_buf_ && out_ring_.pop(p)) {
+    std::memcpy(out_buf_ + out_n_, p.data(), 4);
+    out_n_ += 4;
+  }
+  if (out_n_ == 0) return;
+  libusb_fill_bulk_transfer(out_, h_, ep_out_, out_buf_, int(out_n_), &UsbMidiBackend::on_out, this, 1000);
   out_busy_ = libusb_submit_transfer(out_) == 0;
 }
 
 bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
   if (!h_ || !out_) return false;
-  uint8_t p[4];
-  if (usb_midi_encode(0, bytes, p) != UsbMidiEncodeError::None || pending_n_ + 4 > sizeof pending_out_) return false;
-  std::memcpy(pending_out_ + pending_n_, p, 4);
-  pending_n_ += 4;
-  if (!out_busy_) start_out();
-  return true;
+  std::array<uint8_t, 4> p;
+  if (usb_midi_encode(0, bytes, p.data()) != UsbMidiEncodeError::None) return false;
+  return out_ring_.push(p);
 }
 
 bool UsbMidiBackend::poll(int64_t, WireSink& out) {
-  for (nfds_t i = 0; i < nfds_; ++i) pfds_[i].revents = 0;
-  if (nfds_ == 0 || ::poll(pfds_, nfds_, 0) > 0) {
-    timeval zero{0, 0};
-    libusb_handle_events_timeout_completed(ctx_, &zero, nullptr);
-  }
-  for (size_t i = 0; i < ring_n_; ++i) emit(ring_[i], out);
-  ring_n_ = 0;
+  WireRecord r;
+  while (in_ring_.pop(r)) emit(r, out);
   return !failed_ && in_flight_ > 0;
 }
 
