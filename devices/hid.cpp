@@ -1,11 +1,17 @@
-// HID devices through hidapi's hidraw backend. hidapi 0.13 has no report-descriptor call:
-// the descriptor is read from sysfs (/sys/class/hidraw/<node>/device/report_descriptor)
-// and decoded by our parser; reports are read without blocking each frame.
+// HID devices on hidraw: found through hidapi's enumeration (which matches on VID/PID,
+// serial, product and usage); hidapi 0.13 has no report-descriptor call, so the descriptor
+// is read from sysfs (/sys/class/hidraw/<node>/device/report_descriptor) and decoded by our
+// parser. Reports are read each frame from the node, opened non-blocking: a hidraw read is
+// one report as the kernel gives it, which is all hid_read() does — and hid_read() allocates
+// an error string on the frame thread whenever a read fails.
 #include "devices/backends.h"
 #include "devices/util.h"
 #include "input/hid.h"
 
 #include <hidapi/hidapi.h>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstdlib>
@@ -20,14 +26,15 @@ class HidBackend final : public Backend {
   ~HidBackend() override { close(); }
   DeviceState open() override;
   void close() override {
-    if (dev_) hid_close(dev_);
-    dev_ = nullptr;
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = -1;
+    fds_.clear();
   }
   bool present() const override { return devutil::exists(sys_); }
   bool poll(int64_t now_ns, WireSink& out) override;
 
  private:
-  hid_device* dev_ = nullptr;
+  int fd_ = -1;
   std::string sys_;
 };
 
@@ -69,17 +76,15 @@ DeviceState HidBackend::open() {
   hid_free_enumeration(list);
   const std::string base = node_.substr(node_.rfind('/') + 1);
   sys_ = "/sys/class/hidraw/" + base;
-  errno = 0;
-  dev_ = hid_open_path(node_.c_str());
-  if (!dev_) {
+  fd_ = ::open(node_.c_str(), O_RDWR | O_NONBLOCK | O_CLOEXEC);
+  if (fd_ < 0) {
     if (errno == EACCES || errno == EPERM) {
       problem_ = denied_hint(node_);
       return DeviceState::Denied;
     }
-    problem_ = node_ + ": cannot open (" + std::string(std::strerror(errno ? errno : EIO)) + ")";
+    problem_ = node_ + ": cannot open (" + std::string(std::strerror(errno)) + ")";
     return DeviceState::Waiting;
   }
-  hid_set_nonblocking(dev_, 1);
   auto bytes = devutil::read_file(sys_ + "/device/report_descriptor");
   if (bytes.empty()) {  // no "device" link: the HID device is two levels up (<hid>/hidraw/<node>)
     char real[4096];
@@ -101,9 +106,9 @@ DeviceState HidBackend::open() {
 bool HidBackend::poll(int64_t, WireSink& out) {
   uint8_t buf[WireRecord::kMax];
   for (int k = 0; k < 256; ++k) {  // bounded: a flooding device cannot stall the frame
-    const int n = hid_read(dev_, buf, sizeof buf);
+    const ssize_t n = ::read(fd_, buf, sizeof buf);
+    if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;  // else gone (ENODEV, EIO)
     if (n == 0) return true;
-    if (n < 0) return false;
     // hidraw has no timestamps: a report is stamped when read.
     emit(WireRecord::make(monotonic_ns() - epoch_ns_, WireKind::HidReport, {buf, size_t(n)}, source_), out);
   }
