@@ -84,7 +84,10 @@ case "$cmd" in
     CC=clang CXX=clang++ cmake -S "$ROOT" -B "$ROOT/build-tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DMARIONETTE_TSAN=ON \
       -DMARIONETTE_BUILD_TESTS=ON -DMARIONETTE_BUILD_BENCH=OFF >/dev/null
     cmake --build "$ROOT/build-tsan" -j "$JOBS" --target test_devices test_live test_app_loop marionette
-    export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ${TSAN_OPTIONS:-}"
+    # ignore_noninstrumented_modules: glib (umockdev's bench thread) synchronises with futexes
+    # ThreadSanitizer cannot see, so its own strlen/memcpy calls looked like races; accesses in
+    # our (instrumented) code are all still checked, and so is every pthread lock.
+    export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 ignore_noninstrumented_modules=1 ${TSAN_OPTIONS:-}"
     "$ROOT/build-tsan/tests/test_devices"
     "$ROOT/build-tsan/tests/test_app_loop"
     "$ROOT/build-tsan/tests/test_live" --gtest_filter='Live.*:LiveAttract.*:LiveRandom.*'

@@ -11,6 +11,28 @@ thread_local uint64_t t_allocs = 0;
 
 uint64_t mar::heap_allocation_count() { return t_allocs; }
 
+#if defined(__has_feature)
+#if __has_feature(thread_sanitizer) || __has_feature(address_sanitizer)
+#define MARIONETTE_ALLOC_HOOK 1
+#endif
+#endif
+#if defined(__SANITIZE_THREAD__) || defined(__SANITIZE_ADDRESS__)
+#define MARIONETTE_ALLOC_HOOK 1
+#endif
+
+#ifdef MARIONETTE_ALLOC_HOOK
+// Under ThreadSanitizer (whose runtime defines operator new itself) and AddressSanitizer the
+// sanitizer's allocator calls this hook for every allocation — malloc and calloc too, which a
+// replaced operator new never sees (Eigen, C libraries, SDL) — so the sanitizer builds prove
+// the stricter thing: the frame thread calls no allocator at all.
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*on_malloc)(const volatile void*, std::size_t),
+                                                         void (*on_free)(const volatile void*));
+namespace {
+void on_alloc(const volatile void*, std::size_t) { ++t_allocs; }
+void on_free(const volatile void*) {}
+[[maybe_unused]] const int g_hooked = __sanitizer_install_malloc_and_free_hooks(on_alloc, on_free);
+}  // namespace
+#else
 void* operator new(std::size_t n) {
   ++t_allocs;
   if (void* p = std::malloc(n ? n : 1)) return p;
@@ -26,3 +48,4 @@ void operator delete(void* p) noexcept { std::free(p); }
 void operator delete[](void* p) noexcept { std::free(p); }
 void operator delete(void* p, std::size_t) noexcept { std::free(p); }
 void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+#endif
