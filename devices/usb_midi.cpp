@@ -51,7 +51,6 @@ class UsbMidiBackend final : public Backend {
   libusb_transfer* out_ = nullptr;
   uint8_t in_buf_[kInTransfers][kInSize];
   uint8_t out_buf_[kInSize];
-  size_t out_n_ = 0;
   bool out_busy_ = false;
   // Shared with the frame thread.
   std::atomic<int> in_flight_{0};
@@ -189,12 +188,13 @@ void UsbMidiBackend::close() {
 // is short so that feedback queued by the frame goes out within a few milliseconds.
 void UsbMidiBackend::service() {
   while (!stop_) {
+    if (failed_ && in_flight_ == 0) {  // gone: nothing more to finish until close()
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+      continue;
+    }
     timeval tv{0, 2000};
     libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
     if (!out_busy_ && !failed_) start_out();
-    if (failed_ && in_flight_ == 0) {  // gone: nothing more to finish until close()
-      while (!stop_) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    }
   }
 }
 
@@ -226,13 +226,13 @@ void LIBUSB_CALL UsbMidiBackend::on_out(libusb_transfer* t) {
 void UsbMidiBackend::start_out() {
   if (!out_) return;
   std::array<uint8_t, 4> p;
-  out_n_ = 0;
-  while (out_n_ + 4 <= sizeof out_buf_ && out_ring_.pop(p)) {
-    std::memcpy(out_buf_ + out_n_, p.data(), 4);
-    out_n_ += 4;
+  size_t n = 0;
+  while (n + 4 <= sizeof out_buf_ && out_ring_.pop(p)) {
+    std::memcpy(out_buf_ + n, p.data(), 4);
+    n += 4;
   }
-  if (out_n_ == 0) return;
-  libusb_fill_bulk_transfer(out_, h_, ep_out_, out_buf_, int(out_n_), &UsbMidiBackend::on_out, this, 1000);
+  if (n == 0) return;
+  libusb_fill_bulk_transfer(out_, h_, ep_out_, out_buf_, int(n), &UsbMidiBackend::on_out, this, 1000);
   out_busy_ = libusb_submit_transfer(out_) == 0;
 }
 

@@ -107,14 +107,12 @@ std::string Canvas::draw(const DrawList& list) {
     if (b.index_count <= 0) continue;
     SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
     if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    const SDL_Vertex* verts = list.vertices.data();
-    int nverts = static_cast<int>(list.vertices.size());
-    const int* idx = list.indices.data() + b.first_index;
     if (software_) {
       if (std::string e = draw_software(list, b, tex); !e.empty()) return e;
       continue;
     }
-    if (SDL_RenderGeometry(renderer_, tex, verts, nverts, idx, b.index_count) != 0) {
+    if (SDL_RenderGeometry(renderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
+                           list.indices.data() + b.first_index, b.index_count) != 0) {
       return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
     }
   }
