@@ -492,7 +492,10 @@ std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Af
         if (cur.points.empty()) cur.points.push_back(pen);
         const Vec2 p0 = pen;
         pen = m.apply(c.p);
-        flatten_cubic(p0, m.apply(c.c1), m.apply(c.c2), pen, tolerance, cur.points);
+        // One point past the budget is enough to see it is over.
+        const size_t room = max_points - std::min(max_points, done);
+        flatten_cubic(p0, m.apply(c.c1), m.apply(c.c2), pen, tolerance, cur.points,
+                      room == SIZE_MAX ? SIZE_MAX : room + 1);
         break;
       }
       case PathCmd::Close:
@@ -506,6 +509,10 @@ std::vector<FlatContour> flatten_path(const std::vector<PathCmd>& cmds, const Af
     }
   }
   finish();
+  if (done > max_points) {
+    if (over) *over = true;
+    return {};
+  }
   // A lone moveto draws nothing.
   std::erase_if(out, [](const FlatContour& f) { return f.points.size() < 2; });
   return out;

@@ -12,7 +12,8 @@ double dist_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
 }
 
 void cubic_rec(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3, double tol,
-               int depth, Points& out) {
+               int depth, size_t max_size, Points& out) {
+  if (out.size() >= max_size) return;
   // B(t) - chord(t) = 3t(1-t)^2 (p1 - c1) + 3t^2(1-t) (p2 - c2) with c on the chord, and
   // the two weights sum to 3t(1-t) <= 3/4: the curve is within 3/4 of the larger inner
   // control point distance from the chord.
@@ -24,16 +25,16 @@ void cubic_rec(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3, d
   const Vec2 p01 = 0.5 * (p0 + p1), p12 = 0.5 * (p1 + p2), p23 = 0.5 * (p2 + p3);
   const Vec2 p012 = 0.5 * (p01 + p12), p123 = 0.5 * (p12 + p23);
   const Vec2 mid = 0.5 * (p012 + p123);
-  cubic_rec(p0, p01, p012, mid, tol, depth + 1, out);
-  cubic_rec(mid, p123, p23, p3, tol, depth + 1, out);
+  cubic_rec(p0, p01, p012, mid, tol, depth + 1, max_size, out);
+  cubic_rec(mid, p123, p23, p3, tol, depth + 1, max_size, out);
 }
 
 }  // namespace
 
 void flatten_cubic(const Vec2& p0, const Vec2& p1, const Vec2& p2, const Vec2& p3,
-                   double tolerance, Points& out) {
+                   double tolerance, Points& out, size_t max_size) {
   if (!(p0.allFinite() && p1.allFinite() && p2.allFinite() && p3.allFinite())) return;
-  cubic_rec(p0, p1, p2, p3, std::max(tolerance, 1e-9), 0, out);
+  cubic_rec(p0, p1, p2, p3, std::max(tolerance, 1e-9), 0, max_size, out);
 }
 
 void flatten_quad(const Vec2& p0, const Vec2& p1, const Vec2& p2, double tolerance, Points& out) {

@@ -327,6 +327,14 @@ TEST(load_svg, HugePathsAndFilesAreRefusedWithinTheirLimits) {
   bool over = false;
   EXPECT_TRUE(svg::flatten_path(svg::parse_path(d).cmds, Affine2::identity(), 0.1, 100, &over).empty());
   EXPECT_TRUE(over);
+  // A path's last curve over the budget is seen too, with the curve cut short at the budget.
+  over = false;
+  const svg::PathData curve = svg::parse_path("M0 0 C0 1e9 1e9 1e9 1e9 0");
+  EXPECT_TRUE(svg::flatten_path(curve.cmds, Affine2::identity(), 1e-9, 100, &over).empty());
+  EXPECT_TRUE(over);
+  r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\"><path d=\"M0 0 C0 1e9 1e9 1e9 1e9 0\"/></svg>", "curve.svg", o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("curve.svg:1: <path>: more than 1000 points"), std::string::npos) << r.error;
   const std::string big = test::write_temp("big.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\">" + std::string(4096, ' ') + "</svg>");
   o.max_bytes = 1024;
   r = load_svg_file(big, o);
