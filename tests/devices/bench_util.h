@@ -1,4 +1,5 @@
-// Helpers for the virtual-bench tests: poll a DeviceSet until a condition holds.
+// Helpers for the virtual-bench tests: poll a DeviceSet until a condition holds, or run
+// its frames in virtual time.
 #pragma once
 
 #include "devices/device.h"
@@ -30,6 +31,25 @@ inline bool poll_until(DeviceSet& set, int64_t epoch, std::vector<Event>& out, c
     std::this_thread::sleep_for(std::chrono::milliseconds(period_ms));
   }
   return done();
+}
+
+/// Runs frames in virtual time: at each frame time `now` (show time, `from_ns` to `to_ns`
+/// every `period_ns`) `feed(now)` first writes what the emulated device has produced by
+/// then, and the frame then polls, decodes and settles at `now`, appending the events to
+/// `out`. One thread, so what each frame reads never depends on how busy the machine is.
+inline void poll_frames(DeviceSet& set, int64_t from_ns, int64_t to_ns, int64_t period_ns,
+                        const std::function<void(int64_t)>& feed, std::vector<Event>& out) {
+  Event buf[1024];
+  std::vector<WireRecord> wires(1024);
+  for (int64_t now = from_ns; now <= to_ns; now += period_ns) {
+    feed(now);
+    EventSink sink{buf, std::size(buf)};
+    WireSink ws{wires.data(), wires.size()};
+    set.poll(now, ws);
+    for (size_t k = 0; k < ws.n; ++k) set.decode(wires[k], sink);
+    set.settle(now, sink);
+    out.insert(out.end(), buf, buf + sink.n);
+  }
 }
 
 }  // namespace mar::test
