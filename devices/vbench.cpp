@@ -268,15 +268,18 @@ void VirtualBench::act_as_user(bool on) {
 void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch) {
   // One player thread per call: the bench is small (a device or two per test).
   ++p_->playing;
-  p_->players.emplace_back([this, dev, &sim, epoch] {
+  std::atomic<int64_t>& written = p_->written.emplace_back(-1);
+  p_->players.emplace_back([this, dev, &sim, epoch, &written] {
     while (!p_->stop.load()) {
       timespec ts{};
       clock_gettime(CLOCK_MONOTONIC, &ts);
       const int64_t now = int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec - epoch;
       sim.drain(now, [&](const WireRecord& r) { write(dev, r, epoch); });
+      written.store(now, std::memory_order_release);
       if (now > sim.end_ns()) break;
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
+    written.store(INT64_MAX, std::memory_order_release);
     --p_->playing;
   });
 }
@@ -285,9 +288,16 @@ void VirtualBench::stop_playing() {
   p_->stop = true;
   for (auto& t : p_->players) t.join();
   p_->players.clear();
+  p_->written.clear();
   p_->stop = false;
 }
 
 bool VirtualBench::played_all() const { return p_->playing.load() == 0; }
+
+int64_t VirtualBench::written_through() const {
+  int64_t t = INT64_MAX;
+  for (const auto& w : p_->written) t = std::min(t, w.load(std::memory_order_acquire));
+  return t;
+}
 
 }  // namespace mar

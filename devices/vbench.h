@@ -87,6 +87,9 @@ class VirtualBench {
   void stop_playing();
   /// Whether every played timeline has been written.
   bool played_all() const;
+  /// The show time through which every played timeline has been written (INT64_MAX when
+  /// all have ended): a reader at `t` no later than this sees what the devices did by `t`.
+  int64_t written_through() const;
 
   struct Impl;
 

@@ -90,6 +90,7 @@ struct VirtualBench::Impl {
   std::vector<std::thread> players;
   std::atomic<bool> stop{false};
   std::atomic<int> playing{0};
+  std::deque<std::atomic<int64_t>> written;  // per player: show time written through
   std::mutex devs_m;  // devs and their node names (the ioctl thread looks them up)
   BenchDev* by_node(const char* node) {
     std::lock_guard lock(devs_m);

@@ -558,6 +558,7 @@ int LiveShow::run() {
       governor_.force(it);
     }
     if (canvas_->is_window() && !handle_window_events()) break;
+    await_simulation(t);
     frame(t);
     if (learn) {
       if (!learn_from_events()) return 1;

@@ -102,6 +102,7 @@ class LiveShow {
 
   void apply_settings();
   void feedback();
+  void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   void replay_device(uint16_t source, std::span<const uint8_t> description);
   bool handle_window_events();
   bool learn_from_events();

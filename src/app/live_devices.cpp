@@ -6,8 +6,10 @@
 #include "app/simulate.h"
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <iostream>
+#include <thread>
 
 namespace mar {
 namespace {
@@ -65,6 +67,16 @@ std::string LiveShow::open_devices() {
   if (simulation_) simulation_->play(pacer_.epoch());
   sdl_input_window(canvas_ && canvas_->is_window());
   return {};
+}
+
+void LiveShow::await_simulation(int64_t t) {
+  // --simulate: the frame at `t` reads what the simulated devices did by `t`, however far
+  // their player threads fell behind on a busy machine (waiting a second at most, so a
+  // stuck player cannot stop the show). Outside the frame, like the pacer's wait.
+  if (!simulation_) return;
+  const int64_t give_up = monotonic_ns() + 1'000'000'000;
+  while (simulation_->written_through() < t && monotonic_ns() < give_up)
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
 }
 
 void LiveShow::feedback() {

@@ -21,6 +21,12 @@ class HardwareSimulation {
   virtual std::string present(const ShowDevice& d, SimDevice& sim) = 0;
   /// Starts playing every presented device in real time (show time 0 = `epoch_mono_ns`).
   virtual void play(int64_t epoch_mono_ns) = 0;
+  /// The show time through which every presented device's timeline has been written at
+  /// the kernel interface (INT64_MAX once all have ended). The players are threads that
+  /// can fall behind on a busy machine; a frame at `t` waits for `t` first, as a real
+  /// kernel has every event stamped before `t` queued by then. Called by the show's thread
+  /// between play() and stop().
+  virtual int64_t written_through() const = 0;
   /// Stops playing (joins the players); the devices stay plugged until destruction.
   virtual void stop() = 0;
 };

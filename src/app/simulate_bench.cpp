@@ -8,7 +8,9 @@
 #include <linux/input.h>
 
 #include <atomic>
+#include <algorithm>
 #include <chrono>
+#include <deque>
 #include <thread>
 
 namespace mar {
@@ -84,15 +86,24 @@ class BenchSimulation final : public HardwareSimulation {
       }
       // Pen reports are re-expressed as evdev events by a feeder thread per tablet.
       auto& pen = static_cast<HidDeviceSim&>(*p.sim);
-      feeders_.emplace_back([this, dev = p.dev, &pen, epoch] {
+      std::atomic<int64_t>& written = fed_.emplace_back(-1);
+      feeders_.emplace_back([this, dev = p.dev, &pen, epoch, &written] {
         auto dec = make_hid_decoder(pen.descriptor(), 0);
         VirtualBench::Evdev geom;
         pen.drain(INT64_MAX, [&](const WireRecord& r) {
+          written.store(r.t_ns - 1, std::memory_order_release);  // everything before r is out
           while (!stop_ && monotonic_ns() < epoch + r.t_ns) std::this_thread::sleep_for(std::chrono::microseconds(500));
           if (!stop_) present_pen_as_evdev(bench_, dev, r, epoch, *dec, geom);
         });
+        written.store(INT64_MAX, std::memory_order_release);
       });
     }
+  }
+
+  int64_t written_through() const override {
+    int64_t t = bench_.written_through();
+    for (const auto& w : fed_) t = std::min(t, w.load(std::memory_order_acquire));
+    return t;
   }
 
   void stop() override {
@@ -100,6 +111,7 @@ class BenchSimulation final : public HardwareSimulation {
     for (auto& t : feeders_)
       if (t.joinable()) t.join();
     feeders_.clear();
+    fed_.clear();
     bench_.stop_playing();
   }
 
@@ -112,6 +124,7 @@ class BenchSimulation final : public HardwareSimulation {
   VirtualBench bench_;
   std::vector<Played> played_;
   std::vector<std::thread> feeders_;
+  std::deque<std::atomic<int64_t>> fed_;  ///< per feeder: show time written through
   std::atomic<bool> stop_{false};
 };
 
