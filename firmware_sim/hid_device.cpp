@@ -100,9 +100,9 @@ void PenTabletSim::stroke(const std::vector<std::pair<double, double>>& pts, dou
   std::vector<double> len(pts.size(), 0);
   for (size_t i = 1; i < pts.size(); ++i)
     len[i] = len[i - 1] + std::hypot(pts[i].first - pts[i - 1].first, pts[i].second - pts[i - 1].second);
+  size_t i = 1;  // the segment holding s; s only grows, so the search goes on from here
   for (int k = 0; k <= n && !too_many_; ++k) {
     const double s = len.back() * k / n;
-    size_t i = 1;
     while (i + 1 < pts.size() && len[i] < s) ++i;
     double x = pts[0].first, y = pts[0].second;
     if (pts.size() > 1) {

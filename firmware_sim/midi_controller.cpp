@@ -41,16 +41,24 @@ void MidiControllerSim::move(const std::string& control, double t_s, double to, 
     if (from != target || dur_s <= 0) send_cc(to_ns(t_s), cc, target);
     return;
   }
-  // The firmware scans its ADC at 1 kHz and sends a CC when the 7-bit value changes.
-  const int steps = int(std::ceil(dur_s * 1000));
+  // The firmware scans its ADC at 1 kHz and sends a CC when the 7-bit value changes. A
+  // move sends at most 127 CCs however long it lasts, so the scan jumps from one change to
+  // the next: an estimate from where the value passes half-way to the next, then stepped to
+  // the exact first scan that rounds differently (a move over a day is 127 steps, not 10^8).
+  const int64_t steps = int64_t(std::ceil(dur_s * 1000));
+  const double span = target - from;
+  auto value_at = [&](int64_t k) { return int(std::lround(from + span * (double(k) / double(steps)))); };
+  const int dir = target > from ? 1 : -1;
+  int64_t k = 0;
   int last = from;
-  for (int k = 1; k <= steps && !too_many_; ++k) {
-    const double u = double(k) / steps;
-    const int v = int(std::lround(from + (target - from) * u));
-    if (v != last) {
-      send_cc(to_ns(t_s + u * dur_s), cc, v);
-      last = v;
-    }
+  while (last != target && !too_many_) {
+    const double half = (last + dir * 0.5 - from) / span;
+    int64_t next = std::clamp<int64_t>(int64_t(half * double(steps)), k + 1, steps);
+    while (next > k + 1 && value_at(next - 1) != last) --next;
+    while (value_at(next) == last) ++next;  // ends: value_at(steps) == target
+    last = value_at(next);
+    send_cc(to_ns(t_s + double(next) / double(steps) * dur_s), cc, last);
+    k = next;
   }
 }
 

@@ -9,7 +9,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
+#include <sstream>
 
 namespace mar {
 namespace {
@@ -63,6 +65,59 @@ TEST(MidiControllerSim, FaderSweepDecodesTo127IncreasingCCs) {
     EXPECT_GE(values[i].first, values[i - 1].first);
   }
   EXPECT_NEAR(double(values.back().first) * 1e-9, 1.5, 5e-3);  // 127 reached in the last 1/254 s
+}
+
+// The CCs a move sends, as (time, value): what the firmware's 1 kHz ADC scan sends, one
+// scan at a time (the reference the simulator's jump from change to change must match).
+std::vector<std::pair<int64_t, int>> scanned_move(double t_s, int from, int target, double dur_s) {
+  std::vector<std::pair<int64_t, int>> out;
+  const int steps = int(std::ceil(dur_s * 1000));
+  int last = from;
+  for (int k = 1; k <= steps; ++k) {
+    const double u = double(k) / steps;
+    const int v = int(std::lround(from + (target - from) * u));
+    if (v != last) out.push_back({to_ns(t_s + u * dur_s), last = v});
+  }
+  return out;
+}
+
+std::vector<std::pair<int64_t, int>> sent_ccs(MidiControllerSim& sim, int64_t after_ns) {
+  std::vector<std::pair<int64_t, int>> out;
+  UsbMidiDecoder dec;
+  sim.drain(INT64_MAX, [&](const WireRecord& r) {
+    dec.feed(r.bytes(), [&](uint8_t, const MidiMessage& m) {
+      if (r.t_ns > after_ns) out.push_back({r.t_ns, m.bytes[2]});
+    });
+  });
+  return out;
+}
+
+TEST(MidiControllerSim, MovesSendWhatTheFirmwaresScanSends) {
+  for (double from : {0.0, 0.3, 1.0})
+    for (double to : {0.0, 0.55, 1.0})
+      for (double dur : {0.001, 0.004, 0.05, 0.127, 0.3, 1.0, 2.7, 600.0}) {
+        MidiControllerSim sim;
+        std::ostringstream script;
+        script << "0 move knob1 " << from << "\n0.25 move knob1 " << to << " over " << dur << "\n";
+        ASSERT_TRUE(sim.load_script(script.str()).ok()) << script.str();
+        const int a = int(std::lround(from * 127)), b = int(std::lround(to * 127));
+        EXPECT_EQ(sent_ccs(sim, 0), scanned_move(0.25, a, b, dur)) << script.str();
+      }
+}
+
+// A fader moved over a day (the longest a script allows) sends its 127 CCs at once; the
+// scan would have taken 10^8 steps to load (found by fuzz_show_toml: seconds per load).
+TEST(MidiControllerSim, AMoveOverADayIs127CCs) {
+  MidiControllerSim sim;
+  ASSERT_TRUE(sim.load_script("0.5 move knob1 1.0 over 1E5\n").ok());
+  const auto ccs = sent_ccs(sim, -1);
+  ASSERT_EQ(ccs.size(), 127u);
+  for (size_t i = 0; i < ccs.size(); ++i) {
+    EXPECT_EQ(ccs[i].second, int(i) + 1);
+    // Value v is first sent at the scan where v - 1/2 of the 127 steps has passed.
+    const double expect = 0.5 + 1e5 * (double(i) + 0.5) / 127;
+    EXPECT_NEAR(double(ccs[i].first) * 1e-9, expect, 2e-3) << i;  // the next 1 ms scan
+  }
 }
 
 TEST(MidiControllerSim, ScriptErrorsNameTheLine) {
