@@ -30,6 +30,19 @@ python3 "$ROOT/tests/fuzz/seeds.py" "$ROOT" "$CORPUS" "$F/seeds" >/dev/null || e
 HARNESSES=("$@")
 [ ${#HARNESSES[@]} -eq 0 ] && mapfile -t HARNESSES < <(cd "$BUILD/tests/fuzz" && ls fuzz_* | grep -v '\.' )
 
+# The longest input each harness tries: a few times the largest input its parser accepts
+# (SysEx 1,024 bytes, an OSC message 96 bytes, a HID descriptor 4,096 bytes and a report 8 KiB)
+# or the largest shipped file (shows and profiles are 1-3 KB); 64 KB for SVG, recordings and
+# rigs. Inputs grow toward it and a longer one only runs slower through the same code.
+max_len_of() {
+  case $1 in
+    fuzz_osc|fuzz_color|fuzz_svg_values) echo 4096 ;;
+    fuzz_midi|fuzz_usb_midi) echo 8192 ;;
+    fuzz_hid|fuzz_show_toml|fuzz_device_profile|fuzz_timeline) echo 16384 ;;
+    *) echo 65536 ;;
+  esac
+}
+
 run_one() {
   local name=$1 exe=$BUILD/tests/fuzz/$1
   mkdir -p "$F/work/$name" "$F/seeds/$name"
@@ -37,7 +50,7 @@ run_one() {
   if [ -d "$reg" ] && ! "$exe" -timeout="$TIMEOUT" -rss_limit_mb=2048 "$reg"/* >"$F/logs/$name.regressions" 2>&1; then
     echo "$name: a regression input fails (see $F/logs/$name.regressions)"; return 1
   fi
-  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} -timeout="$TIMEOUT" -rss_limit_mb=2048 -max_len=65536 \
+  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} -timeout="$TIMEOUT" -rss_limit_mb=2048 -max_len="$(max_len_of "$name")" \
     -print_final_stats=1 -artifact_prefix="$F/artifacts/$name-" \
     "$F/work/$name" "$F/seeds/$name" >"$F/logs/$name.log" 2>&1
   local rc=$?
@@ -52,5 +65,5 @@ run_one() {
 }
 RUNS=${RUNS:-}
 TIMEOUT=${TIMEOUT:-2}
-export -f run_one; export BUILD F ROOT SECONDS_EACH RUNS TIMEOUT
+export -f run_one max_len_of; export BUILD F ROOT SECONDS_EACH RUNS TIMEOUT
 printf '%s\n' "${HARNESSES[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}' | tee "$F/summary.txt"
