@@ -11,6 +11,18 @@
 
 namespace mar::test {
 
+/// One frame at `now`: polls, decodes with each connection's decoder, settles, and appends
+/// the events to `out`.
+inline void poll_frame(DeviceSet& set, int64_t now, Event (&buf)[1024], std::vector<WireRecord>& wires,
+                       std::vector<Event>& out) {
+  EventSink sink{buf, std::size(buf)};
+  WireSink ws{wires.data(), wires.size()};
+  set.poll(now, ws);
+  for (size_t k = 0; k < ws.n; ++k) set.decode(wires[k], sink);
+  set.settle(now, sink);
+  out.insert(out.end(), buf, buf + sink.n);
+}
+
 /// Polls `set` like frames do (every `period_ms`) for at most `timeout_ms`, decoding the
 /// wire records with each connection's decoder and appending the events to `out`, until
 /// `done()` holds. Returns whether it did.
@@ -20,13 +32,7 @@ inline bool poll_until(DeviceSet& set, int64_t epoch, std::vector<Event>& out, c
   std::vector<WireRecord> wires(1024);
   const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (std::chrono::steady_clock::now() < end) {
-    EventSink sink{buf, std::size(buf)};
-    WireSink ws{wires.data(), wires.size()};
-    const int64_t now = monotonic_ns() - epoch;
-    set.poll(now, ws);
-    for (size_t k = 0; k < ws.n; ++k) set.decode(wires[k], sink);
-    set.settle(now, sink);
-    out.insert(out.end(), buf, buf + sink.n);
+    poll_frame(set, monotonic_ns() - epoch, buf, wires, out);
     if (done()) return true;
     std::this_thread::sleep_for(std::chrono::milliseconds(period_ms));
   }
@@ -43,12 +49,7 @@ inline void poll_frames(DeviceSet& set, int64_t from_ns, int64_t to_ns, int64_t 
   std::vector<WireRecord> wires(1024);
   for (int64_t now = from_ns; now <= to_ns; now += period_ns) {
     feed(now);
-    EventSink sink{buf, std::size(buf)};
-    WireSink ws{wires.data(), wires.size()};
-    set.poll(now, ws);
-    for (size_t k = 0; k < ws.n; ++k) set.decode(wires[k], sink);
-    set.settle(now, sink);
-    out.insert(out.end(), buf, buf + sink.n);
+    poll_frame(set, now, buf, wires, out);
   }
 }
 
