@@ -22,6 +22,22 @@ int64_t monotonic_ns() {
   return int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec;
 }
 
+namespace {
+std::atomic<ReadClock*> g_read_clock{nullptr};
+}  // namespace
+
+void set_read_clock(ReadClock* c) { g_read_clock.store(c, std::memory_order_release); }
+
+int64_t Backend::read_time() const {
+  const int64_t now = monotonic_ns() - epoch_ns_;
+  ReadClock* c = g_read_clock.load(std::memory_order_acquire);
+  return c ? c->stamp(node_, now) : now;
+}
+
+void Backend::read_taken() const {
+  if (ReadClock* c = g_read_clock.load(std::memory_order_acquire)) c->taken(node_);
+}
+
 std::string Backend::denied_hint(const std::string& path) {
   return "permission denied on " + path + ": install " + std::string(kUdevRule) +
          " and add yourself to the 'marionette' group (see README, Devices)";

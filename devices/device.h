@@ -65,6 +65,22 @@ struct DeviceSpec {
   bool detach_kernel_driver = true;
 };
 
+/// The time of reads that carry no device time of their own (hidraw reports, usbfs transfers).
+/// With none installed (real devices) a read is stamped with CLOCK_MONOTONIC when it is taken.
+/// The virtual bench installs one on the virtual clock: a read then carries the show time its
+/// simulator's script gave the record, and the bench learns when the reader has taken it, so a
+/// frame at t can wait until everything written through t is in (lockstep, app/simulate.h).
+class ReadClock {
+ public:
+  virtual ~ReadClock() = default;
+  /// Show time of what the reader of `node` has just read (`fallback` when unknown). Any thread.
+  virtual int64_t stamp(const std::string& node, int64_t fallback) = 0;
+  /// The reader of `node` has handed that read on (to the frame or its ring).
+  virtual void taken(const std::string& node) = 0;
+};
+/// Installs (nullptr: removes) the process's read clock; set before devices open.
+void set_read_clock(ReadClock* c);
+
 /// The udev rule file shipped in config/udev/ (named in permission hints).
 inline constexpr const char* kUdevRule = "config/udev/70-marionette.rules";
 
@@ -110,6 +126,9 @@ class Backend {
 
  protected:
   void count_malformed(uint64_t n = 1) { malformed_.fetch_add(n, std::memory_order_relaxed); }
+  /// Show time of a read that carries none (see ReadClock), and that it was handed on.
+  int64_t read_time() const;
+  void read_taken() const;
   /// Appends one record to `out`, counting it.
   void emit(const WireRecord& r, WireSink& out) {
     out.push(r);

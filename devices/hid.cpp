@@ -109,8 +109,9 @@ bool HidBackend::poll(int64_t, WireSink& out) {
     const ssize_t n = ::read(fd_, buf, sizeof buf);
     if (n < 0) return errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR;  // else gone (ENODEV, EIO)
     if (n == 0) return true;
-    // hidraw has no timestamps: a report is stamped when read.
-    emit(WireRecord::make(monotonic_ns() - epoch_ns_, WireKind::HidReport, {buf, size_t(n)}, source_), out);
+    // hidraw has no timestamps: a report is stamped when read (ReadClock).
+    emit(WireRecord::make(read_time(), WireKind::HidReport, {buf, size_t(n)}, source_), out);
+    read_taken();
   }
   return true;
 }

@@ -39,7 +39,37 @@ bool VirtualBench::Impl::hid_read(BenchDev& d, UMockdevIoctlClient* c, const cha
   const size_t n = std::min(r.size(), size_t(arg->data_len));
   umockdev_ioctl_data_update(arg, 0, r.data(), int(n));
   d.reports.pop_front();
+  d.read_t.store(d.report_t.front(), std::memory_order_release);  // before the reader returns (ReadClock)
+  d.report_t.pop_front();
   complete(c, long(n), 0);
+  return TRUE;
+}
+
+bool VirtualBench::Impl::evdev_read(BenchDev& d, UMockdevIoctlClient* c, const char* node) {
+  // As evdev's read: as many whole input_events as fit, EAGAIN when none, EINVAL for a buffer
+  // smaller than one.
+  std::lock_guard lock(d.m);
+  if (!d.plugged || d.node != node) {
+    complete(c, -1, ENODEV);
+    return TRUE;
+  }
+  UMockdevIoctlData* arg = umockdev_ioctl_client_get_arg(c);
+  const size_t room = size_t(arg->data_len) / sizeof(input_event);
+  if (room == 0) {
+    complete(c, -1, EINVAL);
+    return TRUE;
+  }
+  if (d.reports.empty()) {
+    complete(c, -1, EAGAIN);
+    return TRUE;
+  }
+  size_t n = 0;
+  while (n < room && !d.reports.empty()) {
+    umockdev_ioctl_data_update(arg, n * sizeof(input_event), d.reports.front().data(), int(sizeof(input_event)));
+    d.reports.pop_front();
+    ++n;
+  }
+  complete(c, long(n * sizeof(input_event)), 0);
   return TRUE;
 }
 

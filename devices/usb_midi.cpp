@@ -201,11 +201,13 @@ void UsbMidiBackend::service() {
 void LIBUSB_CALL UsbMidiBackend::on_in(libusb_transfer* t) {
   auto* self = static_cast<UsbMidiBackend*>(t->user_data);
   if (t->status == LIBUSB_TRANSFER_COMPLETED) {
+    const int64_t at = self->read_time();  // usbfs has no timestamps: stamped when finished (ReadClock)
     for (int off = 0; off < t->actual_length; off += int(WireRecord::kMax)) {
       const size_t len = size_t(std::min<int>(t->actual_length - off, int(WireRecord::kMax)));
-      if (!self->in_ring_.push(WireRecord::make(monotonic_ns() - self->epoch_ns_, WireKind::UsbMidi, {t->buffer + off, len}, self->source_)))
+      if (!self->in_ring_.push(WireRecord::make(at, WireKind::UsbMidi, {t->buffer + off, len}, self->source_)))
         self->count_malformed();  // the frame has not taken the last 256 packets
     }
+    if (t->actual_length > 0) self->read_taken();
     if (libusb_submit_transfer(t) == 0) return;
     self->failed_ = true;
   } else if (t->status == LIBUSB_TRANSFER_TIMED_OUT) {

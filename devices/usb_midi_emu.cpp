@@ -121,6 +121,10 @@ bool VirtualBench::Impl::usb_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned
         urb.actual_length = int(n);
         urb.status = 0;
         d.in_packets.pop_front();
+        // The read clock's time for this transfer (its reader reaps and finishes one at a time).
+        d.read_t.store(d.packet_t.front(), std::memory_order_release);
+        if (clocked) d.unacked.push_back(d.packet_t.front());
+        d.packet_t.pop_front();
       }
       if (!from) {
         complete(c, -1, EAGAIN);

@@ -32,8 +32,10 @@ gboolean VirtualBench::Impl::on_read(UMockdevIoctlBase*, UMockdevIoctlClient* c,
   auto* impl = static_cast<Impl*>(self);
   const char* node = umockdev_ioctl_client_get_devnode(c);
   BenchDev* d = impl->by_node(node);
-  if (!d || d->kind != BenchKind::Hid) return FALSE;
-  return hid_read(*d, c, node);
+  if (!d) return FALSE;
+  if (d->kind == BenchKind::Hid) return hid_read(*d, c, node);
+  if (d->kind == BenchKind::Evdev) return evdev_read(*d, c, node);
+  return FALSE;
 }
 
 bool VirtualBench::preload_active() {
@@ -133,18 +135,22 @@ int VirtualBench::add_evdev(const Evdev& e) {
   return p_->plug_new(std::move(d));
 }
 
-void VirtualBench::usb_in(int dev, std::span<const uint8_t> packets) {
+void VirtualBench::usb_in(int dev, std::span<const uint8_t> packets, int64_t show_t) {
   BenchDev& d = *p_->devs[size_t(dev)];
   std::lock_guard lock(d.m);
-  if (d.plugged) d.in_packets.emplace_back(packets.begin(), packets.end());
+  if (!d.plugged) return;
+  d.in_packets.emplace_back(packets.begin(), packets.end());
+  d.packet_t.push_back(show_t);
 }
 
-void VirtualBench::hid_report(int dev, std::span<const uint8_t> report) {
+void VirtualBench::hid_report(int dev, std::span<const uint8_t> report, int64_t show_t) {
   // Reads of the node are answered from this queue (handle-read), one report per read as
   // hidraw does; the node's tty only makes poll() report it readable.
   BenchDev& d = *p_->devs[size_t(dev)];
   std::lock_guard lock(d.m);
-  if (d.plugged) d.reports.emplace_back(report.begin(), report.end());
+  if (!d.plugged) return;
+  d.reports.emplace_back(report.begin(), report.end());
+  d.report_t.push_back(show_t);
 }
 
 void VirtualBench::gpio_edge(int dev, unsigned line, int level, int64_t mono_ns) {
@@ -158,7 +164,10 @@ void VirtualBench::gpio_edge(int dev, unsigned line, int level, int64_t mono_ns)
 }
 
 void VirtualBench::evdev_event(int dev, uint16_t type, uint16_t code, int32_t value, int64_t mono_ns) {
+  // Queued for the node's reads (handle-read), as hidraw's are: an event written is readable at
+  // once (bytes written to the node's tty reach its reader later, when the kernel gets to it).
   BenchDev& d = *p_->devs[size_t(dev)];
+  std::lock_guard lock(d.m);
   if (!d.plugged) return;
   input_event ev{};
   ev.input_event_sec = decltype(ev.input_event_sec)(mono_ns / 1000000000);
@@ -166,13 +175,14 @@ void VirtualBench::evdev_event(int dev, uint16_t type, uint16_t code, int32_t va
   ev.type = type;
   ev.code = code;
   ev.value = value;
-  if (::write(d.master, &ev, sizeof ev) < 0) std::perror("vbench: evdev write");
+  const auto* b = reinterpret_cast<const uint8_t*>(&ev);
+  d.reports.emplace_back(b, b + sizeof ev);
 }
 
 void VirtualBench::write(int dev, const WireRecord& r, int64_t epoch) {
   switch (r.kind) {
-    case WireKind::UsbMidi: usb_in(dev, r.bytes()); break;
-    case WireKind::HidReport: hid_report(dev, r.bytes()); break;
+    case WireKind::UsbMidi: usb_in(dev, r.bytes(), r.t_ns); break;
+    case WireKind::HidReport: hid_report(dev, r.bytes(), r.t_ns); break;
     case WireKind::GpioEdge: gpio_edge(dev, r.data[0], r.data[1], epoch + r.t_ns); break;
     default: break;
   }
@@ -233,7 +243,10 @@ void VirtualBench::unplug(int dev) {
       q->pop_front();
     }
   d.in_packets.clear();
+  d.packet_t.clear();
+  d.unacked.clear();
   d.reports.clear();
+  d.report_t.clear();
   d.detached = false;
 }
 
@@ -265,31 +278,49 @@ void VirtualBench::act_as_user(bool on) {
   syscall(SYS_capset, &h, c);
 }
 
-void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch) {
+void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch, bool lockstep) {
   // One player thread per call: the bench is small (a device or two per test).
   ++p_->playing;
   std::atomic<int64_t>& written = p_->written.emplace_back(-1);
-  p_->players.emplace_back([this, dev, &sim, epoch, &written] {
+  p_->players.emplace_back([this, dev, &sim, epoch, lockstep, &written] {
+    int64_t now = -1;
     while (!p_->stop.load()) {
-      timespec ts{};
-      clock_gettime(CLOCK_MONOTONIC, &ts);
-      const int64_t now = int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec - epoch;
+      if (lockstep) {
+        p_->allowed.wait(now, std::memory_order_acquire);  // until the show moves on (or stops)
+        if (p_->stop.load()) break;
+        now = p_->allowed.load(std::memory_order_acquire);
+      } else {
+        timespec ts{};
+        clock_gettime(CLOCK_MONOTONIC, &ts);
+        now = int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec - epoch;
+      }
       sim.drain(now, [&](const WireRecord& r) { write(dev, r, epoch); });
       written.store(now, std::memory_order_release);
       if (now > sim.end_ns()) break;
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
+      if (!lockstep) std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
     written.store(INT64_MAX, std::memory_order_release);
     --p_->playing;
   });
 }
 
+void VirtualBench::allow_through(int64_t t) {
+  if (t <= p_->allowed.load(std::memory_order_relaxed)) return;
+  p_->allowed.store(t, std::memory_order_release);
+  p_->allowed.notify_all();
+}
+
+const std::atomic<int64_t>& VirtualBench::allowed() const { return p_->allowed; }
+
 void VirtualBench::stop_playing() {
   p_->stop = true;
+  p_->allowed.fetch_add(1);  // wakes lockstep players
+  p_->allowed.notify_all();
   for (auto& t : p_->players) t.join();
   p_->players.clear();
   p_->written.clear();
   p_->stop = false;
+  p_->allowed = -1;
 }
 
 bool VirtualBench::played_all() const { return p_->playing.load() == 0; }
@@ -297,7 +328,63 @@ bool VirtualBench::played_all() const { return p_->playing.load() == 0; }
 int64_t VirtualBench::written_through() const {
   int64_t t = INT64_MAX;
   for (const auto& w : p_->written) t = std::min(t, w.load(std::memory_order_acquire));
+  // With the read clock: USB packets reach the reader through libusb's thread, so a packet
+  // queued while the reader has transfers waiting, or answered and not yet handed on, holds the
+  // time before its own.
+  if (!p_->clocked.load()) return t;
+  std::lock_guard devs_lock(p_->devs_m);
+  for (const auto& d : p_->devs) {
+    if (d->kind != BenchKind::Usb) continue;
+    std::lock_guard lock(d->m);
+    if (!d->plugged) continue;
+    if (!d->unacked.empty()) t = std::min(t, d->unacked.front() - 1);
+    if (!d->in_packets.empty() && !d->in_urbs.empty()) t = std::min(t, d->packet_t.front() - 1);
+  }
   return t;
+}
+
+namespace {
+
+// The read clock of the virtual bench: per node, the time of the last read answered.
+class BenchClock final : public ReadClock {
+ public:
+  struct Node {
+    std::string node;
+    BenchDev* dev;
+  };
+  explicit BenchClock(std::vector<Node> nodes) : nodes_(std::move(nodes)) {}
+  int64_t stamp(const std::string& node, int64_t fallback) override {
+    const BenchDev* d = find(node);
+    const int64_t t = d ? d->read_t.load(std::memory_order_acquire) : -1;
+    return t >= 0 ? t : fallback;
+  }
+  void taken(const std::string& node) override {
+    if (BenchDev* d = find(node); d && d->kind == BenchKind::Usb) {
+      std::lock_guard lock(d->m);
+      if (!d->unacked.empty()) d->unacked.pop_front();
+    }
+  }
+
+ private:
+  BenchDev* find(const std::string& node) const {
+    for (const Node& n : nodes_)
+      if (n.node == node) return n.dev;
+    return nullptr;
+  }
+  std::vector<Node> nodes_;  ///< fixed when made: read without a lock
+};
+
+}  // namespace
+
+ReadClock& VirtualBench::read_clock() {
+  std::vector<BenchClock::Node> nodes;
+  {
+    std::lock_guard lock(p_->devs_m);
+    for (const auto& d : p_->devs) nodes.push_back({d->node, d.get()});
+  }
+  p_->clock = std::make_unique<BenchClock>(std::move(nodes));
+  p_->clocked = true;
+  return *p_->clock;
 }
 
 }  // namespace mar

@@ -9,6 +9,7 @@
 // thing in main (it re-executes the program with LD_PRELOAD set when it is missing).
 #pragma once
 
+#include "devices/device.h"
 #include "firmware_sim/sim_device.h"
 
 #include <cstdint>
@@ -57,9 +58,9 @@ class VirtualBench {
 
   /// Device output. USB: queued for the next bulk IN URB. HID: queued, one report per read
   /// (hidraw keeps report boundaries). GPIO/evdev: with the device timestamp
-  /// (CLOCK_MONOTONIC ns).
-  void usb_in(int dev, std::span<const uint8_t> packets);
-  void hid_report(int dev, std::span<const uint8_t> report);
+  /// (CLOCK_MONOTONIC ns). `show_t`: the show time the read clock gives the read (-1: none).
+  void usb_in(int dev, std::span<const uint8_t> packets, int64_t show_t = -1);
+  void hid_report(int dev, std::span<const uint8_t> report, int64_t show_t = -1);
   void gpio_edge(int dev, unsigned line, int level, int64_t mono_ns);
   void evdev_event(int dev, uint16_t type, uint16_t code, int32_t value, int64_t mono_ns);
   /// Writes a simulated device's record (USB-MIDI packets, a HID report or a GPIO edge).
@@ -81,15 +82,29 @@ class VirtualBench {
   /// file permissions apply to it and to threads it starts, as for a normal user.
   static void act_as_user(bool on);
 
-  /// Plays `sim` into `dev` in real time on a background thread (show time 0 =
-  /// `epoch_mono_ns`). Stops with stop_playing() or the bench.
-  void play(int dev, SimDevice& sim, int64_t epoch_mono_ns);
+  /// Plays `sim` into `dev` on a background thread (show time 0 = `epoch_mono_ns`): in real
+  /// time, or in lockstep with a virtual clock — then it writes, as fast as it can, what the
+  /// script does through the time allow_through() last gave, and waits for more. Stops with
+  /// stop_playing() or the bench.
+  void play(int dev, SimDevice& sim, int64_t epoch_mono_ns, bool lockstep = false);
+  /// Lockstep players may write through show time `t` (never goes back).
+  void allow_through(int64_t t);
+  /// The time lockstep players wait for (the `allowed` time a feeder of its own may follow).
+  const std::atomic<int64_t>& allowed() const;
   void stop_playing();
   /// Whether every played timeline has been written.
   bool played_all() const;
   /// The show time through which every played timeline has been written (INT64_MAX when
-  /// all have ended): a reader at `t` no later than this sees what the devices did by `t`.
+  /// all have ended), and every USB packet written so far taken by its reader (the packets
+  /// of a transfer libusb has not yet handed on hold it before their time): a reader at `t`
+  /// no later than this sees what the devices did by `t`. hidraw, GPIO and evdev reads are
+  /// answered at once, so what is written is readable.
   int64_t written_through() const;
+  /// A read clock (devices/device.h) that stamps hidraw reports and IN transfers with the show
+  /// time they were written for, and learns when an IN transfer was handed on. Covers the
+  /// devices on the bench when it is called (nodes of later plugs and replugs fall back to the
+  /// monotonic clock). Lives as long as the bench.
+  ReadClock& read_clock();
 
   struct Impl;
 

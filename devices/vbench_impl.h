@@ -64,11 +64,15 @@ struct BenchDev {
   std::string node;       // /dev/...
   bool plugged = false;
   int master = -1;        // pty master (hidraw, evdev)
-  std::deque<std::vector<uint8_t>> reports;  // hidraw: one per read
+  std::deque<std::vector<uint8_t>> reports;  // hidraw: one per read; evdev: input_events
+  std::deque<int64_t> report_t;              // hidraw: each report's show time (-1: none given)
+  std::atomic<int64_t> read_t{-1};           // show time of the last hidraw read or IN URB answered
   std::mutex m;
   // USB
   std::deque<BenchUrb> in_urbs, done_urbs, discarded;
   std::deque<std::vector<uint8_t>> in_packets;
+  std::deque<int64_t> packet_t;  // each in_packets entry's show time (-1: none given)
+  std::deque<int64_t> unacked;   // IN URBs answered with packets the reader has not handed on yet (times)
   std::vector<uint8_t> out_bytes;
   bool driver = false, detached = false;
   // GPIO
@@ -91,6 +95,9 @@ struct VirtualBench::Impl {
   std::atomic<bool> stop{false};
   std::atomic<int> playing{0};
   std::deque<std::atomic<int64_t>> written;  // per player: show time written through
+  std::atomic<int64_t> allowed{-1};          // lockstep players: show time they may write through
+  std::unique_ptr<ReadClock> clock;           // read_clock()
+  std::atomic<bool> clocked{false};           // made: IN URBs are tracked until handed on
   std::mutex devs_m;  // devs and their node names (the ioctl thread looks them up)
   BenchDev* by_node(const char* node) {
     std::lock_guard lock(devs_m);
@@ -113,8 +120,8 @@ struct VirtualBench::Impl {
       tcgetattr(d.master, &t);
       cfmakeraw(&t);  // binary reports: no ^C, ^S/^Q or CR handling on the line
       tcsetattr(d.master, TCSANOW, &t);
-      // hidraw reads are served by the handler; one byte on the tty keeps poll() ready.
-      if (d.kind == BenchKind::Hid && ::write(d.master, "r", 1) != 1) std::perror("vbench: hidraw node");
+      // hidraw and evdev reads are served by the handler; one byte on the tty keeps poll() ready.
+      if (::write(d.master, "r", 1) != 1) std::perror("vbench: hidraw/evdev node");
     }
     umockdev_testbed_uevent(tb, d.syspath.c_str(), "add");
   }
@@ -127,6 +134,7 @@ struct VirtualBench::Impl {
   void describe_gpio(BenchDev& d);
   void describe_evdev(BenchDev& d);
   static bool hid_read(BenchDev& d, UMockdevIoctlClient* c, const char* node);
+  static bool evdev_read(BenchDev& d, UMockdevIoctlClient* c, const char* node);
   bool usb_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
   bool gpio_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);
   bool evdev_ioctl(BenchDev& d, UMockdevIoctlClient* c, unsigned long req, UMockdevIoctlData* arg);

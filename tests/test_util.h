@@ -1,7 +1,9 @@
 // Helpers shared by the tests: locations, running the CLI, corpus access.
 #pragma once
 
+#include <algorithm>
 #include <array>
+#include <atomic>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -9,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <sys/wait.h>
+#include <thread>
 #include <vector>
 #include <cstdint>
 
@@ -66,5 +69,29 @@ inline RunResult run_cli(const std::string& args, const std::string& env = "") {
   r.err = slurp(err);
   return r;
 }
+
+/// What a busy CI machine looks like to a test: more spinning threads than the machine has
+/// cores, for as long as the hog lives.
+class CpuHog {
+ public:
+  explicit CpuHog(unsigned threads = 2 * std::max(1u, std::thread::hardware_concurrency()) + 1) {
+    for (unsigned k = 0; k < threads; ++k)
+      threads_.emplace_back([this] {
+        volatile uint64_t x = 0;
+        while (!stop_.load(std::memory_order_relaxed)) x = x + 1;
+      });
+  }
+  ~CpuHog() {
+    stop_ = true;
+    for (auto& t : threads_) t.join();
+  }
+  CpuHog(const CpuHog&) = delete;
+  CpuHog& operator=(const CpuHog&) = delete;
+  size_t threads() const { return threads_.size(); }
+
+ private:
+  std::atomic<bool> stop_{false};
+  std::vector<std::thread> threads_;
+};
 
 }  // namespace mar::test

@@ -93,6 +93,7 @@ struct RunArgs {
   int every = 1;
   bool simulate = false;
   bool kiosk = false;
+  bool realtime = false;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

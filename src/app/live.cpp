@@ -325,8 +325,15 @@ void LiveShow::map(int64_t t_ns) {
     for (size_t i = 0; i < triggers_on_.size(); ++i) triggers_on_[i] = by.trigger_on(i);
     puppet_->show(swap_members_, triggers_on_);
   }
-  if (!playback_)  // replays use the recorded counts
+  // Iterations: replays use the recorded counts; on the wall clock the budget governor follows
+  // the last frame's cost; on the virtual clock the count is what the show asks for, so a busy
+  // machine cannot change what is computed.
+  if (playback_) {
+  } else if (pacer_.realtime()) {
     governor_.next(int(mapping_.setting(setting_iterations_)), last_compute_ms_, pacer_.period_s() * 1e3);
+  } else {
+    governor_.force(int(mapping_.setting(setting_iterations_)));
+  }
   if (mapping_.grab_active() != grab_.active()) grab_.set(mapping_.grab_active(), mapping_.grab_point(), *puppet_);
   const auto mt = mapping_.targets();
   for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];

@@ -37,6 +37,7 @@ struct RunOptions {
   int every = 1;
   bool quiet = false;
   bool kiosk = false;        ///< as the show's [kiosk] (run --kiosk)
+  bool realtime = false;     ///< headless on the wall clock (run --realtime): not reproducible
   int warmup = 30;           ///< frames before allocations are counted
 };
 
@@ -82,8 +83,11 @@ class LiveShow {
   std::span<const Vec2> targets() const { return {targets_.data(), n_targets_}; }
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
-  /// Whether frames follow the wall clock (a window, or hardware devices).
-  bool realtime() const { return !opt_.headless || has_hardware_; }
+  /// Whether frames follow the wall clock: a window, real hardware devices, or --realtime.
+  /// Otherwise (headless: in-process simulators, --simulate's bench, a replay) the show runs on
+  /// a virtual clock, and what it computes is a function of the show, its files and the
+  /// devices' scripts alone: wall-clock time is measured and reported, never used.
+  bool realtime() const { return !opt_.headless || opt_.realtime || (has_hardware_ && !opt_.simulate); }
 
  private:
   LiveShow() = default;
@@ -103,6 +107,8 @@ class LiveShow {
   void apply_settings();
   void feedback();
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
+  long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up
+  double sim_max_wait_ms_ = 0;
   void replay_device(uint16_t source, std::span<const uint8_t> description);
   bool handle_window_events();
   bool learn_from_events();

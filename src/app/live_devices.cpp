@@ -5,6 +5,7 @@
 #include "app/sim_source.h"
 #include "app/simulate.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -33,7 +34,9 @@ std::string LiveShow::open_devices() {
   // backends, and in-process simulators for `type = "sim"` devices. With --simulate the
   // hardware devices' simulators are presented at the kernel interface instead, and the
   // real backends read them.
-  if (has_hardware_) pacer_.set_epoch(monotonic_ns());  // device timestamps are on this clock
+  // Device timestamps are on this clock. A whole microsecond: evdev stamps in microseconds, and
+  // a simulated device's times then come back exactly, whatever the epoch was.
+  if (has_hardware_) pacer_.set_epoch(monotonic_ns() / 1000 * 1000);
   if (opt_.simulate && has_hardware_) {
     std::string err;
     if (!(simulation_ = make_simulation(&err))) return err;
@@ -64,19 +67,34 @@ std::string LiveShow::open_devices() {
       std::cerr << "device '" << show_.devices[i].name << "': " << device_state_name(st) << ": " << devices_->problem(i)
                 << (st == DeviceState::Waiting ? " (waiting for it)" : "") << "\n";
   }
-  if (simulation_) simulation_->play(pacer_.epoch());
+  if (simulation_) simulation_->play(pacer_.epoch(), !realtime());
   sdl_input_window(canvas_ && canvas_->is_window());
   return {};
 }
 
 void LiveShow::await_simulation(int64_t t) {
   // --simulate: the frame at `t` reads what the simulated devices did by `t`, however far
-  // their player threads fell behind on a busy machine (waiting a second at most, so a
-  // stuck player cannot stop the show). Outside the frame, like the pacer's wait.
+  // their player threads fell behind on a busy machine. Outside the frame, like the pacer's
+  // wait, and bounded so that a stuck player cannot stop the show: a second on the wall clock
+  // (frames late for it are counted), ten on the virtual clock, where the players write only
+  // what the frame allows (lockstep) and every frame waits for them.
   if (!simulation_) return;
-  const int64_t give_up = monotonic_ns() + 1'000'000'000;
-  while (simulation_->written_through() < t && monotonic_ns() < give_up)
-    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  const bool lockstep = !realtime();
+  if (lockstep) simulation_->allow(t);
+  if (simulation_->written_through() >= t) return;
+  const int64_t start = monotonic_ns(), give_up = start + (lockstep ? 10'000'000'000 : 1'000'000'000);
+  if (!lockstep) ++sim_waits_;
+  for (int spin = 0; simulation_->written_through() < t; ++spin) {
+    if (!lockstep) sim_max_wait_ms_ = std::max(sim_max_wait_ms_, double(monotonic_ns() - start) * 1e-6);
+    if (monotonic_ns() >= give_up) {
+      if (sim_timeouts_++ == 0 && !opt_.quiet)
+        std::cerr << "warning: --simulate: the simulated devices were not written through " << double(t) * 1e-9
+                  << " s after " << (lockstep ? 10 : 1) << " s of waiting; the show goes on without them\n";
+      return;
+    }
+    if (spin < 50) std::this_thread::yield();
+    else std::this_thread::sleep_for(std::chrono::microseconds(20));
+  }
 }
 
 void LiveShow::feedback() {

@@ -89,6 +89,9 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--learn", run.learn, "Bind the next control that moves to TARGET and write it into the show");
   run_cmd->add_flag("--simulate", run.simulate,
                     "Present the hardware devices' simulators at the kernel interface (umockdev): no hardware needed");
+  run_cmd->add_flag("--realtime", run.realtime,
+                    "Headless on the wall clock (frame times, the budget governor, --simulate's players as they come): "
+                    "not reproducible; the default headless clock is virtual and every run gives the same run_hash");
 
   mar::DevicesArgs devs;
   CLI::App* devices_cmd = app.add_subcommand("devices", "List the input devices every backend finds, their status and problems");

@@ -55,6 +55,14 @@ std::string LiveShow::stats_json() const {
       {"rate_hz", 1.0 / pacer_.period_s()},
       {"stages_us", stages},
       {"overruns", stats_.overruns},
+      // What the wall clock could change: on the virtual clock nothing (overruns are measured
+      // only); on the wall clock (a window, hardware, --realtime) the governor's reductions and
+      // --simulate frames that had to wait for late players, or gave up on them.
+      {"clock", {{"mode", playback_ ? "replay" : realtime() ? "realtime" : "virtual"},
+                 {"governor_reductions", governor_.reductions()},
+                 {"simulation_waits", sim_waits_},
+                 {"simulation_max_wait_ms", sim_max_wait_ms_},
+                 {"simulation_timeouts", sim_timeouts_}}},
       {"iterations", {{"configured", show_.iterations}, {"floor", show_.min_iterations},
                       {"min", stats_.frames ? stats_.iter_min : 0}, {"max", stats_.iter_max}, {"mean", stats_.iter_mean()},
                       {"governor_reductions", governor_.reductions()}}},
@@ -106,6 +114,7 @@ int cmd_run(const RunArgs& a) {
   o.replay_path = a.replay;
   o.simulate = a.simulate;
   o.kiosk = a.kiosk;
+  o.realtime = a.realtime;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

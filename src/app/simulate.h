@@ -19,13 +19,18 @@ class HardwareSimulation {
   /// Presents show device `d` (a hardware type) played by `sim`. Returns an empty string,
   /// or a note saying why it cannot be presented (the device then stays absent).
   virtual std::string present(const ShowDevice& d, SimDevice& sim) = 0;
-  /// Starts playing every presented device in real time (show time 0 = `epoch_mono_ns`).
-  virtual void play(int64_t epoch_mono_ns) = 0;
+  /// Starts playing every presented device (show time 0 = `epoch_mono_ns`): in real time, or
+  /// in lockstep with the show's virtual clock, writing only what allow() lets through. In
+  /// lockstep the hidraw and USB reads carry the show time the script gave each record (a
+  /// read clock, devices/device.h), as GPIO and evdev events carry it in their timestamps.
+  virtual void play(int64_t epoch_mono_ns, bool lockstep) = 0;
+  /// Lockstep: the devices may write what they do through show time `t`.
+  virtual void allow(int64_t t) = 0;
   /// The show time through which every presented device's timeline has been written at
-  /// the kernel interface (INT64_MAX once all have ended). The players are threads that
-  /// can fall behind on a busy machine; a frame at `t` waits for `t` first, as a real
-  /// kernel has every event stamped before `t` queued by then. Called by the show's thread
-  /// between play() and stop().
+  /// the kernel interface and can be read (INT64_MAX once all have ended). The players are
+  /// threads that can fall behind on a busy machine; a frame at `t` waits for `t` first, as a
+  /// real kernel has every event stamped before `t` queued by then. Called by the show's
+  /// thread between play() and stop().
   virtual int64_t written_through() const = 0;
   /// Stops playing (joins the players); the devices stay plugged until destruction.
   virtual void stop() = 0;

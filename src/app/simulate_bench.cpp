@@ -78,27 +78,38 @@ class BenchSimulation final : public HardwareSimulation {
     return {};
   }
 
-  void play(int64_t epoch) override {
+  void play(int64_t epoch, bool lockstep) override {
+    if (lockstep) {
+      clock_ = &bench_.read_clock();
+      set_read_clock(clock_);
+    }
     for (const Played& p : played_) {
       if (!p.as_evdev) {
-        bench_.play(p.dev, *p.sim, epoch);
+        bench_.play(p.dev, *p.sim, epoch, lockstep);
         continue;
       }
       // Pen reports are re-expressed as evdev events by a feeder thread per tablet.
       auto& pen = static_cast<HidDeviceSim&>(*p.sim);
       std::atomic<int64_t>& written = fed_.emplace_back(-1);
-      feeders_.emplace_back([this, dev = p.dev, &pen, epoch, &written] {
+      feeders_.emplace_back([this, dev = p.dev, &pen, epoch, lockstep, &written] {
         auto dec = make_hid_decoder(pen.descriptor(), 0);
         VirtualBench::Evdev geom;
+        const std::atomic<int64_t>& allowed = bench_.allowed();
         pen.drain(INT64_MAX, [&](const WireRecord& r) {
           written.store(r.t_ns - 1, std::memory_order_release);  // everything before r is out
-          while (!stop_ && monotonic_ns() < epoch + r.t_ns) std::this_thread::sleep_for(std::chrono::microseconds(500));
+          if (lockstep) {
+            for (int64_t a; !stop_ && (a = allowed.load(std::memory_order_acquire)) < r.t_ns;) allowed.wait(a);
+          } else {
+            while (!stop_ && monotonic_ns() < epoch + r.t_ns) std::this_thread::sleep_for(std::chrono::microseconds(500));
+          }
           if (!stop_) present_pen_as_evdev(bench_, dev, r, epoch, *dec, geom);
         });
         written.store(INT64_MAX, std::memory_order_release);
       });
     }
   }
+
+  void allow(int64_t t) override { bench_.allow_through(t); }
 
   int64_t written_through() const override {
     int64_t t = bench_.written_through();
@@ -108,11 +119,13 @@ class BenchSimulation final : public HardwareSimulation {
 
   void stop() override {
     stop_ = true;
+    if (clock_) set_read_clock(nullptr);  // (the bench keeps it until it goes)
+    clock_ = nullptr;
+    bench_.stop_playing();  // also wakes the feeders that wait for the show
     for (auto& t : feeders_)
       if (t.joinable()) t.join();
     feeders_.clear();
     fed_.clear();
-    bench_.stop_playing();
   }
 
  private:
@@ -126,6 +139,7 @@ class BenchSimulation final : public HardwareSimulation {
   std::vector<std::thread> feeders_;
   std::deque<std::atomic<int64_t>> fed_;  ///< per feeder: show time written through
   std::atomic<bool> stop_{false};
+  ReadClock* clock_ = nullptr;  ///< installed while playing in lockstep
 };
 
 std::unique_ptr<HardwareSimulation> make_bench(std::string* error) {

@@ -1,11 +1,13 @@
 // Whole hardware shows run on the virtual bench through `marionette run --simulate` (the
 // child process inherits umockdev's preload and this test's testbed), and their recordings.
 // Built into test_devices, whose main sets up the bench.
+#include "firmware_sim/sim_device.h"
 #include "input/decoder.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,24 +16,89 @@
 namespace mar {
 namespace {
 
-TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
-  const auto dir = test::temp_dir("simulate");
-  const auto stats = dir / "stats.json";
-  const auto r = test::run_cli("run '" + (test::source_dir() / "config/shows/hardware.toml").string() +
-                               "' --headless --simulate --stats '" + stats.string() + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
+const std::string kHardwareShow = "config/shows/hardware.toml";
+
+// The records each device of the hardware show writes: its simulator's timeline, made from the
+// show file's script as the show makes it (the pen's HID reports become evdev events, so it is
+// left out: -1).
+std::vector<long> scripted_records(const std::string& show) {
+  std::vector<long> n;
+  const toml::table t = toml::parse_file(show);
+  for (const auto& node : *t["device"].as_array()) {
+    const toml::table& d = *node.as_table();
+    std::string sim = d["sim"].value_or(std::string());
+    std::string descriptor;
+    if (d["profile"].value_or(std::string()) == "ps4") {  // the profile's simulator and descriptor
+      sim = "gamepad";
+      const auto p = test::corpus_dir() / "hid/hid-tools-descriptors/sony_gamepad__PS4ControllerUSB.hex";
+      if (std::filesystem::exists(p)) descriptor = p.string();
+    }
+    if (d["type"].value_or(std::string()) == "tablet") {
+      n.push_back(-1);
+      continue;
+    }
+    auto dev = make_sim_device(sim, descriptor, d["bounce_ms"].value_or(0.0), uint32_t(d["seed"].value_or(1)));
+    EXPECT_TRUE(dev.ok()) << dev.error;
+    if (!dev.ok()) return {};
+    EXPECT_TRUE((*dev.value)->load_script(d["script"].value_or(std::string())).ok());
+    n.push_back(long((*dev.value)->timeline().size()));
+  }
+  return n;
+}
+
+nlohmann::json run_hardware_show(const std::string& name) {
+  const auto stats = test::temp_dir("simulate") / (name + ".json");
+  const auto r = test::run_cli("run '" + (test::source_dir() / kHardwareShow).string() + "' --headless --simulate --stats '" +
+                               stats.string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
   std::ifstream in(stats);
-  const auto j = nlohmann::json::parse(in);
+  return r.exit_code == 0 ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
+// Every record the scripts produce arrives through the real backends, exactly: the players
+// write in lockstep with the show's virtual clock, and a frame waits until the bench has
+// written through its time (it failed on a busy machine when players wrote on the wall clock).
+TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
+  const auto j = run_hardware_show("exact");
   ASSERT_EQ(j["devices"].size(), 4u);
   for (const auto& d : j["devices"]) {
     EXPECT_EQ(d["status"], "connected") << d.dump();
     EXPECT_GT(d["events"], 0) << d.dump();
     EXPECT_EQ(d["malformed"], 0) << d.dump();
   }
+  const std::vector<long> want = scripted_records((test::source_dir() / kHardwareShow).string());
+  ASSERT_EQ(want.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    if (want[i] >= 0) {
+      EXPECT_EQ(j["devices"][i]["records"].get<long>(), want[i]) << j["devices"][i].dump();
+    }
+  }
   EXPECT_EQ(j["devices"][0]["node"], "/dev/bus/usb/001/002");
   EXPECT_EQ(j["devices"][2]["events"], 40);  // two encoders, 20 detents each
   EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
-  EXPECT_GE(j["grabs"]["count"], 2);  // the pen grabbed and let go
+  EXPECT_EQ(j["grabs"]["count"], 2);  // the pen grabbed and let go, twice
+  EXPECT_EQ(j["clock"]["mode"], "virtual");
+  EXPECT_EQ(j["clock"]["simulation_timeouts"], 0);
+}
+
+// The same show on a loaded machine (more busy threads than cores) gives what it gives on an
+// idle one, frame for frame: one run_hash, every record, every detent and grab.
+TEST(RunSimulate, HardwareShowGivesOneRunHashIdleAndLoaded) {
+  const auto idle = run_hardware_show("idle");
+  ASSERT_TRUE(idle.contains("run_hash"));
+  test::CpuHog hog;
+  for (int k = 0; k < 5; ++k) {
+    const auto j = run_hardware_show("loaded" + std::to_string(k));
+    ASSERT_TRUE(j.contains("run_hash"));
+    EXPECT_EQ(j["run_hash"], idle["run_hash"]) << "run " << k << " with " << hog.threads() << " busy threads";
+    for (size_t i = 0; i < 4; ++i) {
+      EXPECT_EQ(j["devices"][i]["records"], idle["devices"][i]["records"]) << "run " << k << ", device " << i;
+      EXPECT_EQ(j["devices"][i]["events"], idle["devices"][i]["events"]) << "run " << k << ", device " << i;
+    }
+    EXPECT_EQ(j["devices"][2]["events"], 40);
+    EXPECT_EQ(j["grabs"]["count"], 2);
+    EXPECT_EQ(j["iterations"]["governor_reductions"], 0);
+  }
 }
 
 // What a recording holds: wire records per source and kind, and device descriptions.
