@@ -1,10 +1,21 @@
 #!/usr/bin/env python3
-"""Writes each harness's seed inputs into OUT/NAME/ from config/ and the shared corpus
-(read at run time, never copied into the repository)."""
+"""Writes each harness's seed inputs into OUT/NAME/ from config/, a few inputs of our own, and
+the shared corpus when it is there (read at run time, never copied into the repository). A clone
+with no corpus beside it gets every harness seeded all the same."""
 import glob, json, os, re, struct, sys
 
 src, corpus, out = sys.argv[1], sys.argv[2], sys.argv[3]
 seeds = {}
+if not os.path.isdir(corpus) or not os.listdir(corpus):
+    print(f'seeds: no shared corpus at {corpus}: seeds from config/ and our own inputs only', file=sys.stderr)
+
+def corpus_json(rel):
+    """A JSON file of the corpus, or None when the corpus (or that file) is not here."""
+    p = os.path.join(corpus, rel)
+    if not os.path.isfile(p):
+        return None
+    with open(p) as f:
+        return json.load(f)
 
 def add(name, data):
     if isinstance(data, str):
@@ -50,17 +61,29 @@ for p in sorted(glob.glob(f'{src}/config/shows/*.toml')):
 for p in sorted(glob.glob(f'{src}/config/devices/*.toml')):
     add('fuzz_device_profile', read(p))
 
-# MIDI 1.0 streams and USB-MIDI packets (the parser vectors), HID descriptors with reports.
-v = json.load(open(f'{corpus}/midi/parser-vectors/midi1_stream_vectors.json'))
-for t in v['vectors']:
+# MIDI 1.0 streams and USB-MIDI packets: our own few (note on/off with running status, a
+# controller, a SysEx, real-time bytes inside a message), then the corpus's parser vectors.
+for s in ['90 3c 64 3e 64 80 3c 00', 'b0 07 7f 07 00 e0 00 40', 'f0 7e 7f 09 01 f7 c0 05',
+          '90 3c f8 64 fe', 'f2 10 20 f3 01 f6 b0 40 7f']:
+    add('fuzz_midi', hexbytes(s))
+for s in ['09 90 3c 64 08 80 3c 00', '0b b0 07 7f 1b b1 10 20', '04 f0 7e 7f 07 09 01 f7', '0f f8 00 00 05 f6 00 00']:
+    add('fuzz_usb_midi', hexbytes(s))
+v = corpus_json('midi/parser-vectors/midi1_stream_vectors.json')
+for t in (v or {}).get('vectors', []):
     add('fuzz_midi', hexbytes(t['input_hex']))
-v = json.load(open(f'{corpus}/midi/parser-vectors/usb_midi_packet_vectors.json'))
-packets = [hexbytes(t['packet_hex']) for t in v['decode'] if 'packet_hex' in t]
+v = corpus_json('midi/parser-vectors/usb_midi_packet_vectors.json')
+packets = [hexbytes(t['packet_hex']) for t in (v or {}).get('decode', []) if 'packet_hex' in t]
 for i in range(0, len(packets), 4):
     add('fuzz_usb_midi', b''.join(packets[i:i + 4]))
-for p in sorted(glob.glob(f'{corpus}/hid/*descriptors/*.hex'))[:40]:
-    d = hexbytes(open(p).read())[:65535]
-    reports = b''.join(bytes([n]) + bytes((k * 37 + n) & 0xFF for k in range(n)) for n in (8, 16, 64))
+
+# HID: a report descriptor with reports. Ours: a joystick (X and Y 8-bit, 8 buttons) and the
+# same with a report ID; then the corpus's descriptors.
+joystick = ('05 01 09 04 a1 01 {id} 09 30 09 31 15 00 26 ff 00 75 08 95 02 81 02 '
+            '05 09 19 01 29 08 15 00 25 01 75 01 95 08 81 02 c0')
+hid_descriptors = [hexbytes(joystick.format(id='')), hexbytes(joystick.format(id='85 01'))]
+hid_descriptors += [hexbytes(open(p).read())[:65535] for p in sorted(glob.glob(f'{corpus}/hid/*descriptors/*.hex'))[:40]]
+for d in hid_descriptors:
+    reports = b''.join(bytes([n]) + bytes((k * 37 + n) & 0xFF for k in range(n)) for n in (3, 8, 16, 64))
     add('fuzz_hid', struct.pack('<H', len(d)) + d + reports)
 
 # OSC: a pattern, NUL, a message (address, type tags, one float).
