@@ -7,6 +7,8 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+# Text on the performer's overlays (the HUD), with a font from fonts-dejavu-core.
+pkg_check_modules(SDL2TTF REQUIRED IMPORTED_TARGET SDL2_ttf)
 # systemd's notify and watchdog protocol (a show run as a service: src/app/loop/service.h).
 pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 # Device libraries: the real ones, each only when its backend is built (devices/).

@@ -237,15 +237,14 @@ int cmd_view(const ViewArgs& a) {
             running = false;
           }
         }
-        c.refresh_size();
         draw_tiles(c, chars, meshes, 1.0, list);
         if (std::string err = c.draw(list); !err.empty()) {
           std::cerr << "error: " << err << "\n";
           return kExitRuntime;
         }
-        if (first && !a.screenshot.empty()) {
-          const std::vector<std::uint8_t> px = c.read_premultiplied();
-          if (std::string err = write_png(a.screenshot, downsample_premultiplied(px.data(), c.width(), c.height(), 1));
+        if (first && !a.screenshot.empty()) {  // what the window shows, read back from its renderer
+          const std::vector<std::uint8_t> px = c.read_window();
+          if (std::string err = write_png(a.screenshot, downsample_premultiplied(px.data(), c.window_width(), c.window_height(), 1));
               !err.empty()) {
             std::cerr << "error: " << err << "\n";
             return kExitRuntime;

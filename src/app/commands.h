@@ -94,6 +94,7 @@ struct RunArgs {
   bool simulate = false;
   bool kiosk = false;
   bool realtime = false;
+  std::string screenshot;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

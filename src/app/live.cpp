@@ -215,6 +215,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   s->replay_decoders_.resize(sh.devices.size());
   s->replay_retired_.resize(sh.devices.size());
   s->device_states_.assign(sh.devices.size(), DeviceState::Connected);
+  s->last_events_.assign(sh.devices.size(), Event{});
   std::string err;
   if (!s->open_output(&err)) return R::failure(err);
   s->pacer_ = Pacer(s->pacer_.period_s(), s->realtime());  // open_output decides window or headless
@@ -232,6 +233,9 @@ bool LiveShow::open_output(std::string* err) {
     if (w.ok()) {
       canvas_ = std::move(*w.value);
       if (sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);
+      hud_panel_ = std::make_unique<Hud>(show_);
+      if (const std::string e = hud_panel_->load_font(canvas_->window_renderer()); !e.empty() && !opt_.quiet)
+        std::cerr << "warning: the HUD has no text: " << e << "\n";
     } else if (!opt_.quiet) {
       std::cerr << "warning: no window (" << w.error << "); running headless\n";
     }
@@ -300,6 +304,8 @@ void LiveShow::inputs(int64_t t_ns) {
   }
   n_events_ = ev.n;
   dropped_events_ += ev.dropped;
+  for (size_t i = 0; i < n_events_; ++i)
+    if (events_[i].source < last_events_.size()) last_events_[events_[i].source] = events_[i];
   if (!playback_) feedback();
 }
 
@@ -425,19 +431,30 @@ void LiveShow::render() {
   double worst = 0;
   for (size_t k = 0; k < p.shapes.size(); ++k)
     worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
-  stats_.quality.add(worst * 100.0 / std::max(1e-9, p.character.height) * 1000.0);
+  const double quality_pct = worst * 100.0 / std::max(1e-9, p.character.height);
+  stats_.quality.add(quality_pct * 1000.0);
   canvas_->clear(background_);
   list_.clear();
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
   canvas_->draw(list_);
-  if (hud_ && canvas_->is_window()) {
+  if (hud_ && canvas_->is_window()) {  // on the window, over the canvas: never in dumps or outputs
+    canvas_->compose();
     for (size_t i = 0; i < device_states_.size(); ++i)
       device_states_[i] = devices_ && show_.devices[i].type != "sim" ? devices_->state(i) : DeviceState::Connected;
-    draw_hud(*canvas_, last_compute_ms_ * 1e3, pacer_.period_s() * 1e6, device_states_);
+    const HudFrame f{last_compute_ms_ * 1e3, pacer_.period_s() * 1e6, governor_.iterations(),
+                     int(mapping_.setting(setting_iterations_)), quality_pct, device_states_, last_events_};
+    hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_);
   }
 }
 
 void LiveShow::present() {
+  if (!opt_.screenshot.empty() && canvas_->is_window() && stats_.frames + 1 == opt_.frames) {
+    // What the window shows, HUD and letterbox included (a test aid, outside the allocation count).
+    const uint64_t before = allocations();
+    const auto px = canvas_->read_window();
+    write_png(opt_.screenshot, downsample_premultiplied(px.data(), canvas_->window_width(), canvas_->window_height(), 1));
+    alloc_base_ += allocations() - before;
+  }
   canvas_->present();
   if (service_) service_->frame_presented();
 }

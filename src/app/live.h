@@ -8,6 +8,7 @@
 
 #include "app/loop/attract.h"
 #include "app/loop/governor.h"
+#include "app/loop/hud.h"
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
 #include "app/loop/recording.h"
@@ -38,6 +39,7 @@ struct RunOptions {
   bool quiet = false;
   bool kiosk = false;        ///< as the show's [kiosk] (run --kiosk)
   bool realtime = false;     ///< headless on the wall clock (run --realtime): not reproducible
+  std::string screenshot;    ///< a window's pixels at the last of `frames` frames, as PNG
   int warmup = 30;           ///< frames before allocations are counted
 };
 
@@ -169,7 +171,9 @@ class LiveShow {
   Affine2 view_;
   Rgba background_{244, 241, 234, 255};
   std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
+  std::vector<Event> last_events_;                 ///< for the HUD: each device's last control
   bool hud_ = true;
+  std::unique_ptr<Hud> hud_panel_;                 ///< a window's HUD (glyphs made at load)
   // the run
   Pacer pacer_{1.0 / 60, false};
   RunStats stats_;

@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--learn", run.learn, "Bind the next control that moves to TARGET and write it into the show");
   run_cmd->add_flag("--simulate", run.simulate,
                     "Present the hardware devices' simulators at the kernel interface (umockdev): no hardware needed");
+  run_cmd->add_option("--screenshot", run.screenshot,
+                      "Window mode: save what the window shows (HUD included) at the last frame as PNG (needs --frames)");
   run_cmd->add_flag("--realtime", run.realtime,
                     "Headless on the wall clock (frame times, the budget governor, --simulate's players as they come): "
                     "not reproducible; the default headless clock is virtual and every run gives the same run_hash");

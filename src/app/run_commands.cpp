@@ -53,6 +53,10 @@ std::string LiveShow::stats_json() const {
       {"show", show_.path},
       {"frames", stats_.frames},
       {"rate_hz", 1.0 / pacer_.period_s()},
+      // Where the canvas is drawn, and the window's renderer ("software", "opengl", ...; "none" headless).
+      {"canvas", {{"width", canvas_->width()}, {"height", canvas_->height()},
+                  {"antialias", canvas_->antialias()},
+                  {"window_renderer", canvas_->is_window() ? canvas_->renderer_name() : "none"}}},
       {"stages_us", stages},
       {"overruns", stats_.overruns},
       // What the wall clock could change: on the virtual clock nothing (overruns are measured
@@ -115,6 +119,7 @@ int cmd_run(const RunArgs& a) {
   o.simulate = a.simulate;
   o.kiosk = a.kiosk;
   o.realtime = a.realtime;
+  o.screenshot = a.screenshot;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

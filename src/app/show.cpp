@@ -463,7 +463,8 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         b.control.device = uint16_t(di);
         if (auto r = parse_control(device_control(s.devices[size_t(di)], text(path, *ctl, "control")), b.control); !r.ok())
           throw ShowError{at(path, *ctl) + ": " + r.error};
-        if (auto r = parse_target(text(path, *tgt, "target"), s, rig, b.target, b.index, &b.member); !r.ok())
+        b.target_text = text(path, *tgt, "target");
+        if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, &b.member); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};
         Transform& tf = b.tf;
         // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its

@@ -230,6 +230,31 @@ void Mapping::absolute(Binding& b, double n, int64_t t) {
   set_target(b, b.tf.lo + n * (b.tf.hi - b.tf.lo));
 }
 
+double Mapping::binding_value(size_t i) const {
+  const Binding& b = bindings_[i];
+  const size_t k = size_t(b.index);
+  switch (b.target) {
+    case TargetKind::HandleX: return goal_[k].x();
+    case TargetKind::HandleY: return goal_[k].y();
+    case TargetKind::Rotate: return angle_goal_[k];
+    case TargetKind::Setting: return settings_[k].value;
+    default: return std::nan("");
+  }
+}
+
+double Mapping::takeover_at(size_t i) const {
+  const Binding& b = bindings_[i];
+  const bool absolute_target = b.target == TargetKind::HandleX || b.target == TargetKind::HandleY ||
+                               b.target == TargetKind::Rotate || b.target == TargetKind::Setting;
+  if (!absolute_target || !b.tf.takeover || b.engaged || b.last_norm < 0) return -1;
+  if (b.target == TargetKind::Setting && settings_[size_t(b.index)].integer) return -1;
+  // The value the control must reach, back through the binding's curve and inversion.
+  double n = std::clamp(current_norm(b), 0.0, 1.0);
+  if (b.tf.curve != 1 && b.tf.curve > 0) n = std::pow(n, 1.0 / b.tf.curve);
+  if (b.tf.invert) n = 1 - n;
+  return n;
+}
+
 double Mapping::current_norm(const Binding& b) const {
   double v = 0;
   switch (b.target) {

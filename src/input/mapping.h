@@ -82,6 +82,7 @@ struct Binding {
   int member = 0; ///< swap targets: the member shown
   Transform tf;
   int line = 0;   ///< show-file line (messages)
+  std::string target_text;  ///< as written (the HUD)
   // state
   bool engaged = false;      ///< soft takeover has picked the target up
   double last_norm = -1;     ///< previous normalised control value (-1: none yet)
@@ -161,6 +162,13 @@ class Mapping {
   bool grab_active() const { return grab_active_; }
   Vec2 grab_point() const { return grab_point_; }
   const MappingStats& stats() const { return stats_; }
+  // For the HUD: each binding, the value its target has now (NaN for targets without one:
+  // grabs, poses, swaps, triggers, recalls), and where an absolute control waiting for soft
+  // takeover must go to pick its target up (0..1 of its travel; -1 when not waiting).
+  size_t binding_count() const { return bindings_.size(); }
+  const Binding& binding(size_t i) const { return bindings_[i]; }
+  double binding_value(size_t i) const;
+  double takeover_at(size_t i) const;
 
  private:
   void absolute(Binding& b, double norm, int64_t t);

@@ -6,47 +6,61 @@
 
 namespace mar {
 
+bool Canvas::make_canvas(int width, int height, std::string* err) {
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
+    *err = "canvas size " + std::to_string(width) + "x" + std::to_string(height) + " out of range (1..16384)";
+    return false;
+  }
+  width_ = width;
+  height_ = height;
+  surface_ = SDL_CreateRGBSurfaceWithFormat(0, width, height, 32, SDL_PIXELFORMAT_ABGR8888);
+  if (!surface_) {
+    *err = std::string("cannot create surface: ") + SDL_GetError();
+    return false;
+  }
+  renderer_ = SDL_CreateSoftwareRenderer(surface_);
+  if (!renderer_) {
+    *err = std::string("cannot create software renderer: ") + SDL_GetError();
+    return false;
+  }
+  SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_BLEND);
+  make_white();
+  return true;
+}
+
 Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
   using R = Result<std::unique_ptr<Canvas>>;
-  if (width <= 0 || height <= 0 || width > 16384 || height > 16384) {
-    return R::failure("canvas size " + std::to_string(width) + "x" + std::to_string(height) +
-                      " out of range (1..16384)");
-  }
   std::unique_ptr<Canvas> c(new Canvas());
-  c->width_ = width;
-  c->height_ = height;
-  c->surface_ = SDL_CreateRGBSurfaceWithFormat(0, width, height, 32, SDL_PIXELFORMAT_ABGR8888);
-  if (!c->surface_) return R::failure(std::string("cannot create surface: ") + SDL_GetError());
-  c->renderer_ = SDL_CreateSoftwareRenderer(c->surface_);
-  if (!c->renderer_) return R::failure(std::string("cannot create software renderer: ") + SDL_GetError());
-  SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
-  c->software_ = true;
-  c->make_white();
+  std::string err;
+  if (!c->make_canvas(width, height, &err)) return R::failure(err);
   return R::success(std::move(c));
 }
 
 Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int width, int height,
                                                bool fullscreen, bool software, int display) {
   using R = Result<std::unique_ptr<Canvas>>;
+  std::unique_ptr<Canvas> c(new Canvas());
+  std::string err;
+  if (!c->make_canvas(width, height, &err)) return R::failure(err);
   if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
     return R::failure(std::string("no display: ") + SDL_GetError());
   }
-  std::unique_ptr<Canvas> c(new Canvas());
   Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
   if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
   if (display >= SDL_GetNumVideoDisplays()) display = -1;  // (a missing display: the first one)
   const int pos = display >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(display)) : int(SDL_WINDOWPOS_CENTERED);
   c->window_ = SDL_CreateWindow(title.c_str(), pos, pos, width, height, flags);
-  if (!c->window_) return R::failure(std::string("cannot open window: ") + SDL_GetError());
-  c->renderer_ = SDL_CreateRenderer(c->window_, -1,
-                                    software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
-  if (!c->renderer_ && !software) c->renderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
-  if (!c->renderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
-  SDL_SetRenderDrawBlendMode(c->renderer_, SDL_BLENDMODE_BLEND);
-  SDL_RendererInfo info;
-  c->software_ = SDL_GetRendererInfo(c->renderer_, &info) == 0 && (info.flags & SDL_RENDERER_SOFTWARE);
-  if (c->software_) c->make_white();
-  c->refresh_size();
+  if (!c->window_) {
+    SDL_QuitSubSystem(SDL_INIT_VIDEO);
+    return R::failure(std::string("cannot open window: ") + SDL_GetError());
+  }
+  c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
+  if (!c->wrenderer_ && !software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
+  if (!c->wrenderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
+  c->shown_tex_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STREAMING, width, height);
+  if (!c->shown_tex_) return R::failure(std::string("cannot create the canvas texture: ") + SDL_GetError());
+  SDL_SetTextureBlendMode(c->shown_tex_, SDL_BLENDMODE_NONE);
+  SDL_SetTextureScaleMode(c->shown_tex_, SDL_ScaleModeLinear);
   return R::success(std::move(c));
 }
 
@@ -55,6 +69,8 @@ Canvas::~Canvas() {
   if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
+  if (shown_tex_) SDL_DestroyTexture(shown_tex_);
+  if (wrenderer_) SDL_DestroyRenderer(wrenderer_);
   if (window_) {
     SDL_DestroyWindow(window_);
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
@@ -72,10 +88,6 @@ void Canvas::make_white() {
   SDL_SetTextureBlendMode(white_, SDL_BLENDMODE_BLEND);
 }
 
-void Canvas::refresh_size() {
-  if (renderer_ && window_) SDL_GetRendererOutputSize(renderer_, &width_, &height_);
-}
-
 void Canvas::clear(const Rgba& bg) {
   auto byte = [](float v) { return static_cast<Uint8>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
   // Stored premultiplied, which is what blending onto it then keeps.
@@ -83,6 +95,12 @@ void Canvas::clear(const Rgba& bg) {
   SDL_SetRenderDrawColor(renderer_, byte(bg.r * bg.a), byte(bg.g * bg.a), byte(bg.b * bg.a), byte(bg.a));
   SDL_RenderClear(renderer_);
   SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_BLEND);
+  composed_ = false;
+}
+
+PixelTarget Canvas::pixels() {
+  SDL_RenderFlush(renderer_);  // what SDL still has queued for the canvas goes first
+  return {static_cast<std::uint8_t*>(surface_->pixels), width_, height_, surface_->pitch};
 }
 
 SDL_Texture* Canvas::texture_for(const Texture* t) {
@@ -103,18 +121,16 @@ SDL_Texture* Canvas::texture_for(const Texture* t) {
 }
 
 std::string Canvas::draw(const DrawList& list) {
+  composed_ = false;
+  if (antialias_) {
+    raster_.draw(list, pixels());
+    return {};
+  }
   for (const DrawList::Batch& b : list.batches) {
     if (b.index_count <= 0) continue;
     SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
     if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    if (software_) {
-      if (std::string e = draw_software(list, b, tex); !e.empty()) return e;
-      continue;
-    }
-    if (SDL_RenderGeometry(renderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
-                           list.indices.data() + b.first_index, b.index_count) != 0) {
-      return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
-    }
+    if (std::string e = draw_software(list, b, tex); !e.empty()) return e;
   }
   return {};
 }
@@ -160,20 +176,50 @@ std::string Canvas::draw_software(const DrawList& list, const DrawList::Batch& b
 
 std::vector<std::uint8_t> Canvas::read_premultiplied() {
   std::vector<std::uint8_t> px(static_cast<size_t>(width_) * height_ * 4);
-  SDL_RenderFlush(renderer_);
-  if (surface_) {
-    for (int y = 0; y < height_; ++y) {
-      const auto* row = static_cast<const std::uint8_t*>(surface_->pixels) + static_cast<size_t>(y) * surface_->pitch;
-      std::copy(row, row + static_cast<size_t>(width_) * 4, px.begin() + static_cast<long>(y) * width_ * 4);
-    }
-  } else {
-    SDL_RenderReadPixels(renderer_, nullptr, SDL_PIXELFORMAT_ABGR8888, px.data(), width_ * 4);
+  const PixelTarget t = pixels();
+  for (int y = 0; y < height_; ++y) {
+    const std::uint8_t* row = t.px + static_cast<size_t>(y) * static_cast<size_t>(t.stride);
+    std::copy(row, row + static_cast<size_t>(width_) * 4, px.begin() + static_cast<long>(y) * width_ * 4);
   }
   return px;
 }
 
+void Canvas::compose() {
+  if (!window_ || composed_) return;
+  composed_ = true;
+  const PixelTarget t = pixels();
+  SDL_UpdateTexture(shown_tex_, nullptr, t.px, t.stride);
+  SDL_GetRendererOutputSize(wrenderer_, &ww_, &wh_);
+  // Scaled to fit, centred; the bars around it black.
+  const double s = std::min(double(ww_) / width_, double(wh_) / height_);
+  const int w = std::max(1, int(std::lround(width_ * s))), h = std::max(1, int(std::lround(height_ * s)));
+  shown_ = {(ww_ - w) / 2, (wh_ - h) / 2, w, h};
+  SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_NONE);
+  SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, 255);
+  SDL_RenderClear(wrenderer_);
+  SDL_RenderCopy(wrenderer_, shown_tex_, nullptr, &shown_);
+  SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+}
+
 void Canvas::present() {
-  if (window_) SDL_RenderPresent(renderer_);
+  if (!window_) return;
+  compose();
+  SDL_RenderPresent(wrenderer_);
+  composed_ = false;
+}
+
+std::vector<std::uint8_t> Canvas::read_window() {
+  if (!window_) return {};
+  compose();
+  std::vector<std::uint8_t> px(static_cast<size_t>(ww_) * static_cast<size_t>(wh_) * 4);
+  SDL_RenderReadPixels(wrenderer_, nullptr, SDL_PIXELFORMAT_ABGR8888, px.data(), ww_ * 4);
+  return px;
+}
+
+std::string Canvas::renderer_name() const {
+  SDL_RendererInfo info;
+  if (!wrenderer_ || SDL_GetRendererInfo(wrenderer_, &info) != 0) return {};
+  return info.name;
 }
 
 Affine2 fit_view(double w, double h, int tw, int th, double margin_px) {
@@ -193,6 +239,7 @@ Result<Image> render_character(const Character& ch, const CharacterMesh& mesh,
   auto canvas = Canvas::offscreen(w * ss, h * ss);
   if (!canvas.ok()) return Result<Image>::failure(canvas.error);
   Canvas& c = **canvas.value;
+  c.set_antialias(o.antialias);
   c.clear(o.background);
   DrawList list;
   build_draw_list(ch, mesh, positions, fit_view(ch.width, ch.height, w * ss, h * ss),

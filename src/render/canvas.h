@@ -1,10 +1,16 @@
-// One drawing target for both modes: an offscreen surface (software renderer, no display,
-// deterministic pixels) or an SDL2 window. The same DrawList draws on either.
+// One drawing target for every mode: the canvas, premultiplied RGBA8 pixels of a fixed size,
+// drawn with the anti-aliased rasterizer (render/raster.h) — or, to compare, SDL's aliased
+// software renderer. Offscreen, that is all. A window shows the canvas scaled to fit,
+// letterboxed, whatever its own size; overlays for the performer (the HUD) are drawn on the
+// window after the canvas, never into it, so dumps and outputs never carry them.
 #pragma once
 
 #include "character/character.h"
 #include "render/image.h"
+#include "render/raster.h"
 #include "render/tessellate.h"
+
+#include <SDL2/SDL_rect.h>
 
 #include <memory>
 #include <string>
@@ -19,50 +25,75 @@ namespace mar {
 
 class Canvas {
  public:
-  /// Offscreen: ABGR8888 surface + SDL software renderer. Needs no display.
+  /// Offscreen: a canvas of width x height. Needs no display.
   static Result<std::unique_ptr<Canvas>> offscreen(int width, int height);
-  /// A window (SDL video must be available); `software` pins the software renderer; `display`:
-  /// the display index to open it on (-1: SDL's choice).
+  /// A window showing a canvas of width x height (the window opens at that size); `software`
+  /// pins SDL's software renderer for the window; `display`: the display index to open it on
+  /// (-1: SDL's choice).
   static Result<std::unique_ptr<Canvas>> window(const std::string& title, int width, int height,
                                                 bool fullscreen, bool software, int display = -1);
   ~Canvas();
   Canvas(const Canvas&) = delete;
   Canvas& operator=(const Canvas&) = delete;
 
+  /// The canvas's size (not the window's).
   int width() const { return width_; }
   int height() const { return height_; }
   bool is_window() const { return window_ != nullptr; }
+  /// Anti-aliased (the default) or SDL's aliased software triangles.
+  void set_antialias(bool on) { antialias_ = on; }
+  bool antialias() const { return antialias_; }
 
-  /// Fills the whole target with a straight-alpha colour (alpha 0 = transparent).
+  /// Fills the whole canvas with a straight-alpha colour (alpha 0 = transparent).
   void clear(const Rgba& background);
   /// Draws the triangles in order; returns an error message or empty.
   std::string draw(const DrawList& list);
-  /// Target pixels as premultiplied RGBA8 (exactly what blending produced).
+  /// Canvas pixels as premultiplied RGBA8 (exactly what blending produced).
   std::vector<std::uint8_t> read_premultiplied();
+  /// The canvas pixels in place (premultiplied RGBA8, `stride` bytes a row).
+  PixelTarget pixels();
+
+  // ---- window ----
+  /// Puts the canvas into the window, scaled to fit and letterboxed (once a frame; present()
+  /// does it when it was not done). Overlays are drawn on window_renderer() after it.
+  void compose();
   /// Shows the frame (window) — no-op offscreen.
   void present();
-  /// The window's current drawable size may change; offscreen sizes never do.
-  void refresh_size();
-
-  SDL_Renderer* renderer() { return renderer_; }
+  SDL_Renderer* window_renderer() { return wrenderer_; }
+  /// The window's drawable size, and where the canvas shows in it.
+  int window_width() const { return ww_; }
+  int window_height() const { return wh_; }
+  SDL_Rect canvas_rect() const { return shown_; }
+  /// The window's pixels after compose() (and any overlay), premultiplied RGBA8, window-sized.
+  std::vector<std::uint8_t> read_window();
+  /// The window renderer's name ("software", "opengl", "opengles2", ...), empty offscreen.
+  std::string renderer_name() const;
 
  private:
   Canvas() = default;
   SDL_Texture* texture_for(const Texture* t);
+  bool make_canvas(int width, int height, std::string* err);
 
   int width_ = 0, height_ = 0;
-  bool software_ = false;
+  bool antialias_ = true;
+  Rasterizer raster_;
   std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
   void make_white();
-  SDL_Texture* white_ = nullptr;  ///< software renderers: one white texel (draw_software)
-  // Software renderers get every triangle with its own vertices (see draw_software()); these
-  // keep their capacity, so drawing allocates nothing once warmed up.
+  SDL_Texture* white_ = nullptr;  ///< one white texel (draw_software)
+  // SDL's software renderer gets every triangle with its own vertices (see draw_software());
+  // these keep their capacity, so drawing allocates nothing once warmed up.
   std::vector<SDL_Vertex> sw_vertices_;
   std::vector<int> sw_indices_;
-  SDL_Window* window_ = nullptr;
-  SDL_Surface* surface_ = nullptr;
-  SDL_Renderer* renderer_ = nullptr;
+  SDL_Surface* surface_ = nullptr;    ///< the canvas
+  SDL_Renderer* renderer_ = nullptr;  ///< SDL's software renderer on the canvas (clear, aliased mode)
   std::unordered_map<const Texture*, SDL_Texture*> textures_;
+  // window
+  SDL_Window* window_ = nullptr;
+  SDL_Renderer* wrenderer_ = nullptr;
+  SDL_Texture* shown_tex_ = nullptr;  ///< the canvas, uploaded each frame
+  int ww_ = 0, wh_ = 0;
+  SDL_Rect shown_{0, 0, 0, 0};
+  bool composed_ = false;
 };
 
 /// Maps the document rectangle [0, w] x [0, h] into a target of tw x th pixels,
@@ -73,6 +104,7 @@ struct RenderOptions {
   int width = 0, height = 0;       ///< output size; 0 = document size
   Rgba background{0, 0, 0, 0};     ///< alpha 0 = transparent
   int supersample = 1;             ///< 1, 2 or 4
+  bool antialias = true;           ///< false: SDL's aliased triangles (a reference at 4x)
   double tolerance_px = 0.2;
 };
 

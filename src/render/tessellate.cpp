@@ -208,6 +208,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       const Texture* tex = s.fill.texture.get();
       const SDL_Color col = to_sdl(s.fill.color, s.fill.opacity);
       begin_batch(out, tex);
+      out.item_starts.push_back(static_cast<int>(out.indices.size()));
       const int base = static_cast<int>(out.vertices.size());
       const size_t nv = sm.fill.vertices.size();
       out.scratch.resize(nv);
@@ -227,6 +228,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       st.tolerance = tolerance_px;
       const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity);
       begin_batch(out, nullptr);
+      out.item_starts.push_back(static_cast<int>(out.indices.size()));
       for (const Contour& c : s.contours) {
         if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));

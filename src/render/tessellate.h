@@ -34,12 +34,16 @@ struct DrawList {
   std::vector<SDL_Vertex> vertices;
   std::vector<int> indices;
   std::vector<Batch> batches;
+  /// Where each paint item (one shape's fill, one stroke) begins, as offsets into `indices`:
+  /// the anti-aliased rasterizer covers an item's triangles together (render/raster.h).
+  std::vector<int> item_starts;
   std::vector<Vec2> scratch;  ///< working space
 
   void clear() {
     vertices.clear();
     indices.clear();
     batches.clear();
+    item_starts.clear();
   }
 };
 

@@ -2,6 +2,7 @@
 // mapping, the solver and the renderer (headless).
 #include "app/keys.h"
 #include "app/live.h"
+#include "render/image.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -319,6 +320,50 @@ TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
   EXPECT_EQ(ja["frames"], 40);
   EXPECT_EQ(jb["frames"], 40);
   EXPECT_EQ(ja["run_hash"], jb["run_hash"]);
+}
+
+// The window shows the canvas and, over it, the HUD's text; the canvas itself (what dumps and
+// outputs use) never has the HUD. For both window renderers, SDL's software one and OpenGL
+// (Mesa under Xvfb): below the HUD, the window's pixels equal the canvas's of the same frame.
+TEST(Live, TheHudIsInTheWindowNeverInTheCanvas) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  for (const std::string driver : {"software", "opengl"}) {
+    const auto dir = test::temp_dir("hud_" + driver);
+    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" +
+                            std::string(MARIONETTE_BINARY) + "' run '" + (test::source_dir() / "config/shows/demo.toml").string() +
+                            "' --frames 30 --screenshot '" + (dir / "window.png").string() + "' --dump-frames '" + dir.string() +
+                            "' --every 29 --stats '" + (dir / "s.json").string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << driver;
+    std::ifstream sj(dir / "s.json");
+    const auto j = nlohmann::json::parse(sj);
+    EXPECT_EQ(j["canvas"]["window_renderer"], driver);
+    auto win = read_png_image((dir / "window.png").string());
+    auto canvas = read_png_image((dir / "frame_000029.png").string());
+    ASSERT_TRUE(win.ok() && canvas.ok()) << driver;
+    const Image& w = *win.value;
+    const Image& c = *canvas.value;
+    ASSERT_EQ(w.width, c.width) << "the window opens at the canvas's size";
+    ASSERT_EQ(w.height, c.height);
+    auto at = [](const Image& im, int x, int y) { return &im.rgba[(size_t(y) * size_t(im.width) + size_t(x)) * 4]; };
+    // The HUD's first text line: dark panel and light glyphs in the window, the stage's light
+    // background in the canvas.
+    int dark_w = 0, dark_c = 0, light_w = 0;
+    for (int y = 26; y < 40; ++y)
+      for (int x = 16; x < 200; ++x) {  // (left of the character's hair)
+        dark_w += at(w, x, y)[0] < 120;
+        light_w += at(w, x, y)[0] > 200;
+        dark_c += at(c, x, y)[0] < 120;
+      }
+    EXPECT_GT(dark_w, 1500) << driver << ": the HUD panel";
+    EXPECT_GT(light_w, 80) << driver << ": the HUD text";
+    EXPECT_LT(dark_c, 20) << driver << ": no HUD in the canvas";
+    // Below the HUD the window is the canvas.
+    int off = 0, total = 0;
+    for (int y = w.height / 2; y < w.height; ++y)
+      for (int x = 0; x < w.width; ++x, ++total)
+        for (int k = 0; k < 3; ++k) off += std::abs(int(at(w, x, y)[k]) - int(at(c, x, y)[k])) > 2 ? 1 : 0;
+    EXPECT_LE(off, total / 1000) << driver << ": " << off << " channels differ of " << total << " pixels";
+  }
 }
 
 }  // namespace

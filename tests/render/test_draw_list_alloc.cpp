@@ -1,5 +1,6 @@
 // Rebuilding the draw list of a character every frame allocates nothing after warm-up.
 #include "character/load.h"
+#include "render/canvas.h"
 #include "render/tessellate.h"
 #include "alloc_counter.h"
 #include "test_util.h"
@@ -32,6 +33,32 @@ TEST(build_draw_list, NoHeapAllocationAfterWarmUp) {
   for (int f = 100; f < 300; ++f) frame(f % 100);
   EXPECT_EQ(test::allocation_count() - before, 0);
   EXPECT_GT(list.indices.size(), 100u);
+}
+
+// Drawing a frame with the anti-aliased rasterizer allocates nothing once its buffers have
+// grown to the canvas: a drawing and a textured (raster) character, moving every frame.
+TEST(Canvas, AntiAliasedFramesAllocateNothingAfterWarmUp) {
+  for (const char* file : {"figure.svg", "boy.png"}) {
+    auto ch = load_character((test::characters_dir() / file).string());
+    ASSERT_TRUE(ch.ok()) << ch.error;
+    const CharacterMesh mesh = prepare_mesh(*ch.value);
+    auto canvas = Canvas::offscreen(640, 720);
+    ASSERT_TRUE(canvas.ok());
+    Canvas& c = **canvas.value;
+    ASSERT_TRUE(c.antialias());
+    DrawList list;
+    auto frame = [&](int f) {
+      c.clear(Rgba{1, 1, 1, 1});
+      list.clear();
+      const Affine2 view = Affine2::translate(40 + 20 * std::sin(f * 0.1), 30) * Affine2::scale(1.1, 1.1);
+      build_draw_list(*ch.value, mesh, {}, view, 0.25, list);
+      EXPECT_EQ(c.draw(list), "");
+    };
+    for (int f = 0; f < 30; ++f) frame(f);
+    const long before = test::allocation_count();
+    for (int f = 30; f < 90; ++f) frame(f);
+    EXPECT_EQ(test::allocation_count() - before, 0) << file;
+  }
 }
 
 }  // namespace

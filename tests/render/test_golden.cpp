@@ -1,5 +1,6 @@
-// Golden images of the example characters. Renderer pinned: SDL software renderer on an
-// offscreen ABGR8888 surface, 256x256, 2x supersampling, transparent background.
+// Golden images of the example characters. Renderer pinned: the anti-aliased rasterizer
+// (render/raster.h) on an offscreen ABGR8888 canvas, 256x256, 2x supersampling, transparent
+// background.
 // Tolerance: a pixel matches when every premultiplied channel is within 8/255; at most
 // 0.5% of pixels may differ (covers float rounding differences across compilers/CPUs).
 // Regenerate with MARIONETTE_UPDATE_GOLDEN=1 after an intended rendering change.

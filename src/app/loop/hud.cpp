@@ -3,31 +3,111 @@
 #include <SDL.h>
 
 #include <algorithm>
+#include <cinttypes>
+#include <cmath>
+#include <cstdio>
 
 namespace mar {
 
-void draw_hud(Canvas& canvas, double used_us, double budget_us, std::span<const DeviceState> devices) {
-  SDL_Renderer* r = canvas.renderer();
-  const int w = canvas.width() - 20;
-  SDL_SetRenderDrawBlendMode(r, SDL_BLENDMODE_BLEND);
-  SDL_SetRenderDrawColor(r, 0, 0, 0, 90);
-  SDL_Rect bg{10, 10, w, 14};
-  SDL_RenderFillRect(r, &bg);
-  const double share = budget_us > 0 ? std::min(1.0, used_us / budget_us) : 1.0;
-  SDL_SetRenderDrawColor(r, share < 0.5 ? 60 : 230, share < 0.8 ? 180 : 60, 60, 220);
-  SDL_Rect bar{10, 10, int(w * share), 14};
-  SDL_RenderFillRect(r, &bar);
-  static constexpr uint8_t kColour[][3] = {{230, 170, 40},    // waiting
-                                           {60, 180, 60},     // connected
-                                           {220, 50, 50},     // unplugged
-                                           {220, 50, 50},     // permission denied
-                                           {140, 140, 140}};  // unavailable
-  for (size_t i = 0; i < devices.size(); ++i) {
-    const uint8_t* c = kColour[std::min(size_t(devices[i]), std::size(kColour) - 1)];
-    SDL_SetRenderDrawColor(r, c[0], c[1], c[2], 230);
-    SDL_Rect box{10 + int(i) * 18, 30, 14, 14};
-    SDL_RenderFillRect(r, &box);
+void format_event(const Event& e, char* out, size_t n) {
+  if (n == 0) return;
+  const int ch = e.channel + 1;
+  switch (e.kind) {
+    case ControlKind::None: std::snprintf(out, n, "-"); break;
+    case ControlKind::MidiNoteOn: std::snprintf(out, n, "note %" PRIu32 " on %" PRId32 " ch %d", e.number, e.value, ch); break;
+    case ControlKind::MidiNoteOff: std::snprintf(out, n, "note %" PRIu32 " off ch %d", e.number, ch); break;
+    case ControlKind::MidiCC: std::snprintf(out, n, "cc %" PRIu32 " = %" PRId32 " ch %d", e.number, e.value, ch); break;
+    case ControlKind::MidiPitchBend: std::snprintf(out, n, "pitch bend %" PRId32 " ch %d", e.value, ch); break;
+    case ControlKind::MidiProgram: std::snprintf(out, n, "program %" PRId32 " ch %d", e.value, ch); break;
+    case ControlKind::MidiChannelPressure: std::snprintf(out, n, "pressure %" PRId32 " ch %d", e.value, ch); break;
+    case ControlKind::MidiPolyPressure:
+      std::snprintf(out, n, "poly pressure %" PRIu32 " = %" PRId32 " ch %d", e.number, e.value, ch);
+      break;
+    case ControlKind::HidValue: std::snprintf(out, n, "usage 0x%" PRIx32 " = %.2f", e.number, normalized(e)); break;
+    case ControlKind::EncoderDelta: std::snprintf(out, n, "encoder %" PRIu32 " %+" PRId32, e.number + 1, e.value); break;
+    case ControlKind::Button: std::snprintf(out, n, "button %" PRIu32 " %s", e.number + 1, e.value ? "down" : "up"); break;
+    case ControlKind::PointerX: std::snprintf(out, n, "pointer x %.2f", normalized(e)); break;
+    case ControlKind::PointerY: std::snprintf(out, n, "pointer y %.2f", normalized(e)); break;
+    case ControlKind::Pressure: std::snprintf(out, n, "pressure %.2f", normalized(e)); break;
   }
+}
+
+Hud::Hud(const ShowConfig& show) : show_(show), lines_(2 + show.devices.size() + show.bindings.size() * 2) {}
+
+std::string Hud::load_font(SDL_Renderer* r) {
+  auto f = GlyphAtlas::load(r, default_font_path(), 13);
+  if (!f.ok()) return f.error;
+  font_ = std::move(*f.value);
+  return {};
+}
+
+Hud::Line& Hud::next() {
+  Line& l = lines_[std::min(n_, lines_.size() - 1)];
+  n_ = std::min(n_ + 1, lines_.size());
+  l.color = SDL_Color{235, 235, 235, 255};
+  return l;
+}
+
+void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m) {
+  // The text, into the fixed lines.
+  n_ = 0;
+  {
+    Line& l = next();
+    std::snprintf(l.text.data(), l.text.size(), "frame %.2f ms of %.1f ms   iterations %d of %d   quality %.2f %%",
+                  f.used_us * 1e-3, f.budget_us * 1e-3, f.iterations, f.iterations_wanted, f.quality_pct);
+  }
+  static constexpr SDL_Color kState[] = {{240, 180, 60, 255},    // waiting
+                                         {120, 220, 120, 255},   // connected
+                                         {240, 90, 90, 255},     // unplugged
+                                         {240, 90, 90, 255},     // permission denied
+                                         {170, 170, 170, 255}};  // unavailable
+  for (size_t i = 0; i < show_.devices.size(); ++i) {
+    const ShowDevice& d = show_.devices[i];
+    const DeviceState st = i < f.devices.size() ? f.devices[i] : DeviceState::Connected;
+    char last[64] = "-";
+    if (i < f.last_events.size()) format_event(f.last_events[i], last, sizeof last);
+    Line& l = next();
+    const char* state = d.type == "sim" ? "simulated" : device_state_name(st);
+    std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-8.8s %-17.17s last: %s", d.name.c_str(), d.type.c_str(), state, last);
+    l.color = kState[std::min(size_t(st), std::size(kState) - 1)];
+  }
+  for (size_t i = 0; i < m.binding_count(); ++i) {
+    const Binding& b = m.binding(i);
+    const char* dev = b.control.device < show_.devices.size() ? show_.devices[b.control.device].name.c_str() : "?";
+    const double v = m.binding_value(i);
+    Line& l = next();
+    if (std::isnan(v))
+      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s", dev, b.control.text.c_str(), b.target_text.c_str());
+    else
+      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s = %.1f", dev, b.control.text.c_str(),
+                    b.target_text.c_str(), v);
+    if (const double at = m.takeover_at(i); at >= 0) {
+      Line& t = next();
+      std::snprintf(t.text.data(), t.text.size(), "    waiting for soft takeover: move it to %.0f %% to pick up (now %.0f %%)",
+                    at * 100, std::clamp(b.last_norm, 0.0, 1.0) * 100);
+      t.color = SDL_Color{240, 180, 60, 255};
+    }
+  }
+  // The bar, then the text on a dark panel.
+  SDL_SetRenderDrawBlendMode(r, SDL_BLENDMODE_BLEND);
+  const int bw = std::max(1, w - 20);
+  SDL_SetRenderDrawColor(r, 0, 0, 0, 90);
+  SDL_Rect bg{10, 10, bw, 8};
+  SDL_RenderFillRect(r, &bg);
+  const double share = f.budget_us > 0 ? std::min(1.0, f.used_us / f.budget_us) : 1.0;
+  SDL_SetRenderDrawColor(r, share < 0.5 ? 60 : 230, share < 0.8 ? 180 : 60, 60, 220);
+  SDL_Rect bar{10, 10, int(bw * share), 8};
+  SDL_RenderFillRect(r, &bar);
+  if (!font_) return;
+  const int lh = font_->line_height();
+  int tw = 0;
+  for (size_t i = 0; i < n_; ++i) tw = std::max(tw, font_->width(lines_[i].text.data()));
+  const int rows = std::min(int(n_), std::max(1, (h - 30) / std::max(1, lh)));
+  SDL_SetRenderDrawColor(r, 0, 0, 0, 150);
+  SDL_Rect panel{10, 22, std::min(tw + 12, bw), rows * lh + 8};
+  SDL_RenderFillRect(r, &panel);
+  for (int i = 0; i < rows; ++i)
+    font_->draw(r, 16, 26 + i * lh, lines_[size_t(i)].text.data(), lines_[size_t(i)].color);
 }
 
 }  // namespace mar

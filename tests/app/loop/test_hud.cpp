@@ -1,36 +1,148 @@
 #include "app/loop/hud.h"
 
+#include <SDL.h>
 #include <gtest/gtest.h>
+
+#include <cstring>
+#include <string>
 
 namespace mar {
 namespace {
 
-// Premultiplied RGBA of pixel (x, y).
-std::array<int, 4> pixel(Canvas& c, int x, int y) {
-  const auto px = c.read_premultiplied();
-  const size_t i = (size_t(y) * size_t(c.width()) + size_t(x)) * 4;
-  return {px[i], px[i + 1], px[i + 2], px[i + 3]};
+// A software renderer on a surface: what the HUD draws on a window, without a display.
+struct Surface {
+  SDL_Surface* s = SDL_CreateRGBSurfaceWithFormat(0, 640, 240, 32, SDL_PIXELFORMAT_ABGR8888);
+  SDL_Renderer* r = SDL_CreateSoftwareRenderer(s);
+  ~Surface() {
+    SDL_DestroyRenderer(r);
+    SDL_FreeSurface(s);
+  }
+  std::array<int, 4> pixel(int x, int y) const {
+    const auto* p = static_cast<const uint8_t*>(s->pixels) + y * s->pitch + x * 4;
+    return {p[0], p[1], p[2], p[3]};
+  }
+  void clear() {
+    SDL_SetRenderDrawColor(r, 255, 255, 255, 255);
+    SDL_RenderClear(r);
+  }
+};
+
+struct ShowSetup {
+  ShowConfig show;
+  Mapping m;
+  ShowSetup() {
+    ShowDevice korg;
+    korg.name = "korg";
+    korg.type = "usb_midi";
+    ShowDevice knobs;
+    knobs.name = "knobs";
+    knobs.type = "gpio";
+    show.devices = {korg, knobs};
+    m.set_handles({"head"}, {Vec2(0, 0)});
+    Binding b;
+    b.control.kind = ControlSpec::CC;
+    b.control.number = 7;
+    b.control.text = "cc 7";
+    b.control.device = 0;
+    b.target = TargetKind::HandleY;
+    b.target_text = "handle.head.y";
+    b.tf.lo = 0;
+    b.tf.hi = 100;
+    show.bindings.push_back(b);
+    m.add_binding(b);
+  }
+};
+
+Event cc(int number, int value) {
+  Event e;
+  e.kind = ControlKind::MidiCC;
+  e.number = uint32_t(number);
+  e.value = value;
+  e.lo = 0;
+  e.hi = 127;
+  return e;
 }
 
-TEST(Hud, TheBudgetBarAndDeviceBoxesShowWhatTheyReport) {
-  auto c = Canvas::offscreen(200, 60);
-  ASSERT_TRUE(c.ok()) << c.error;
-  Canvas& canvas = **c.value;
-  canvas.clear(Rgba{255, 255, 255, 255});
-  const DeviceState states[] = {DeviceState::Connected, DeviceState::Unplugged, DeviceState::Unavailable};
-  draw_hud(canvas, 0.9 * 16666, 16666, states);  // 90 % of the budget: a red bar
-  const auto bar = pixel(canvas, 12, 15), rest = pixel(canvas, 182, 15);  // bar ends at 10 + 0.9 x 180
+bool contains(const Hud& h, const std::string& text) {
+  for (size_t i = 0; i < h.line_count(); ++i)
+    if (std::strstr(h.line(i), text.c_str())) return true;
+  return false;
+}
+
+// The HUD speaks: frame time against the budget, iterations, quality; each device's status and
+// last control; each binding's target and value; where a waiting control must go.
+TEST(Hud, SaysWhatTheShowIsDoing) {
+  ShowSetup s;
+  Hud hud(s.show);
+  Surface out;
+  ASSERT_EQ(hud.load_font(out.r), "") << "fonts-dejavu-core is installed by the test command";
+  s.m.update(0);
+  s.m.apply(cc(7, 127));  // the fader is far from the target (0): soft takeover waits
+  const DeviceState states[] = {DeviceState::Connected, DeviceState::Unplugged};
+  const Event last[] = {cc(7, 127), Event{}};
+  out.clear();
+  hud.draw(out.r, 640, 240, HudFrame{9100, 16667, 7, 8, 0.12, states, last}, s.m);
+  SDL_RenderFlush(out.r);
+  EXPECT_TRUE(contains(hud, "frame 9.10 ms of 16.7 ms")) << hud.line(0);
+  EXPECT_TRUE(contains(hud, "iterations 7 of 8"));
+  EXPECT_TRUE(contains(hud, "quality 0.12 %"));
+  EXPECT_TRUE(contains(hud, "korg")) << hud.line(1);
+  EXPECT_TRUE(contains(hud, "connected"));
+  EXPECT_TRUE(contains(hud, "last: cc 7 = 127 ch 1"));
+  EXPECT_TRUE(contains(hud, "unplugged"));
+  EXPECT_TRUE(contains(hud, "cc 7") && contains(hud, "-> handle.head.y = 0.0"));
+  EXPECT_TRUE(contains(hud, "move it to 0 % to pick up (now 100 %)"));
+  // Text is drawn: light glyph pixels on the dark panel, in the first text row.
+  int light = 0;
+  for (int y = 26; y < 26 + 14; ++y)
+    for (int x = 16; x < 300; ++x) light += out.pixel(x, y)[0] > 150;
+  EXPECT_GT(light, 100);
+  // The budget bar: 55 % of the budget is amber, drawn to 10 + 0.55 x 620.
+  const auto bar = out.pixel(12, 13), rest = out.pixel(600, 13);
+  EXPECT_GT(bar[0], 200);
+  EXPECT_LT(rest[0], 255);
+  // Picked up: the waiting line goes.
+  s.m.apply(cc(7, 0));
+  hud.draw(out.r, 640, 240, HudFrame{1000, 16667, 8, 8, 0.1, states, last}, s.m);
+  EXPECT_FALSE(contains(hud, "pick up"));
+  EXPECT_TRUE(contains(hud, "-> handle.head.y = 0.0"));
+}
+
+TEST(Hud, WithoutAFontItSaysWhyAndDrawsTheBar) {
+  ShowSetup s;
+  Hud hud(s.show);
+  Surface out;
+  setenv("MARIONETTE_FONT", "/nonexistent/font.ttf", 1);
+  const std::string err = hud.load_font(out.r);
+  unsetenv("MARIONETTE_FONT");
+  EXPECT_NE(err.find("/nonexistent/font.ttf"), std::string::npos) << err;
+  out.clear();
+  hud.draw(out.r, 640, 240, HudFrame{15000, 16667, 8, 8, 0, {}, {}}, s.m);
+  SDL_RenderFlush(out.r);
+  const auto bar = out.pixel(12, 13);
   EXPECT_GT(bar[0], bar[1] + 60) << "over 80 % is red";
-  EXPECT_LT(rest[0], 255) << "the bar's background is drawn";
-  const auto ok = pixel(canvas, 15, 36), gone = pixel(canvas, 33, 36), grey = pixel(canvas, 51, 36);
-  EXPECT_GT(ok[1], ok[0] + 60) << "connected is green";
-  EXPECT_GT(gone[0], gone[1] + 100) << "unplugged is red";
-  EXPECT_LT(std::abs(grey[0] - grey[1]), 10) << "unavailable is grey";
-  canvas.clear(Rgba{255, 255, 255, 255});
-  draw_hud(canvas, 0.1 * 16666, 16666, {});
-  const auto low = pixel(canvas, 12, 15), unused = pixel(canvas, 100, 15);
-  EXPECT_GT(low[1], low[0] + 60) << "under half the budget is green";
-  EXPECT_LT(unused[1], low[1]) << "the bar is 10 % long";
+}
+
+TEST(Hud, FormatsEveryKindOfEvent) {
+  char buf[64];
+  Event e = cc(1, 64);
+  e.channel = 9;
+  format_event(e, buf, sizeof buf);
+  EXPECT_STREQ(buf, "cc 1 = 64 ch 10");
+  e.kind = ControlKind::Button;
+  e.number = 1;
+  e.value = 1;
+  format_event(e, buf, sizeof buf);
+  EXPECT_STREQ(buf, "button 2 down");
+  e.kind = ControlKind::EncoderDelta;
+  e.value = -3;
+  format_event(e, buf, sizeof buf);
+  EXPECT_STREQ(buf, "encoder 2 -3");
+  for (int k = 0; k <= int(ControlKind::Pressure); ++k) {
+    e.kind = ControlKind(k);
+    format_event(e, buf, 8);  // truncated, never overrun
+    EXPECT_LT(std::strlen(buf), 8u);
+  }
 }
 
 }  // namespace

@@ -1,0 +1,276 @@
+#include "render/raster.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mar {
+namespace {
+
+// x / 255, rounded, for x in 0..255 * 255.
+inline std::uint32_t div255(std::uint32_t x) {
+  x += 128;
+  return (x + (x >> 8)) >> 8;
+}
+
+inline std::uint32_t pack(std::uint32_t r, std::uint32_t g, std::uint32_t b, std::uint32_t a) {
+  return r | g << 8 | b << 16 | a << 24;
+}
+
+// Premultiplied source `s` (packed) at `cov` (0..255) over the premultiplied pixel `d`.
+inline void over(std::uint8_t* d, std::uint32_t s, std::uint32_t cov) {
+  const std::uint32_t sr = div255((s & 0xFF) * cov), sg = div255((s >> 8 & 0xFF) * cov);
+  const std::uint32_t sb = div255((s >> 16 & 0xFF) * cov), sa = div255((s >> 24) * cov);
+  const std::uint32_t k = 255 - sa;
+  d[0] = std::uint8_t(sr + div255(d[0] * k));
+  d[1] = std::uint8_t(sg + div255(d[1] * k));
+  d[2] = std::uint8_t(sb + div255(d[2] * k));
+  d[3] = std::uint8_t(sa + div255(d[3] * k));
+}
+
+inline std::uint32_t coverage_byte(float s) {
+  const float c = std::min(1.0f, std::fabs(s));
+  return std::uint32_t(c * 255.0f + 0.5f);
+}
+
+}  // namespace
+
+void Rasterizer::begin(const PixelTarget& t) {
+  w_ = t.width;
+  h_ = t.height;
+  stride_ = t.width + 2;
+  const size_t cells = size_t(stride_) * size_t(std::max(0, h_));
+  if (acc_.size() < cells) acc_.resize(cells, 0.0f);
+}
+
+// One edge's signed area and cover, row by row, into the cells it crosses. x is clamped into
+// [0, width]: what lies left of the target still covers the pixels right of it.
+void Rasterizer::add_line(float x0, float y0, float x1, float y1) {
+  if (y0 == y1 || !(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(x1) && std::isfinite(y1))) return;
+  float dir = 1.0f;
+  if (y0 > y1) {
+    std::swap(x0, x1);
+    std::swap(y0, y1);
+    dir = -1.0f;
+  }
+  const float h = float(h_), w = float(w_);
+  if (y1 <= 0.0f || y0 >= h) return;
+  const float dxdy = (x1 - x0) / (y1 - y0);
+  float x = x0;
+  if (y0 < 0.0f) {
+    x -= y0 * dxdy;
+    y0 = 0.0f;
+  }
+  y1 = std::min(y1, h);
+  const int ys = int(y0), ye = int(std::ceil(y1));
+  for (int y = ys; y < ye; ++y) {
+    float* row = acc_.data() + size_t(y) * size_t(stride_);
+    const float dy = std::min(float(y + 1), y1) - std::max(float(y), y0);
+    const float xnext = x + dxdy * dy;
+    const float d = dy * dir;
+    const float xa = std::clamp(std::min(x, xnext), 0.0f, w), xb = std::clamp(std::max(x, xnext), 0.0f, w);
+    const float xa_floor = std::floor(xa), xb_ceil = std::ceil(xb);
+    const int xai = int(xa_floor), xbi = int(xb_ceil);
+    if (xbi <= xai + 1) {  // within one cell: the trapezoid left of the edge's mid point
+      const float xmf = 0.5f * (xa + xb) - xa_floor;
+      row[xai] += d - d * xmf;
+      row[xai + 1] += d * xmf;
+    } else {  // across cells: a triangle in the first, a slope through the middle, a corner in the last
+      const float s = 1.0f / (xb - xa);
+      const float xaf = xa - xa_floor;
+      const float a0 = 0.5f * s * (1.0f - xaf) * (1.0f - xaf);
+      const float xbf = xb - xb_ceil + 1.0f;
+      const float am = 0.5f * s * xbf * xbf;
+      row[xai] += d * a0;
+      if (xbi == xai + 2) {
+        row[xai + 1] += d * (1.0f - a0 - am);
+      } else {
+        const float a1 = s * (1.5f - xaf);
+        row[xai + 1] += d * (a1 - a0);
+        for (int xi = xai + 2; xi < xbi - 1; ++xi) row[xi] += d * s;
+        const float a2 = a1 + float(xbi - xai - 3) * s;
+        row[xbi - 1] += d * (1.0f - a2 - am);
+      }
+      row[xbi] += d * am;
+    }
+    x = xnext;
+  }
+}
+
+void Rasterizer::add_triangle(const SDL_FPoint& a, const SDL_FPoint& b, const SDL_FPoint& c) {
+  // Every triangle counts positively, so shared edges of neighbours cancel and folds add up.
+  const float area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+  if (!(area2 != 0.0f)) return;  // (also NaN)
+  const SDL_FPoint& p = a;
+  const SDL_FPoint& q = area2 > 0 ? b : c;
+  const SDL_FPoint& r = area2 > 0 ? c : b;
+  add_line(p.x, p.y, q.x, q.y);
+  add_line(q.x, q.y, r.x, r.y);
+  add_line(r.x, r.y, p.x, p.y);
+  const float lo_x = std::min({a.x, b.x, c.x}), hi_x = std::max({a.x, b.x, c.x});
+  const float lo_y = std::min({a.y, b.y, c.y}), hi_y = std::max({a.y, b.y, c.y});
+  if (!(hi_y > 0.0f) || !(lo_y < float(h_))) return;
+  bx0_ = std::min(bx0_, int(std::clamp(std::floor(lo_x), 0.0f, float(w_))));
+  bx1_ = std::max(bx1_, int(std::clamp(std::ceil(hi_x), 0.0f, float(w_))) + 2);
+  by0_ = std::min(by0_, int(std::clamp(std::floor(lo_y), 0.0f, float(h_))));
+  by1_ = std::max(by1_, int(std::clamp(std::ceil(hi_y), 0.0f, float(h_))));
+}
+
+void Rasterizer::composite_solid(SDL_Color c, const PixelTarget& t) {
+  const std::uint32_t a = c.a;
+  const std::uint32_t src = pack(div255(c.r * a), div255(c.g * a), div255(c.b * a), a);
+  const int xend = std::min(bx1_, stride_), xdraw = std::min(bx1_, w_);
+  for (int y = by0_; y < by1_; ++y) {
+    float* row = acc_.data() + size_t(y) * size_t(stride_);
+    std::uint8_t* d = t.px + size_t(y) * size_t(t.stride);
+    float s = 0.0f;
+    for (int x = bx0_; x < xdraw; ++x) {
+      s += row[x];
+      row[x] = 0.0f;
+      const std::uint32_t cov = coverage_byte(s);
+      if (cov == 0) continue;
+      std::uint8_t* p = d + size_t(x) * 4;
+      if (cov == 255 && a == 255) {
+        p[0] = std::uint8_t(src);
+        p[1] = std::uint8_t(src >> 8);
+        p[2] = std::uint8_t(src >> 16);
+        p[3] = 255;
+      } else {
+        over(p, src, cov);
+      }
+    }
+    for (int x = std::max(bx0_, xdraw); x < xend; ++x) row[x] = 0.0f;  // cells right of the target
+  }
+}
+
+// Bilinear sample of a straight-alpha image at texel coordinates (u, v) (centres at +0.5),
+// premultiplied and modulated by `mod` (the vertex colour), packed.
+namespace {
+std::uint32_t sample(const Texture& tex, float u, float v, SDL_Color mod) {
+  const float fx = u - 0.5f, fy = v - 0.5f;
+  const float x0f = std::floor(fx), y0f = std::floor(fy);
+  const float tx = fx - x0f, ty = fy - y0f;
+  const int x0 = int(x0f), y0 = int(y0f);
+  float acc[4] = {0, 0, 0, 0};
+  for (int k = 0; k < 4; ++k) {
+    const int x = std::clamp(x0 + (k & 1), 0, tex.width - 1), y = std::clamp(y0 + (k >> 1), 0, tex.height - 1);
+    const float wgt = ((k & 1) ? tx : 1 - tx) * ((k >> 1) ? ty : 1 - ty);
+    const std::uint8_t* p = tex.rgba.data() + (size_t(y) * size_t(tex.width) + size_t(x)) * 4;
+    const float a = p[3] * wgt;
+    acc[0] += p[0] * a;
+    acc[1] += p[1] * a;
+    acc[2] += p[2] * a;
+    acc[3] += a;
+  }
+  const float ma = mod.a / 255.0f;
+  const float r = acc[0] / 255.0f * (mod.r / 255.0f) * ma, g = acc[1] / 255.0f * (mod.g / 255.0f) * ma;
+  const float b = acc[2] / 255.0f * (mod.b / 255.0f) * ma, al = acc[3] * ma;
+  auto byte = [](float f) { return std::uint32_t(std::clamp(f + 0.5f, 0.0f, 255.0f)); };
+  return pack(byte(r), byte(g), byte(b), byte(al));
+}
+}  // namespace
+
+// A textured triangle's samples at the pixel centres inside it.
+void Rasterizer::sample_triangle(const SDL_Vertex& a, const SDL_Vertex& b, const SDL_Vertex& c, const Texture& tex) {
+  if (tex.width <= 0 || tex.height <= 0) return;
+  const float x0 = a.position.x, y0 = a.position.y;
+  const float e1x = b.position.x - x0, e1y = b.position.y - y0, e2x = c.position.x - x0, e2y = c.position.y - y0;
+  const float det = e1x * e2y - e1y * e2x;
+  if (!(std::fabs(det) > 1e-12f)) return;
+  const float inv = 1.0f / det;
+  const int ylo = std::max(0, int(std::ceil(std::min({a.position.y, b.position.y, c.position.y}) - 0.5f)));
+  const int yhi = std::min(h_ - 1, int(std::floor(std::max({a.position.y, b.position.y, c.position.y}) - 0.5f)));
+  const int xlo = std::max(0, int(std::ceil(std::min({a.position.x, b.position.x, c.position.x}) - 0.5f)));
+  const int xhi = std::min(w_ - 1, int(std::floor(std::max({a.position.x, b.position.x, c.position.x}) - 0.5f)));
+  const float tw = float(tex.width), th = float(tex.height);
+  for (int y = ylo; y <= yhi; ++y) {
+    const float py = float(y) + 0.5f - y0;
+    for (int x = xlo; x <= xhi; ++x) {
+      const float px = float(x) + 0.5f - x0;
+      const float l1 = (px * e2y - py * e2x) * inv, l2 = (e1x * py - e1y * px) * inv;
+      if (l1 < -1e-6f || l2 < -1e-6f || l1 + l2 > 1 + 1e-6f) continue;
+      const float l0 = 1 - l1 - l2;
+      const float u = l0 * a.tex_coord.x + l1 * b.tex_coord.x + l2 * c.tex_coord.x;
+      const float v = l0 * a.tex_coord.y + l1 * b.tex_coord.y + l2 * c.tex_coord.y;
+      const size_t i = size_t(y) * size_t(w_) + size_t(x);
+      color_[i] = sample(tex, u * tw, v * th, a.color);
+      has_[i] = 1;
+    }
+  }
+}
+
+void Rasterizer::composite_textured(const PixelTarget& t) {
+  const int xend = std::min(bx1_, stride_), xdraw = std::min(bx1_, w_);
+  for (int y = by0_; y < by1_; ++y) {
+    float* row = acc_.data() + size_t(y) * size_t(stride_);
+    std::uint8_t* d = t.px + size_t(y) * size_t(t.stride);
+    float s = 0.0f;
+    for (int x = bx0_; x < xdraw; ++x) {
+      s += row[x];
+      row[x] = 0.0f;
+      const std::uint32_t cov = coverage_byte(s);
+      if (cov == 0) continue;
+      size_t i = size_t(y) * size_t(w_) + size_t(x);
+      if (!has_[i]) {  // an edge pixel whose centre no triangle holds: a neighbour's sample
+        bool found = false;
+        for (int dy = -1; dy <= 1 && !found; ++dy)
+          for (int dx = -1; dx <= 1 && !found; ++dx) {
+            const int nx = x + dx, ny = y + dy;
+            if (nx < 0 || ny < 0 || nx >= w_ || ny >= h_) continue;
+            const size_t j = size_t(ny) * size_t(w_) + size_t(nx);
+            if (has_[j]) {
+              i = j;
+              found = true;
+            }
+          }
+        if (!found) continue;
+      }
+      over(d + size_t(x) * 4, color_[i], cov);
+    }
+    for (int x = std::max(bx0_, xdraw); x < xend; ++x) row[x] = 0.0f;
+  }
+  // The samples go with the item (one row more each side: the neighbours read above).
+  for (int y = std::max(0, by0_ - 1); y < std::min(h_, by1_ + 1); ++y)
+    std::fill(has_.begin() + long(y) * w_ + std::max(0, bx0_ - 1), has_.begin() + long(y) * w_ + std::min(w_, bx1_ + 1), 0);
+}
+
+void Rasterizer::draw(const DrawList& list, const PixelTarget& t) {
+  if (!t.px || t.width <= 0 || t.height <= 0) return;
+  begin(t);
+  const auto& v = list.vertices;
+  const auto& idx = list.indices;
+  size_t next_start = 0;  // into list.item_starts
+  for (const DrawList::Batch& b : list.batches) {
+    const Texture* tex = b.texture;
+    if (tex && color_.size() < size_t(w_) * size_t(h_)) {
+      color_.resize(size_t(w_) * size_t(h_));
+      has_.resize(size_t(w_) * size_t(h_), 0);
+    }
+    const int end = b.first_index + b.index_count;
+    int k = b.first_index;
+    while (k + 2 < end) {
+      // One paint item: from k to the next item start, colour change or batch end.
+      while (next_start < list.item_starts.size() && list.item_starts[next_start] <= k) ++next_start;
+      const int stop = next_start < list.item_starts.size() ? std::min(end, list.item_starts[next_start]) : end;
+      const SDL_Color col = v[size_t(idx[size_t(k)])].color;
+      bx0_ = w_ + 2;
+      by0_ = h_;
+      bx1_ = 0;
+      by1_ = 0;
+      for (; k + 2 < stop; k += 3) {
+        const SDL_Vertex& p = v[size_t(idx[size_t(k)])];
+        const SDL_Vertex& q = v[size_t(idx[size_t(k + 1)])];
+        const SDL_Vertex& r = v[size_t(idx[size_t(k + 2)])];
+        const SDL_Color pc = p.color;
+        if (!tex && (pc.r != col.r || pc.g != col.g || pc.b != col.b || pc.a != col.a)) break;
+        add_triangle(p.position, q.position, r.position);
+        if (tex) sample_triangle(p, q, r, *tex);
+      }
+      if (k + 2 >= stop) k = stop;  // (a trailing partial triangle is skipped)
+      if (by1_ <= by0_ || bx1_ <= bx0_) continue;
+      if (tex) composite_textured(t);
+      else composite_solid(col, t);
+    }
+  }
+}
+
+}  // namespace mar
