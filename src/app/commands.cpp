@@ -223,7 +223,10 @@ int cmd_view(const ViewArgs& a) {
 
   if (!a.headless && display_available()) {
     const int n = static_cast<int>(chars.size());
-    auto win = Canvas::window("marionette - characters", tile_w * n, tile_h, false, a.software);
+    WindowOptions wo;
+    wo.title = "marionette - characters";
+    wo.software = a.software;
+    auto win = Canvas::window(wo, tile_w * n, tile_h);
     if (win.ok()) {
       Canvas& c = **win.value;
       std::cout << "showing " << n << " characters in a window; press Esc or close it to quit" << std::endl;

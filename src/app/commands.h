@@ -95,6 +95,7 @@ struct RunArgs {
   bool kiosk = false;
   bool realtime = false;
   std::string screenshot;
+  int supersample = 1;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

@@ -1,6 +1,7 @@
 // `marionette devices [--json]`: every backend, what it finds, status and problems.
 #include "app/commands.h"
 #include "app/show.h"
+#include "render/canvas.h"
 
 #include <nlohmann/json.hpp>
 
@@ -14,7 +15,13 @@ int cmd_devices(const DevicesArgs& a) {
   for (const std::string& e : profile_errors) std::cerr << "error: device profile " << e << "\n";
   size_t total = 0;
   for (const auto& r : reports) total += r.found.size();
+  // The screens a show's window may open on ([display] screen = index or a name's part).
+  std::string screen_error;
+  const std::vector<ScreenInfo> screens = list_screens(&screen_error);
   if (a.json) {
+    nlohmann::ordered_json sj = nlohmann::ordered_json::array();
+    for (const ScreenInfo& s : screens)
+      sj.push_back({{"index", s.index}, {"name", s.name}, {"width", s.width}, {"height", s.height}});
     nlohmann::ordered_json j = nlohmann::ordered_json::array();
     for (const auto& r : reports) {
       nlohmann::ordered_json found = nlohmann::ordered_json::array();
@@ -24,7 +31,7 @@ int cmd_devices(const DevicesArgs& a) {
       j.push_back({{"backend", r.backend}, {"status", r.status}, {"found", found}});
     }
     std::cout << nlohmann::ordered_json{{"devices_found", total}, {"data_dir", data_dir()}, {"profile_errors", profile_errors},
-                                        {"backends", j}}
+                                        {"backends", j}, {"screens", sj}, {"screens_problem", screen_error}}
                      .dump(2)
               << "\n";
     return 0;
@@ -46,6 +53,10 @@ int cmd_devices(const DevicesArgs& a) {
       std::cout << "\n";
     }
   }
+  std::cout << "screens: ";
+  if (screens.empty()) std::cout << (screen_error.empty() ? "none" : screen_error) << "\n";
+  else std::cout << screens.size() << " ([display] screen = index or part of the name)\n";
+  for (const ScreenInfo& s : screens) std::cout << "  " << s.index << "  " << s.name << "  " << s.width << "x" << s.height << "\n";
   return 0;
 }
 

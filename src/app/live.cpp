@@ -110,7 +110,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   s->governor_ = Governor(sh.iterations, sh.min_iterations);
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
-  if (auto c = parse_color(sh.background)) s->background_ = *c;
+  if (auto c = parse_background_color(sh.background)) s->background_ = *c;
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -227,9 +227,21 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
 
 bool LiveShow::open_output(std::string* err) {
   const ShowConfig& sh = show_;
+  // The canvas: [output]'s size, else the window's; at N x with --supersample N (dumps are
+  // box-filtered back down).
+  const int canvas_w = sh.out_width > 0 ? sh.out_width : sh.width, canvas_h = sh.out_height > 0 ? sh.out_height : sh.height;
+  const int ss = std::clamp(opt_.supersample, 1, 8);
   if (!opt_.headless && display_present()) {
-    auto w = Canvas::window("marionette - " + std::filesystem::path(sh.path).stem().string(), sh.width, sh.height,
-                            sh.fullscreen || sh.kiosk.enabled, false, sh.kiosk.enabled ? sh.kiosk.display : -1);
+    WindowOptions wo;
+    wo.title = "marionette - " + std::filesystem::path(sh.path).stem().string();
+    wo.width = sh.width;
+    wo.height = sh.height;
+    wo.fullscreen = sh.fullscreen || sh.kiosk.enabled;
+    wo.screen = sh.kiosk.enabled ? sh.kiosk.display : sh.screen;
+    wo.screen_name = sh.kiosk.enabled ? std::string() : sh.screen_name;
+    std::string note;
+    auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
+    if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] screen: " << note << "\n";
     if (w.ok()) {
       canvas_ = std::move(*w.value);
       if (sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);
@@ -249,14 +261,14 @@ bool LiveShow::open_output(std::string* err) {
       if (!opt_.quiet) std::cout << "no display found (DISPLAY/WAYLAND_DISPLAY unset): running headless" << std::endl;
     }
     opt_.headless = true;
-    auto c = Canvas::offscreen(sh.width, sh.height);
+    auto c = Canvas::offscreen(canvas_w * ss, canvas_h * ss);
     if (!c.ok()) {
       *err = c.error;
       return false;
     }
     canvas_ = std::move(*c.value);
   }
-  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16);
+  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
   if (!opt_.record_path.empty()) {
     auto r = Recorder::open(opt_.record_path);
     if (!r.ok()) {
@@ -467,8 +479,9 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
     const auto px = canvas_->read_premultiplied();
     char name[64];
     std::snprintf(name, sizeof name, "frame_%06ld.png", stats_.frames);
+    const int ss = std::clamp(opt_.supersample, 1, 8);
     write_png((std::filesystem::path(opt_.dump_dir) / name).string(),
-              downsample_premultiplied(px.data(), canvas_->width(), canvas_->height(), 1));
+              downsample_premultiplied(px.data(), canvas_->width() / ss, canvas_->height() / ss, ss));
     alloc_base_ += allocations() - before;
   }
   stats_.hash.add(puppet_->shapes);

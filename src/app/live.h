@@ -40,6 +40,7 @@ struct RunOptions {
   bool kiosk = false;        ///< as the show's [kiosk] (run --kiosk)
   bool realtime = false;     ///< headless on the wall clock (run --realtime): not reproducible
   std::string screenshot;    ///< a window's pixels at the last of `frames` frames, as PNG
+  int supersample = 1;       ///< the canvas at N x, box-filtered for dumps (a reference path)
   int warmup = 30;           ///< frames before allocations are counted
 };
 

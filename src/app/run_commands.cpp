@@ -102,6 +102,10 @@ int cmd_run(const RunArgs& a) {
     std::cerr << "error: --every must be >= 1\n";
     return kExitBadInput;
   }
+  if (a.supersample < 1 || a.supersample > 8) {
+    std::cerr << "error: --supersample must be 1..8\n";
+    return kExitBadInput;
+  }
   if (a.rate < 0 || a.rate > 1000) {
     std::cerr << "error: --rate must be 1..1000 Hz\n";
     return kExitBadInput;
@@ -120,6 +124,7 @@ int cmd_run(const RunArgs& a) {
   o.kiosk = a.kiosk;
   o.realtime = a.realtime;
   o.screenshot = a.screenshot;
+  o.supersample = a.supersample;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

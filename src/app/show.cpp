@@ -1,5 +1,6 @@
 #include "app/show.h"
 #include "app/show_toml.h"
+#include "character/color.h"
 #include "input/hid_usages.h"
 
 #include <SDL2/SDL.h>
@@ -28,7 +29,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "kiosk", "attract", "device", "binding", "group", "pose"}, "the show file");
+  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -52,14 +53,31 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   if (const toml::node* dn = root.get("display")) {
     const toml::table* d = dn->as_table();
     if (!d) throw ShowError{at(path, *dn) + ": [display] must be a table"};
-    check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background"}, "[display]");
+    check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background", "screen"}, "[display]");
     if (auto* n = d->get("width")) s.width = integer(path, *n, "width", 16, 8192);
     if (auto* n = d->get("height")) s.height = integer(path, *n, "height", 16, 8192);
     if (s.width < 16 || s.height < 16 || s.width > 8192 || s.height > 8192)
       throw ShowError{at(path, *dn) + ": display size must be 16..8192"};
     if (auto* n = d->get("fullscreen")) s.fullscreen = boolean(path, *n, "fullscreen");
     if (auto* n = d->get("hud")) s.hud = boolean(path, *n, "hud");
-    if (auto* n = d->get("background")) s.background = text(path, *n, "background");
+    if (auto* n = d->get("background")) {
+      s.background = text(path, *n, "background");
+      if (!parse_background_color(s.background))
+        throw ShowError{at(path, *n) + ": background must be a colour (\"#f4f1ea\", \"white\"), \"transparent\" or "
+                                        "\"chroma-green\", \"chroma-blue\", \"chroma-magenta\"; got '" + s.background + "'"};
+    }
+    if (auto* n = d->get("screen")) {
+      if (n->is_string()) s.screen_name = text(path, *n, "screen");
+      else s.screen = integer(path, *n, "screen", 0, 15);
+    }
+  }
+  if (const toml::node* on = root.get("output")) {
+    const toml::table* o = on->as_table();
+    if (!o) throw ShowError{at(path, *on) + ": [output] must be a table"};
+    check_keys(path, *o, {"width", "height"}, "[output]");
+    if (auto* n = o->get("width")) s.out_width = integer(path, *n, "width", 16, 8192);
+    if (auto* n = o->get("height")) s.out_height = integer(path, *n, "height", 16, 8192);
+    if ((s.out_width > 0) != (s.out_height > 0)) throw ShowError{at(path, *on) + ": [output] needs both width and height"};
   }
   if (const toml::node* kn = root.get("kiosk")) {
     const toml::table* k = kn->as_table();

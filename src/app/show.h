@@ -49,6 +49,13 @@ struct ShowConfig {
   int iterations = 0, min_iterations = 0;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
+  /// [display] screen: the screen a window or fullscreen show opens on (-1: SDL's choice), or
+  /// a substring of its name (screen_name, matched when the window opens).
+  int screen = -1;
+  std::string screen_name;
+  /// [output] width, height: the canvas every output draws (dumps, streams, files); 0: the
+  /// window's size ([display] width, height). A window shows it scaled to fit, letterboxed.
+  int out_width = 0, out_height = 0;
   /// [kiosk] (or `run --kiosk`): fullscreen on `display`, cursor hidden, no HUD, no quit keys
   /// (Escape, q and closing the window do nothing); only `exit_chord` (e.g. "ctrl+alt+shift+q",
   /// empty: none) or a signal ends the show.

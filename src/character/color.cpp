@@ -197,6 +197,13 @@ std::optional<float> component(std::string_view s, bool alpha) {
 
 }  // namespace
 
+std::optional<Rgba> parse_background_color(std::string_view text) {
+  if (text == "chroma-green") return Rgba{0, 1, 0, 1};
+  if (text == "chroma-blue") return Rgba{0, 0, 1, 1};
+  if (text == "chroma-magenta") return Rgba{1, 0, 1, 1};
+  return parse_color(text);
+}
+
 std::optional<Rgba> parse_color(std::string_view text) {
   std::string_view s = trim(text);
   if (s.empty()) return std::nullopt;

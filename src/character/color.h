@@ -11,6 +11,10 @@ namespace mar {
 
 std::optional<Rgba> parse_color(std::string_view text);
 
+/// A stage background: "transparent", a chroma-key preset ("chroma-green" #00ff00,
+/// "chroma-blue" #0000ff, "chroma-magenta" #ff00ff) or any colour parse_color() reads.
+std::optional<Rgba> parse_background_color(std::string_view text);
+
 /// "#rrggbb" of the colour (alpha dropped).
 std::string color_hex(const Rgba& c);
 

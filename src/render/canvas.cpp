@@ -3,6 +3,7 @@
 #include <SDL2/SDL.h>
 
 #include <algorithm>
+#include <cctype>
 
 namespace mar {
 
@@ -36,26 +37,76 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
   return R::success(std::move(c));
 }
 
-Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int width, int height,
-                                               bool fullscreen, bool software, int display) {
+std::vector<ScreenInfo> list_screens(std::string* error) {
+  std::vector<ScreenInfo> out;
+  if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
+    if (error) *error = std::string("no display: ") + SDL_GetError();
+    return out;
+  }
+  // With no display SDL falls back to its offscreen driver, whose "screen" shows nothing.
+  if (const char* d = SDL_GetCurrentVideoDriver(); d && (std::string(d) == "offscreen" || std::string(d) == "dummy")) {
+    if (error) *error = "no display (DISPLAY and WAYLAND_DISPLAY are unset)";
+    SDL_QuitSubSystem(SDL_INIT_VIDEO);
+    return out;
+  }
+  for (int i = 0; i < SDL_GetNumVideoDisplays(); ++i) {
+    ScreenInfo s;
+    s.index = i;
+    if (const char* n = SDL_GetDisplayName(i)) s.name = n;
+    SDL_DisplayMode m;
+    if (SDL_GetDesktopDisplayMode(i, &m) == 0) {
+      s.width = m.w;
+      s.height = m.h;
+    }
+    out.push_back(s);
+  }
+  SDL_QuitSubSystem(SDL_INIT_VIDEO);
+  return out;
+}
+
+int pick_screen(const std::vector<ScreenInfo>& screens, int index, const std::string& name) {
+  if (!name.empty()) {
+    auto lower = [](std::string s) {
+      for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+      return s;
+    };
+    for (const ScreenInfo& s : screens)
+      if (lower(s.name).find(lower(name)) != std::string::npos) return s.index;
+    return -1;
+  }
+  for (const ScreenInfo& s : screens)
+    if (s.index == index) return index;
+  return -1;
+}
+
+Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width, int height, std::string* note) {
   using R = Result<std::unique_ptr<Canvas>>;
   std::unique_ptr<Canvas> c(new Canvas());
   std::string err;
   if (!c->make_canvas(width, height, &err)) return R::failure(err);
+  // The screen: by name or index; one that is not there is said, and SDL's choice used.
+  int screen = -1;
+  if (o.screen >= 0 || !o.screen_name.empty()) {
+    const auto screens = list_screens(nullptr);
+    screen = pick_screen(screens, o.screen, o.screen_name);
+    if (screen < 0 && note) {
+      *note = "no screen " + (o.screen_name.empty() ? std::to_string(o.screen) : "named like '" + o.screen_name + "'") +
+              " among the " + std::to_string(screens.size()) + " there (marionette devices lists them); using the first";
+    }
+  }
   if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
     return R::failure(std::string("no display: ") + SDL_GetError());
   }
   Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
-  if (fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
-  if (display >= SDL_GetNumVideoDisplays()) display = -1;  // (a missing display: the first one)
-  const int pos = display >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(display)) : int(SDL_WINDOWPOS_CENTERED);
-  c->window_ = SDL_CreateWindow(title.c_str(), pos, pos, width, height, flags);
+  if (o.fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+  const int pos = screen >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(screen)) : int(SDL_WINDOWPOS_CENTERED);
+  c->window_ = SDL_CreateWindow(o.title.c_str(), pos, pos, o.width > 0 ? o.width : width, o.height > 0 ? o.height : height, flags);
   if (!c->window_) {
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
     return R::failure(std::string("cannot open window: ") + SDL_GetError());
   }
-  c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
-  if (!c->wrenderer_ && !software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
+  c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, o.software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
+  if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
   if (!c->wrenderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
   c->shown_tex_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STREAMING, width, height);
   if (!c->shown_tex_) return R::failure(std::string("cannot create the canvas texture: ") + SDL_GetError());
@@ -63,6 +114,8 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const std::string& title, int wid
   SDL_SetTextureScaleMode(c->shown_tex_, SDL_ScaleModeLinear);
   return R::success(std::move(c));
 }
+
+int Canvas::screen() const { return window_ ? SDL_GetWindowDisplayIndex(window_) : -1; }
 
 Canvas::~Canvas() {
   for (auto& [k, t] : textures_) SDL_DestroyTexture(t);

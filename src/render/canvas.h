@@ -15,6 +15,7 @@
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <vector>
 
 struct SDL_Renderer;
 struct SDL_Surface;
@@ -23,15 +24,34 @@ struct SDL_Window;
 
 namespace mar {
 
+/// How a window opens.
+struct WindowOptions {
+  std::string title = "marionette";
+  int width = 0, height = 0;    ///< the window's size (0: the canvas's)
+  bool fullscreen = false;
+  bool software = false;        ///< SDL's software renderer instead of the GPU's
+  int screen = -1;              ///< screen index (-1: SDL's choice)
+  std::string screen_name;      ///< or a substring of its name (case-insensitive)
+};
+
+/// A screen SDL sees.
+struct ScreenInfo {
+  int index = 0;
+  std::string name;
+  int width = 0, height = 0;  ///< its desktop mode
+};
+/// The screens, or an empty list with `error` set when there is no display.
+std::vector<ScreenInfo> list_screens(std::string* error);
+/// The screen a name or index picks among `screens` (-1: none matches).
+int pick_screen(const std::vector<ScreenInfo>& screens, int index, const std::string& name);
+
 class Canvas {
  public:
   /// Offscreen: a canvas of width x height. Needs no display.
   static Result<std::unique_ptr<Canvas>> offscreen(int width, int height);
-  /// A window showing a canvas of width x height (the window opens at that size); `software`
-  /// pins SDL's software renderer for the window; `display`: the display index to open it on
-  /// (-1: SDL's choice).
-  static Result<std::unique_ptr<Canvas>> window(const std::string& title, int width, int height,
-                                                bool fullscreen, bool software, int display = -1);
+  /// A window showing a canvas of width x height. `note` (when given) receives what the
+  /// window could not have as asked (a screen that is not there).
+  static Result<std::unique_ptr<Canvas>> window(const WindowOptions& o, int width, int height, std::string* note = nullptr);
   ~Canvas();
   Canvas(const Canvas&) = delete;
   Canvas& operator=(const Canvas&) = delete;
@@ -66,6 +86,8 @@ class Canvas {
   SDL_Rect canvas_rect() const { return shown_; }
   /// The window's pixels after compose() (and any overlay), premultiplied RGBA8, window-sized.
   std::vector<std::uint8_t> read_window();
+  /// The screen the window is on (-1 offscreen).
+  int screen() const;
   /// The window renderer's name ("software", "opengl", "opengles2", ...), empty offscreen.
   std::string renderer_name() const;
 

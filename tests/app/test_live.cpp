@@ -366,6 +366,78 @@ TEST(Live, TheHudIsInTheWindowNeverInTheCanvas) {
   }
 }
 
+// Live frames of every show's character, posed as the show poses it: at least 99% of pixels
+// within 16/255 of the same frame drawn with `run --supersample 4` (the canvas at 4x,
+// box-filtered). The figures are printed for README.
+TEST(Live, AntiAliasedFramesMatchFourTimesSupersampling) {
+  for (const char* show : {"demo", "nanokontrol2", "pen_tablet", "singer", "raster", "grid"}) {
+    const auto dir = test::temp_dir(std::string("aa_") + show);
+    const std::string file = (test::source_dir() / "config/shows" / (std::string(show) + ".toml")).string();
+    for (const char* ss : {"1", "4"}) {
+      auto r = test::run_cli("run '" + file + "' --headless --frames 121 --dump-frames '" + (dir / ss).string() +
+                             "' --every 30 --supersample " + ss);
+      ASSERT_EQ(r.exit_code, 0) << r.err;
+    }
+    double worst = 1;
+    int worst_max = 0;
+    for (int f = 0; f <= 120; f += 30) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%06d.png", f);
+      auto a = read_png_image((dir / "1" / name).string()), b = read_png_image((dir / "4" / name).string());
+      ASSERT_TRUE(a.ok() && b.ok()) << show << " " << name;
+      const ImageDiff d = compare_images(*a.value, *b.value, 16);
+      ASSERT_TRUE(d.same_size);
+      worst = std::min(worst, 1 - d.differing_share());
+      worst_max = std::max(worst_max, d.max_channel_diff);
+    }
+    std::cout << show << ": worst of 5 frames " << 100 * worst << "% of pixels within 16/255 of --supersample 4 (max "
+              << worst_max << ")" << std::endl;
+    EXPECT_GE(worst, 0.99) << show;
+  }
+}
+
+// [output] sets the canvas: dumps have its size whatever the window's, and a window shows it
+// scaled to fit, letterboxed.
+TEST(Live, OutputSizeIsTheCanvasAndTheWindowLetterboxesIt) {
+  const auto dir = test::temp_dir("output_size");
+  const auto path = show_file("output.toml", R"(
+[output]
+width = 480
+height = 270
+[[device]]
+name = "korg"
+sim = "nanokontrol2"
+script = "0.0 move fader1 0.5"
+[[binding]]
+device = "korg"
+control = "cc 0"
+target = "handle.chest.x"
+)");
+  auto r = test::run_cli("run '" + path + "' --headless --frames 3 --dump-frames '" + (dir / "h").string() + "' --every 1 --stats '" +
+                         (dir / "s.json").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto img = read_png_image((dir / "h" / "frame_000002.png").string());
+  ASSERT_TRUE(img.ok());
+  EXPECT_EQ(img.value->width, 480);  // [display] is 160x200: the canvas is [output]'s
+  EXPECT_EQ(img.value->height, 270);
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
+                          "' run '" + path + "' --frames 3 --screenshot '" + (dir / "w.png").string() + "' >/dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  auto win = read_png_image((dir / "w.png").string());
+  ASSERT_TRUE(win.ok());
+  const Image& w = *win.value;
+  ASSERT_EQ(w.width, 160);  // the window is [display]'s size
+  ASSERT_EQ(w.height, 200);
+  // 480x270 into 160x200: 160x90, centred; black bars of 55 rows above and below.
+  auto px = [&](int x, int y) { return &w.rgba[(size_t(y) * size_t(w.width) + size_t(x)) * 4]; };
+  for (int x : {0, 80, 159}) {
+    EXPECT_EQ(px(x, 10)[0] + px(x, 10)[1] + px(x, 10)[2], 0) << x;
+    EXPECT_EQ(px(x, 190)[0] + px(x, 190)[1] + px(x, 190)[2], 0) << x;
+    EXPECT_GT(px(x, 100)[0], 100) << x << ": the stage's background";
+  }
+}
+
 }  // namespace
 }  // namespace mar
 
