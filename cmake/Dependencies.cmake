@@ -9,6 +9,8 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
 # Text on the performer's overlays (the HUD), with a font from fonts-dejavu-core.
 pkg_check_modules(SDL2TTF REQUIRED IMPORTED_TARGET SDL2_ttf)
+# A transparent window on X11 needs an ARGB visual, found with Xlib before SDL opens the window.
+pkg_check_modules(X11 REQUIRED IMPORTED_TARGET x11)
 # systemd's notify and watchdog protocol (a show run as a service: src/app/loop/service.h).
 pkg_check_modules(SYSTEMD REQUIRED IMPORTED_TARGET libsystemd)
 # Device libraries: the real ones, each only when its backend is built (devices/).

@@ -239,6 +239,7 @@ bool LiveShow::open_output(std::string* err) {
     wo.fullscreen = sh.fullscreen || sh.kiosk.enabled;
     wo.screen = sh.kiosk.enabled ? sh.kiosk.display : sh.screen;
     wo.screen_name = sh.kiosk.enabled ? std::string() : sh.screen_name;
+    wo.transparent = background_.a < 1;
     std::string note;
     auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
     if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] screen: " << note << "\n";

@@ -1,5 +1,8 @@
 #include "render/canvas.h"
 
+#include "character/color.h"
+#include "render/x11_visual.h"
+
 #include <SDL2/SDL.h>
 
 #include <algorithm>
@@ -99,19 +102,47 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
   }
   Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
   if (o.fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+  bool forced_visual = false;
+  if (o.transparent && std::string(SDL_GetCurrentVideoDriver()) == "x11") {
+    if (const unsigned long id = x11_argb_visual()) {
+      SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, std::to_string(id).c_str());
+      SDL_GL_SetAttribute(SDL_GL_ALPHA_SIZE, 8);
+      forced_visual = true;
+    }
+  }
   const int pos = screen >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(screen)) : int(SDL_WINDOWPOS_CENTERED);
   c->window_ = SDL_CreateWindow(o.title.c_str(), pos, pos, o.width > 0 ? o.width : width, o.height > 0 ? o.height : height, flags);
   if (!c->window_) {
+    if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
     return R::failure(std::string("cannot open window: ") + SDL_GetError());
   }
   c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, o.software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
   if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
+  if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");  // (an OpenGL renderer re-creates the window)
   if (!c->wrenderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
   c->shown_tex_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STREAMING, width, height);
   if (!c->shown_tex_) return R::failure(std::string("cannot create the canvas texture: ") + SDL_GetError());
   SDL_SetTextureBlendMode(c->shown_tex_, SDL_BLENDMODE_NONE);
   SDL_SetTextureScaleMode(c->shown_tex_, SDL_ScaleModeLinear);
+  // An alpha channel: an X window of depth 32 drawn by OpenGL with alpha bits (SDL's software
+  // renderer presents through an XRGB surface, whose fourth byte is not the canvas's alpha).
+  int alpha_bits = 0;
+  const bool gl = c->renderer_name().rfind("opengl", 0) == 0;
+  if (gl) SDL_GL_GetAttribute(SDL_GL_ALPHA_SIZE, &alpha_bits);
+  c->window_alpha_ = forced_visual && gl && alpha_bits >= 8 && x11_window_depth(c->window_) == 32;
+  if (o.transparent && !c->window_alpha_) {
+    // No alpha here: the canvas (still transparent for dumps and outputs) over a chroma colour.
+    c->backdrop_on_ = true;
+    auto byte = [](float v) { return std::uint32_t(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+    c->backdrop_ = byte(o.fallback.r) | byte(o.fallback.g) << 8 | byte(o.fallback.b) << 16 | 255u << 24;
+    c->backdrop_px_.resize(size_t(width) * size_t(height) * 4);
+    if (note)
+      *note = std::string("this display gives windows no alpha channel (") + SDL_GetCurrentVideoDriver() +
+              (!forced_visual ? ", no ARGB visual" : !gl ? ", not drawn with OpenGL" : ", no alpha in its OpenGL surface") +
+              "): the window shows the stage on " +
+              color_hex(o.fallback) + " instead; dumps and outputs stay transparent";
+  }
   return R::success(std::move(c));
 }
 
@@ -241,14 +272,27 @@ void Canvas::compose() {
   if (!window_ || composed_) return;
   composed_ = true;
   const PixelTarget t = pixels();
-  SDL_UpdateTexture(shown_tex_, nullptr, t.px, t.stride);
+  if (backdrop_on_) {  // premultiplied canvas over the opaque chroma colour
+    for (int y = 0; y < height_; ++y) {
+      const std::uint8_t* s = t.px + size_t(y) * size_t(t.stride);
+      std::uint8_t* d = backdrop_px_.data() + size_t(y) * size_t(width_) * 4;
+      for (int x = 0; x < width_ * 4; x += 4) {
+        const std::uint32_t k = 255u - s[x + 3];
+        for (int ch = 0; ch < 3; ++ch) d[x + ch] = std::uint8_t(s[x + ch] + ((backdrop_ >> (8 * ch) & 0xFF) * k + 127) / 255);
+        d[x + 3] = 255;
+      }
+    }
+    SDL_UpdateTexture(shown_tex_, nullptr, backdrop_px_.data(), width_ * 4);
+  } else {
+    SDL_UpdateTexture(shown_tex_, nullptr, t.px, t.stride);
+  }
   SDL_GetRendererOutputSize(wrenderer_, &ww_, &wh_);
-  // Scaled to fit, centred; the bars around it black.
+  // Scaled to fit, centred; the bars around it black (transparent in a window with alpha).
   const double s = std::min(double(ww_) / width_, double(wh_) / height_);
   const int w = std::max(1, int(std::lround(width_ * s))), h = std::max(1, int(std::lround(height_ * s)));
   shown_ = {(ww_ - w) / 2, (wh_ - h) / 2, w, h};
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_NONE);
-  SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, 255);
+  SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, window_alpha_ ? 0 : 255);
   SDL_RenderClear(wrenderer_);
   SDL_RenderCopy(wrenderer_, shown_tex_, nullptr, &shown_);
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);

@@ -32,6 +32,11 @@ struct WindowOptions {
   bool software = false;        ///< SDL's software renderer instead of the GPU's
   int screen = -1;              ///< screen index (-1: SDL's choice)
   std::string screen_name;      ///< or a substring of its name (case-insensitive)
+  /// A window with an alpha channel (X11: an ARGB visual, premultiplied, as compositors and
+  /// OBS's window capture read it). Where the system gives none, the window shows the canvas
+  /// over `fallback` instead (the canvas itself stays transparent) and `note` says so.
+  bool transparent = false;
+  Rgba fallback{0, 1, 0, 1};
 };
 
 /// A screen SDL sees.
@@ -86,6 +91,8 @@ class Canvas {
   SDL_Rect canvas_rect() const { return shown_; }
   /// The window's pixels after compose() (and any overlay), premultiplied RGBA8, window-sized.
   std::vector<std::uint8_t> read_window();
+  /// Whether the window has an alpha channel (transparent windows).
+  bool window_alpha() const { return window_alpha_; }
   /// The screen the window is on (-1 offscreen).
   int screen() const;
   /// The window renderer's name ("software", "opengl", "opengles2", ...), empty offscreen.
@@ -116,6 +123,10 @@ class Canvas {
   int ww_ = 0, wh_ = 0;
   SDL_Rect shown_{0, 0, 0, 0};
   bool composed_ = false;
+  bool window_alpha_ = false;
+  bool backdrop_on_ = false;                ///< a transparent show where the window has no alpha
+  std::uint32_t backdrop_ = 0;              ///< its chroma colour (opaque, packed RGBA)
+  std::vector<std::uint8_t> backdrop_px_;   ///< the canvas over it (canvas-sized)
 };
 
 /// Maps the document rectangle [0, w] x [0, h] into a target of tw x th pixels,

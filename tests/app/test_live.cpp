@@ -396,6 +396,54 @@ TEST(Live, AntiAliasedFramesMatchFourTimesSupersampling) {
   }
 }
 
+// background = "transparent": dumps carry alpha; a window drawn with OpenGL on X11 gets an ARGB
+// visual and shows the stage with alpha (premultiplied, as compositors and OBS read it); SDL's
+// software renderer has none, says so, and shows the stage on chroma green instead.
+TEST(Live, ATransparentStageHasAlphaInDumpsAndInAWindowThatCan) {
+  const auto dir = test::temp_dir("transparent");
+  const auto path = show_file("transparent.toml", "[output]\nwidth = 160\nheight = 200\n") ;
+  std::string show;
+  {
+    std::ifstream in(path);
+    show.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  show.replace(show.find("[display]\n"), 10, "[display]\nbackground = \"transparent\"\nhud = false\n");
+  const std::string file = (dir / "t.toml").string();
+  std::ofstream(file) << show;
+  auto r = test::run_cli("run '" + file + "' --headless --frames 2 --dump-frames '" + (dir / "h").string() + "' --every 1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto dump = read_png_image((dir / "h" / "frame_000001.png").string());
+  ASSERT_TRUE(dump.ok());
+  auto alpha = [](const Image& im, int x, int y) { return im.rgba[(size_t(y) * size_t(im.width) + size_t(x)) * 4 + 3]; };
+  EXPECT_EQ(alpha(*dump.value, 2, 2), 0);
+  EXPECT_EQ(alpha(*dump.value, 80, 100), 255);  // the figure's shirt
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  for (const std::string driver : {"opengl", "software"}) {
+    const auto shot = dir / (driver + ".png"), err = dir / (driver + ".txt");
+    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+                            std::string(MARIONETTE_BINARY) + "' run '" + file + "' --frames 3 --screenshot '" + shot.string() +
+                            "' > '" + err.string() + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0) << driver;
+    std::ifstream e(err);
+    const std::string said((std::istreambuf_iterator<char>(e)), {});
+    auto win = read_png_image(shot.string());
+    ASSERT_TRUE(win.ok()) << driver;
+    const Image& w = *win.value;
+    const uint8_t* corner = &w.rgba[(size_t(2) * size_t(w.width) + 2) * 4];
+    EXPECT_EQ(alpha(w, 80, 100), 255) << driver;
+    if (driver == "opengl") {
+      EXPECT_EQ(said.find("no alpha channel"), std::string::npos) << said;
+      EXPECT_EQ(corner[3], 0) << "the window's background is transparent";
+    } else {
+      EXPECT_NE(said.find("no alpha channel"), std::string::npos) << said;
+      EXPECT_EQ(corner[3], 255);
+      EXPECT_EQ(corner[0], 0);
+      EXPECT_EQ(corner[1], 255) << "chroma green";
+      EXPECT_EQ(corner[2], 0);
+    }
+  }
+}
+
 // [output] sets the canvas: dumps have its size whatever the window's, and a window shows it
 // scaled to fit, letterboxed.
 TEST(Live, OutputSizeIsTheCanvasAndTheWindowLetterboxesIt) {
