@@ -14,7 +14,7 @@ ROOT=$(pwd)
 JOBS=${JOBS:-$(nproc)}
 
 PACKAGES=(cmake g++ pkg-config
-  libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libx11-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
+  libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libx11-dev librsvg2-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
   libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
   libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth
@@ -95,7 +95,14 @@ case "$cmd" in
   bench)
     install_deps
     build "$ROOT/build" all -DMARIONETTE_BUILD_BENCH=ON
-    for b in "$ROOT"/build/tests/bench/bench_*; do "$b"; done
+    # bench_render measures the OpenGL window too: under Xvfb (Mesa) when there is no display.
+    for b in "$ROOT"/build/tests/bench/bench_*; do
+      if [ "$(basename "$b")" = bench_render ] && [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null; then
+        xvfb-run -a -s '-screen 0 1920x1080x24' "$b"
+      else
+        "$b"
+      fi
+    done
     ;;
   *)
     echo "usage: bash cmake/run.sh demo|test|bench|fuzz|soak|tsan" >&2

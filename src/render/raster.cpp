@@ -40,11 +40,13 @@ void Rasterizer::begin(const PixelTarget& t) {
   stride_ = t.width + 2;
   const size_t cells = size_t(stride_) * size_t(std::max(0, h_));
   if (acc_.size() < cells) acc_.resize(cells, 0.0f);
+  blocks_ = (stride_ + kBlock - 1) / kBlock;
+  if (touched_.size() < size_t(blocks_) * size_t(std::max(0, h_))) touched_.resize(size_t(blocks_) * size_t(std::max(0, h_)), 0);
 }
 
 // One edge's signed area and cover, row by row, into the cells it crosses. x is clamped into
 // [0, width]: what lies left of the target still covers the pixels right of it.
-void Rasterizer::add_line(float x0, float y0, float x1, float y1) {
+void Rasterizer::add_line(Band& b, float x0, float y0, float x1, float y1) {
   if (y0 == y1 || !(std::isfinite(x0) && std::isfinite(y0) && std::isfinite(x1) && std::isfinite(y1))) return;
   float dir = 1.0f;
   if (y0 > y1) {
@@ -52,15 +54,15 @@ void Rasterizer::add_line(float x0, float y0, float x1, float y1) {
     std::swap(y0, y1);
     dir = -1.0f;
   }
-  const float h = float(h_), w = float(w_);
-  if (y1 <= 0.0f || y0 >= h) return;
+  const float top = float(b.y0), bottom = float(b.y1), w = float(w_);
+  if (y1 <= top || y0 >= bottom) return;
   const float dxdy = (x1 - x0) / (y1 - y0);
   float x = x0;
-  if (y0 < 0.0f) {
-    x -= y0 * dxdy;
-    y0 = 0.0f;
+  if (y0 < top) {
+    x += (top - y0) * dxdy;
+    y0 = top;
   }
-  y1 = std::min(y1, h);
+  y1 = std::min(y1, bottom);
   const int ys = int(y0), ye = int(std::ceil(y1));
   for (int y = ys; y < ye; ++y) {
     float* row = acc_.data() + size_t(y) * size_t(stride_);
@@ -70,6 +72,8 @@ void Rasterizer::add_line(float x0, float y0, float x1, float y1) {
     const float xa = std::clamp(std::min(x, xnext), 0.0f, w), xb = std::clamp(std::max(x, xnext), 0.0f, w);
     const float xa_floor = std::floor(xa), xb_ceil = std::ceil(xb);
     const int xai = int(xa_floor), xbi = int(xb_ceil);
+    std::uint8_t* flags = touched_.data() + size_t(y) * size_t(blocks_);
+    for (int k = xai >> kBlockShift, ke = std::min(xbi + 1, stride_ - 1) >> kBlockShift; k <= ke; ++k) flags[k] = 1;
     if (xbi <= xai + 1) {  // within one cell: the trapezoid left of the edge's mid point
       const float xmf = 0.5f * (xa + xb) - xa_floor;
       row[xai] += d - d * xmf;
@@ -96,49 +100,62 @@ void Rasterizer::add_line(float x0, float y0, float x1, float y1) {
   }
 }
 
-void Rasterizer::add_triangle(const SDL_FPoint& a, const SDL_FPoint& b, const SDL_FPoint& c) {
+void Rasterizer::add_triangle(Band& b, const SDL_FPoint& a, const SDL_FPoint& q0, const SDL_FPoint& r0) {
+  const float lo_y = std::min({a.y, q0.y, r0.y}), hi_y = std::max({a.y, q0.y, r0.y});
+  if (!(hi_y > float(b.y0)) || !(lo_y < float(b.y1))) return;  // (also NaN)
   // Every triangle counts positively, so shared edges of neighbours cancel and folds add up.
-  const float area2 = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-  if (!(area2 != 0.0f)) return;  // (also NaN)
-  const SDL_FPoint& p = a;
-  const SDL_FPoint& q = area2 > 0 ? b : c;
-  const SDL_FPoint& r = area2 > 0 ? c : b;
-  add_line(p.x, p.y, q.x, q.y);
-  add_line(q.x, q.y, r.x, r.y);
-  add_line(r.x, r.y, p.x, p.y);
-  const float lo_x = std::min({a.x, b.x, c.x}), hi_x = std::max({a.x, b.x, c.x});
-  const float lo_y = std::min({a.y, b.y, c.y}), hi_y = std::max({a.y, b.y, c.y});
-  if (!(hi_y > 0.0f) || !(lo_y < float(h_))) return;
-  bx0_ = std::min(bx0_, int(std::clamp(std::floor(lo_x), 0.0f, float(w_))));
-  bx1_ = std::max(bx1_, int(std::clamp(std::ceil(hi_x), 0.0f, float(w_))) + 2);
-  by0_ = std::min(by0_, int(std::clamp(std::floor(lo_y), 0.0f, float(h_))));
-  by1_ = std::max(by1_, int(std::clamp(std::ceil(hi_y), 0.0f, float(h_))));
+  const float area2 = (q0.x - a.x) * (r0.y - a.y) - (q0.y - a.y) * (r0.x - a.x);
+  if (!(area2 != 0.0f)) return;
+  const SDL_FPoint& q = area2 > 0 ? q0 : r0;
+  const SDL_FPoint& r = area2 > 0 ? r0 : q0;
+  add_line(b, a.x, a.y, q.x, q.y);
+  add_line(b, q.x, q.y, r.x, r.y);
+  add_line(b, r.x, r.y, a.x, a.y);
+  const float lo_x = std::min({a.x, q.x, r.x}), hi_x = std::max({a.x, q.x, r.x});
+  b.bx0 = std::min(b.bx0, int(std::clamp(std::floor(lo_x), 0.0f, float(w_))));
+  b.bx1 = std::max(b.bx1, int(std::clamp(std::ceil(hi_x), 0.0f, float(w_))) + 2);
+  b.by0 = std::min(b.by0, int(std::clamp(std::floor(lo_y), float(b.y0), float(b.y1))));
+  b.by1 = std::max(b.by1, int(std::clamp(std::ceil(hi_y), float(b.y0), float(b.y1))));
 }
 
-void Rasterizer::composite_solid(SDL_Color c, const PixelTarget& t) {
+void Rasterizer::composite_solid(Band& b, SDL_Color c) {
+  const PixelTarget& t = target_;
   const std::uint32_t a = c.a;
   const std::uint32_t src = pack(div255(c.r * a), div255(c.g * a), div255(c.b * a), a);
-  const int xend = std::min(bx1_, stride_), xdraw = std::min(bx1_, w_);
-  for (int y = by0_; y < by1_; ++y) {
+  const int bx0_ = b.bx0, xend = std::min(b.bx1, stride_), xdraw = std::min(b.bx1, w_);
+  auto span = [&](std::uint8_t* d, int lo, int hi, std::uint32_t cov) {  // constant coverage over [lo, hi)
+    if (cov == 0 || lo >= hi) return;
+    if (cov == 255 && a == 255) {
+      auto* p = reinterpret_cast<std::uint32_t*>(d) + lo;
+      for (int x = 0; x < hi - lo; ++x) p[x] = src;  // (little-endian RGBA)
+    } else {
+      for (int x = lo; x < hi; ++x) over(d + size_t(x) * 4, src, cov);
+    }
+  };
+  for (int y = b.by0; y < b.by1; ++y) {
     float* row = acc_.data() + size_t(y) * size_t(stride_);
+    std::uint8_t* flags = touched_.data() + size_t(y) * size_t(blocks_);
     std::uint8_t* d = t.px + size_t(y) * size_t(t.stride);
     float s = 0.0f;
-    for (int x = bx0_; x < xdraw; ++x) {
-      s += row[x];
-      row[x] = 0.0f;
-      const std::uint32_t cov = coverage_byte(s);
-      if (cov == 0) continue;
-      std::uint8_t* p = d + size_t(x) * 4;
-      if (cov == 255 && a == 255) {
-        p[0] = std::uint8_t(src);
-        p[1] = std::uint8_t(src >> 8);
-        p[2] = std::uint8_t(src >> 16);
-        p[3] = 255;
-      } else {
-        over(p, src, cov);
+    for (int bx = bx0_ & ~(kBlock - 1); bx < xend; bx += kBlock) {
+      const int lo = std::max(bx, bx0_), hi = std::min(bx + kBlock, xend);
+      std::uint8_t& f = flags[bx >> kBlockShift];
+      if (!f) {  // no edge here: the running coverage throughout
+        span(d, lo, std::min(hi, xdraw), coverage_byte(s));
+        continue;
+      }
+      f = 0;
+      for (int x = lo; x < hi; ++x) {
+        s += row[x];
+        row[x] = 0.0f;
+        if (x >= xdraw) continue;  // cells right of the target
+        const std::uint32_t cov = coverage_byte(s);
+        if (cov == 0) continue;
+        std::uint8_t* p = d + size_t(x) * 4;
+        if (cov == 255 && a == 255) *reinterpret_cast<std::uint32_t*>(p) = src;
+        else over(p, src, cov);
       }
     }
-    for (int x = std::max(bx0_, xdraw); x < xend; ++x) row[x] = 0.0f;  // cells right of the target
   }
 }
 
@@ -170,15 +187,16 @@ std::uint32_t sample(const Texture& tex, float u, float v, SDL_Color mod) {
 }  // namespace
 
 // A textured triangle's samples at the pixel centres inside it.
-void Rasterizer::sample_triangle(const SDL_Vertex& a, const SDL_Vertex& b, const SDL_Vertex& c, const Texture& tex) {
+void Rasterizer::sample_triangle(Band& bd, const SDL_Vertex& a, const SDL_Vertex& b, const SDL_Vertex& c, const Texture& tex) {
   if (tex.width <= 0 || tex.height <= 0) return;
   const float x0 = a.position.x, y0 = a.position.y;
   const float e1x = b.position.x - x0, e1y = b.position.y - y0, e2x = c.position.x - x0, e2y = c.position.y - y0;
   const float det = e1x * e2y - e1y * e2x;
   if (!(std::fabs(det) > 1e-12f)) return;
   const float inv = 1.0f / det;
-  const int ylo = std::max(0, int(std::ceil(std::min({a.position.y, b.position.y, c.position.y}) - 0.5f)));
-  const int yhi = std::min(h_ - 1, int(std::floor(std::max({a.position.y, b.position.y, c.position.y}) - 0.5f)));
+  // The band's rows and one more each side (edge pixels there take a neighbour's sample).
+  const int ylo = std::max({0, bd.y0 - 1, int(std::ceil(std::min({a.position.y, b.position.y, c.position.y}) - 0.5f))});
+  const int yhi = std::min({h_ - 1, bd.y1, int(std::floor(std::max({a.position.y, b.position.y, c.position.y}) - 0.5f))});
   const int xlo = std::max(0, int(std::ceil(std::min({a.position.x, b.position.x, c.position.x}) - 0.5f)));
   const int xhi = std::min(w_ - 1, int(std::floor(std::max({a.position.x, b.position.x, c.position.x}) - 0.5f)));
   const float tw = float(tex.width), th = float(tex.height);
@@ -191,86 +209,144 @@ void Rasterizer::sample_triangle(const SDL_Vertex& a, const SDL_Vertex& b, const
       const float l0 = 1 - l1 - l2;
       const float u = l0 * a.tex_coord.x + l1 * b.tex_coord.x + l2 * c.tex_coord.x;
       const float v = l0 * a.tex_coord.y + l1 * b.tex_coord.y + l2 * c.tex_coord.y;
-      const size_t i = size_t(y) * size_t(w_) + size_t(x);
-      color_[i] = sample(tex, u * tw, v * th, a.color);
-      has_[i] = 1;
+      const size_t i = size_t(y - (bd.y0 - 1)) * size_t(w_) + size_t(x);
+      bd.color[i] = sample(tex, u * tw, v * th, a.color);
+      bd.has[i] = 1;
     }
   }
 }
 
-void Rasterizer::composite_textured(const PixelTarget& t) {
-  const int xend = std::min(bx1_, stride_), xdraw = std::min(bx1_, w_);
-  for (int y = by0_; y < by1_; ++y) {
+void Rasterizer::composite_textured(Band& b) {
+  const PixelTarget& t = target_;
+  const int xend = std::min(b.bx1, stride_), xdraw = std::min(b.bx1, w_);
+  const int first = b.y0 - 1;  // the sample buffers' first row
+  for (int y = b.by0; y < b.by1; ++y) {
     float* row = acc_.data() + size_t(y) * size_t(stride_);
     std::uint8_t* d = t.px + size_t(y) * size_t(t.stride);
     float s = 0.0f;
-    for (int x = bx0_; x < xdraw; ++x) {
+    for (int x = b.bx0; x < xdraw; ++x) {
       s += row[x];
       row[x] = 0.0f;
       const std::uint32_t cov = coverage_byte(s);
       if (cov == 0) continue;
-      size_t i = size_t(y) * size_t(w_) + size_t(x);
-      if (!has_[i]) {  // an edge pixel whose centre no triangle holds: a neighbour's sample
+      size_t i = size_t(y - first) * size_t(w_) + size_t(x);
+      if (!b.has[i]) {  // an edge pixel whose centre no triangle holds: a neighbour's sample
         bool found = false;
         for (int dy = -1; dy <= 1 && !found; ++dy)
           for (int dx = -1; dx <= 1 && !found; ++dx) {
             const int nx = x + dx, ny = y + dy;
             if (nx < 0 || ny < 0 || nx >= w_ || ny >= h_) continue;
-            const size_t j = size_t(ny) * size_t(w_) + size_t(nx);
-            if (has_[j]) {
+            const size_t j = size_t(ny - first) * size_t(w_) + size_t(nx);
+            if (b.has[j]) {
               i = j;
               found = true;
             }
           }
         if (!found) continue;
       }
-      over(d + size_t(x) * 4, color_[i], cov);
+      over(d + size_t(x) * 4, b.color[i], cov);
     }
-    for (int x = std::max(bx0_, xdraw); x < xend; ++x) row[x] = 0.0f;
+    for (int x = std::max(b.bx0, xdraw); x < xend; ++x) row[x] = 0.0f;
+    std::uint8_t* flags = touched_.data() + size_t(y) * size_t(blocks_);
+    std::fill(flags + (b.bx0 >> kBlockShift), flags + ((xend - 1) >> kBlockShift) + 1, 0);
   }
-  // The samples go with the item (one row more each side: the neighbours read above).
-  for (int y = std::max(0, by0_ - 1); y < std::min(h_, by1_ + 1); ++y)
-    std::fill(has_.begin() + long(y) * w_ + std::max(0, bx0_ - 1), has_.begin() + long(y) * w_ + std::min(w_, bx1_ + 1), 0);
+  // The samples go with the item (with the rows either side).
+  for (int y = std::max(0, b.y0 - 1); y < std::min(h_, b.y1 + 1); ++y) {
+    auto row = b.has.begin() + long(y - first) * w_;
+    std::fill(row + std::max(0, b.bx0 - 1), row + std::min(w_, b.bx1 + 1), 0);
+  }
 }
 
-void Rasterizer::draw(const DrawList& list, const PixelTarget& t) {
-  if (!t.px || t.width <= 0 || t.height <= 0) return;
-  begin(t);
+// One band: every paint item, in order, clipped to the band's rows.
+void Rasterizer::band(Band& b) {
+  const DrawList& list = *list_;
   const auto& v = list.vertices;
   const auto& idx = list.indices;
   size_t next_start = 0;  // into list.item_starts
-  for (const DrawList::Batch& b : list.batches) {
-    const Texture* tex = b.texture;
-    if (tex && color_.size() < size_t(w_) * size_t(h_)) {
-      color_.resize(size_t(w_) * size_t(h_));
-      has_.resize(size_t(w_) * size_t(h_), 0);
-    }
-    const int end = b.first_index + b.index_count;
-    int k = b.first_index;
+  for (const DrawList::Batch& batch : list.batches) {
+    const Texture* tex = batch.texture;
+    const int end = batch.first_index + batch.index_count;
+    int k = batch.first_index;
     while (k + 2 < end) {
       // One paint item: from k to the next item start, colour change or batch end.
       while (next_start < list.item_starts.size() && list.item_starts[next_start] <= k) ++next_start;
       const int stop = next_start < list.item_starts.size() ? std::min(end, list.item_starts[next_start]) : end;
       const SDL_Color col = v[size_t(idx[size_t(k)])].color;
-      bx0_ = w_ + 2;
-      by0_ = h_;
-      bx1_ = 0;
-      by1_ = 0;
+      b.bx0 = w_ + 2;
+      b.by0 = b.y1;
+      b.bx1 = 0;
+      b.by1 = b.y0;
       for (; k + 2 < stop; k += 3) {
         const SDL_Vertex& p = v[size_t(idx[size_t(k)])];
         const SDL_Vertex& q = v[size_t(idx[size_t(k + 1)])];
         const SDL_Vertex& r = v[size_t(idx[size_t(k + 2)])];
         const SDL_Color pc = p.color;
         if (!tex && (pc.r != col.r || pc.g != col.g || pc.b != col.b || pc.a != col.a)) break;
-        add_triangle(p.position, q.position, r.position);
-        if (tex) sample_triangle(p, q, r, *tex);
+        add_triangle(b, p.position, q.position, r.position);
+        if (tex) sample_triangle(b, p, q, r, *tex);
       }
       if (k + 2 >= stop) k = stop;  // (a trailing partial triangle is skipped)
-      if (by1_ <= by0_ || bx1_ <= bx0_) continue;
-      if (tex) composite_textured(t);
-      else composite_solid(col, t);
+      if (b.by1 <= b.by0 || b.bx1 <= b.bx0) continue;
+      if (tex) composite_textured(b);
+      else composite_solid(b, col);
     }
   }
+}
+
+void Rasterizer::run(Band& b) {
+  for (int i; (i = next_band_.fetch_add(1, std::memory_order_relaxed)) < bands_;) {
+    b.y0 = i * kChunk;
+    b.y1 = std::min(h_, b.y0 + kChunk);
+    band(b);
+  }
+}
+
+void Rasterizer::worker() {
+  std::uint32_t seen = 0;
+  for (;;) {
+    go_.wait(seen, std::memory_order_acquire);
+    seen = go_.load(std::memory_order_acquire);
+    if (quit_.load()) return;
+    run(helper_);
+    done_.fetch_add(1, std::memory_order_release);
+    done_.notify_one();
+  }
+}
+
+Rasterizer::~Rasterizer() {
+  if (!worker_.joinable()) return;
+  quit_ = true;
+  go_.fetch_add(1, std::memory_order_release);
+  go_.notify_one();
+  worker_.join();
+}
+
+void Rasterizer::draw(const DrawList& list, const PixelTarget& t) {
+  if (!t.px || t.width <= 0 || t.height <= 0) return;
+  begin(t);
+  list_ = &list;
+  target_ = t;
+  bands_ = (h_ + kChunk - 1) / kChunk;
+  bool textured = false;
+  for (const DrawList::Batch& b : list.batches) textured = textured || b.texture;
+  const size_t samples = size_t(kChunk + 2) * size_t(w_);
+  for (Band* b : {&own_, &helper_})
+    if (textured && b->color.size() < samples) {
+      b->color.resize(samples);
+      b->has.resize(samples, 0);
+    }
+  next_band_.store(0, std::memory_order_relaxed);
+  const bool two = threads_ == 2 && bands_ >= 4;
+  if (two && !worker_.joinable()) worker_ = std::thread([this] { worker(); });
+  if (!two) {
+    run(own_);
+    return;
+  }
+  const std::uint32_t before = done_.load(std::memory_order_acquire);
+  go_.fetch_add(1, std::memory_order_release);  // the helper takes bands too
+  go_.notify_one();
+  run(own_);
+  for (std::uint32_t d; (d = done_.load(std::memory_order_acquire)) == before;) done_.wait(d, std::memory_order_acquire);
 }
 
 }  // namespace mar

@@ -15,7 +15,9 @@
 
 #include "render/tessellate.h"
 
+#include <atomic>
 #include <cstdint>
+#include <thread>
 #include <vector>
 
 namespace mar {
@@ -28,23 +30,56 @@ struct PixelTarget {
 
 class Rasterizer {
  public:
+  Rasterizer() = default;
+  ~Rasterizer();
+  Rasterizer(const Rasterizer&) = delete;
+  Rasterizer& operator=(const Rasterizer&) = delete;
+
   /// Draws the list's triangles in order. A paint item starts at each of the list's item
   /// starts, and wherever the colour or the texture changes.
   void draw(const DrawList& list, const PixelTarget& target);
+  /// 1 or 2 threads (default: 2 where the machine has two cores). The target is cut into bands
+  /// of kChunk rows that both threads take in turn; each band is drawn whole (every item, in
+  /// order) by one thread, so the pixels do not depend on which thread drew them.
+  void set_threads(int n) { threads_ = n < 2 ? 1 : 2; }
+  static constexpr int kChunk = 32;
 
  private:
+  /// One thread's working state for the band it is drawing.
+  struct Band {
+    int y0 = 0, y1 = 0;                    ///< the band's rows
+    int bx0 = 0, by0 = 0, bx1 = 0, by1 = 0;  ///< the current item's cells there (half-open)
+    std::vector<std::uint32_t> color;      ///< textured items: premultiplied samples, rows y0-1 .. y1
+    std::vector<std::uint8_t> has;         ///< 1 where color holds a sample
+  };
   void begin(const PixelTarget& t);
-  void add_line(float x0, float y0, float x1, float y1);
-  void add_triangle(const SDL_FPoint& a, const SDL_FPoint& b, const SDL_FPoint& c);
-  void sample_triangle(const SDL_Vertex& a, const SDL_Vertex& b, const SDL_Vertex& c, const Texture& tex);
-  void composite_solid(SDL_Color color, const PixelTarget& t);
-  void composite_textured(const PixelTarget& t);
+  void run(Band& b);  ///< takes bands until none is left
+  void band(Band& b);
+  void add_line(Band& b, float x0, float y0, float x1, float y1);
+  void add_triangle(Band& b, const SDL_FPoint& p, const SDL_FPoint& q, const SDL_FPoint& r);
+  void sample_triangle(Band& b, const SDL_Vertex& p, const SDL_Vertex& q, const SDL_Vertex& r, const Texture& tex);
+  void composite_solid(Band& b, SDL_Color color);
+  void composite_textured(Band& b);
+  void worker();
 
   int w_ = 0, h_ = 0, stride_ = 0;  ///< cells: the target's width plus two
   std::vector<float> acc_;           ///< signed area and cover per cell; zero between items
-  std::vector<std::uint32_t> color_; ///< textured items: premultiplied sample per pixel
-  std::vector<std::uint8_t> has_;    ///< textured items: 1 where color_ holds a sample
-  int bx0_ = 0, by0_ = 0, bx1_ = 0, by1_ = 0;  ///< the current item's cells (half-open)
+  /// Per row, a flag per block of kBlock cells that an edge wrote: the sweep runs through the
+  /// others at once (their coverage is the running sum's: nothing there, or a span inside).
+  static constexpr int kBlockShift = 4, kBlock = 1 << kBlockShift;
+  int blocks_ = 0;                   ///< blocks a row
+  std::vector<std::uint8_t> touched_;
+  // The frame being drawn, and the bands handed out.
+  const DrawList* list_ = nullptr;
+  PixelTarget target_;
+  std::atomic<int> next_band_{0};
+  int bands_ = 0;
+  Band own_, helper_;
+  // The second thread: started at the first draw that can use it; woken per frame (no lock).
+  int threads_ = std::thread::hardware_concurrency() >= 2 ? 2 : 1;
+  std::thread worker_;
+  std::atomic<std::uint32_t> go_{0}, done_{0};
+  std::atomic<bool> quit_{false};
 };
 
 }  // namespace mar
