@@ -96,6 +96,7 @@ struct RunArgs {
   bool realtime = false;
   std::string screenshot;
   int supersample = 1;
+  bool aliased = false;
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

@@ -270,6 +270,7 @@ bool LiveShow::open_output(std::string* err) {
     canvas_ = std::move(*c.value);
   }
   view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
+  canvas_->set_antialias(!opt_.aliased);
   if (!opt_.record_path.empty()) {
     auto r = Recorder::open(opt_.record_path);
     if (!r.ok()) {

@@ -41,6 +41,7 @@ struct RunOptions {
   bool realtime = false;     ///< headless on the wall clock (run --realtime): not reproducible
   std::string screenshot;    ///< a window's pixels at the last of `frames` frames, as PNG
   int supersample = 1;       ///< the canvas at N x, box-filtered for dumps (a reference path)
+  bool aliased = false;      ///< SDL's aliased triangles (run --aliased, to compare)
   int warmup = 30;           ///< frames before allocations are counted
 };
 

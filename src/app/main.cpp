@@ -91,6 +91,7 @@ int main(int argc, char** argv) {
                     "Present the hardware devices' simulators at the kernel interface (umockdev): no hardware needed");
   run_cmd->add_option("--supersample", run.supersample,
                       "Draw the canvas at N x and box-filter it down (1..8): the reference the anti-aliasing is measured against");
+  run_cmd->add_flag("--aliased", run.aliased, "Draw with SDL's aliased triangles instead of anti-aliased (to compare)");
   run_cmd->add_option("--screenshot", run.screenshot,
                       "Window mode: save what the window shows (HUD included) at the last frame as PNG (needs --frames)");
   run_cmd->add_flag("--realtime", run.realtime,

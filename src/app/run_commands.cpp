@@ -125,6 +125,7 @@ int cmd_run(const RunArgs& a) {
   o.realtime = a.realtime;
   o.screenshot = a.screenshot;
   o.supersample = a.supersample;
+  o.aliased = a.aliased;
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

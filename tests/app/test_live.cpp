@@ -331,14 +331,17 @@ TEST(Live, TheHudIsInTheWindowNeverInTheCanvas) {
     const auto dir = test::temp_dir("hud_" + driver);
     const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" +
                             std::string(MARIONETTE_BINARY) + "' run '" + (test::source_dir() / "config/shows/demo.toml").string() +
-                            "' --frames 30 --screenshot '" + (dir / "window.png").string() + "' --dump-frames '" + dir.string() +
-                            "' --every 29 --stats '" + (dir / "s.json").string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
+                            "' --frames 60 --screenshot '" + (dir / "window.png").string() + "' --dump-frames '" + dir.string() +
+                            "' --every 59 --stats '" + (dir / "s.json").string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << driver;
     std::ifstream sj(dir / "s.json");
     const auto j = nlohmann::json::parse(sj);
     EXPECT_EQ(j["canvas"]["window_renderer"], driver);
+    // A frame with the HUD on and anti-aliasing on allocates nothing (the screenshot and the
+    // dumps are counted apart).
+    EXPECT_EQ(j["heap_allocations_after_warmup"], 0) << driver;
     auto win = read_png_image((dir / "window.png").string());
-    auto canvas = read_png_image((dir / "frame_000029.png").string());
+    auto canvas = read_png_image((dir / "frame_000059.png").string());
     ASSERT_TRUE(win.ok() && canvas.ok()) << driver;
     const Image& w = *win.value;
     const Image& c = *canvas.value;
