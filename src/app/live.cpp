@@ -445,23 +445,32 @@ void LiveShow::render() {
   double worst = 0;
   for (size_t k = 0; k < p.shapes.size(); ++k)
     worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
-  const double quality_pct = worst * 100.0 / std::max(1e-9, p.character.height);
-  stats_.quality.add(quality_pct * 1000.0);
+  quality_pct_ = worst * 100.0 / std::max(1e-9, p.character.height);
+  stats_.quality.add(quality_pct_ * 1000.0);
   canvas_->clear(background_);
   list_.clear();
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
   canvas_->draw(list_);
-  if (hud_ && canvas_->is_window()) {  // on the window, over the canvas: never in dumps or outputs
-    canvas_->compose();
-    for (size_t i = 0; i < device_states_.size(); ++i)
-      device_states_[i] = devices_ && show_.devices[i].type != "sim" ? devices_->state(i) : DeviceState::Connected;
-    const HudFrame f{last_compute_ms_ * 1e3, pacer_.period_s() * 1e6, governor_.iterations(),
-                     int(mapping_.setting(setting_iterations_)), quality_pct, device_states_, last_events_};
-    hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_);
-  }
 }
 
 void LiveShow::present() {
+  // A window shows the canvas and, over it, the HUD: never in the canvas, dumps or outputs.
+  // What the window system and its GPU driver allocate on the way (Xlib and xcb answer SDL's
+  // XSync with replies they allocate; Mesa allocates as it takes the texture and the HUD's
+  // quads) is counted apart from the frame's own work, which must allocate nothing; the HUD
+  // itself allocates nothing (LiveAlloc.TheHudAllocatesNothing).
+  const uint64_t before_window = allocations();
+  if (canvas_->is_window()) {
+    canvas_->compose();
+    if (hud_) {
+      for (size_t i = 0; i < device_states_.size(); ++i)
+        device_states_[i] = devices_ && show_.devices[i].type != "sim" ? devices_->state(i) : DeviceState::Connected;
+      const HudFrame f{last_compute_ms_ * 1e3, pacer_.period_s() * 1e6, governor_.iterations(),
+                       int(mapping_.setting(setting_iterations_)), quality_pct_, device_states_, last_events_};
+      hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_);
+    }
+  }
+  const uint64_t window_work = allocations() - before_window;
   if (!opt_.screenshot.empty() && canvas_->is_window() && stats_.frames + 1 == opt_.frames) {
     // What the window shows, HUD and letterbox included (a test aid, outside the allocation count).
     const uint64_t before = allocations();
@@ -469,7 +478,13 @@ void LiveShow::present() {
     write_png(opt_.screenshot, downsample_premultiplied(px.data(), canvas_->window_width(), canvas_->window_height(), 1));
     alloc_base_ += allocations() - before;
   }
+  const uint64_t before = allocations();
   canvas_->present();
+  if (canvas_->is_window()) {
+    const uint64_t n = window_work + allocations() - before;
+    if (stats_.frames >= opt_.warmup) present_allocs_ += n;
+    alloc_base_ += n;
+  }
   if (service_) service_->frame_presented();
 }
 

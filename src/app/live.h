@@ -181,6 +181,8 @@ class LiveShow {
   RunStats stats_;
   ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
   uint64_t allocs_ = 0, alloc_base_ = 0;
+  uint64_t present_allocs_ = 0;  ///< a window's present (the window system's), after warm-up
+  double quality_pct_ = 0;       ///< this frame's pose quality (the HUD)
   std::atomic<bool> stop_{false};
   bool quit_ = false, learned_ = false, reload_asked_ = false;
 };

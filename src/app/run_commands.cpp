@@ -83,6 +83,7 @@ std::string LiveShow::stats_json() const {
                                               {"max", stats_.quality.max() / 1000}}}}},
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
+      {"window_present_allocations_after_warmup", present_allocs_},
       {"warmup_frames", opt_.warmup},
       {"attract", attract_ ? json{{"starts", attract_->starts()}, {"handovers", attract_->handovers()},
                                   {"seconds_shown", attract_->seconds_shown()}}

@@ -117,6 +117,10 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
     return R::failure(std::string("cannot open window: ") + SDL_GetError());
   }
+  // Batched: drawing on the window (the canvas, the HUD) is queued and handed to the driver at
+  // present. SDL turns batching off when a render driver is named (SDL_RENDER_DRIVER), which
+  // would send every glyph of the HUD to the driver on its own.
+  SDL_SetHint(SDL_HINT_RENDER_BATCHING, "1");
   c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, o.software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
   if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
   if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");  // (an OpenGL renderer re-creates the window)

@@ -5,6 +5,7 @@
 #include "app/live.h"
 #include "test_util.h"
 
+#include <SDL.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -71,6 +72,50 @@ TEST(LiveAlloc, TheAttractLoopStartingAndHandingOverAllocatesNothing) {
   ASSERT_NE(show.attract(), nullptr);
   EXPECT_EQ(show.attract()->starts(), 1u);
   EXPECT_EQ(show.attract()->handovers(), 1u);
+}
+
+// The HUD allocates nothing once its glyphs are made: a frame's lines are formatted into fixed
+// buffers and drawn as copies from the glyph texture. Drawn here on SDL's software renderer
+// on a surface (a window's present, which goes through the window system, is counted apart).
+TEST(LiveAlloc, TheHudAllocatesNothing) {
+  ShowConfig show;
+  ShowDevice korg;
+  korg.name = "korg";
+  korg.type = "usb_midi";
+  show.devices = {korg};
+  Mapping m;
+  m.set_handles({"head"}, {Vec2(0, 0)});
+  Binding b;
+  b.control.text = "cc 7";
+  b.target = TargetKind::HandleY;
+  b.target_text = "handle.head.y";
+  b.tf.lo = 0;
+  b.tf.hi = 100;
+  show.bindings.push_back(b);
+  m.add_binding(b);
+  SDL_Surface* surface = SDL_CreateRGBSurfaceWithFormat(0, 640, 360, 32, SDL_PIXELFORMAT_ABGR8888);
+  SDL_Renderer* r = SDL_CreateSoftwareRenderer(surface);
+  Hud hud(show);
+  ASSERT_EQ(hud.load_font(r), "");
+  Event e;
+  e.kind = ControlKind::MidiCC;
+  e.number = 7;
+  e.hi = 127;
+  const DeviceState states[] = {DeviceState::Connected};
+  auto frame = [&](int f) {
+    e.value = f % 128;
+    m.apply(e);
+    const Event last[] = {e};
+    hud.draw(r, 640, 360, HudFrame{1000.0 + f, 16667, 8, 8, 0.01 * f, states, last}, m);
+    SDL_RenderFlush(r);
+  };
+  for (int f = 0; f < 10; ++f) frame(f);
+  const long before = test::allocation_count();
+  for (int f = 10; f < 200; ++f) frame(f);
+  EXPECT_EQ(test::allocation_count() - before, 0);
+  EXPECT_GE(hud.line_count(), 3u);
+  SDL_DestroyRenderer(r);
+  SDL_FreeSurface(surface);
 }
 
 }  // namespace
