@@ -453,7 +453,7 @@ TEST(Live, ATransparentStageHasAlphaInDumpsAndInAWindowThatCan) {
 // scaled to fit, letterboxed.
 TEST(Live, OutputSizeIsTheCanvasAndTheWindowLetterboxesIt) {
   const auto dir = test::temp_dir("output_size");
-  const auto path = show_file("output.toml", R"(
+  const auto path = show_file("output.toml", R"(hud = false
 [output]
 width = 480
 height = 270
