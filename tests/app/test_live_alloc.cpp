@@ -3,6 +3,7 @@
 #include "alloc_counter.h"
 #include "app/alloc_count.h"
 #include "app/live.h"
+#include "loop/hud_show.h"
 #include "test_util.h"
 
 #include <SDL.h>
@@ -78,21 +79,9 @@ TEST(LiveAlloc, TheAttractLoopStartingAndHandingOverAllocatesNothing) {
 // buffers and drawn as copies from the glyph texture. Drawn here on SDL's software renderer
 // on a surface (a window's present, which goes through the window system, is counted apart).
 TEST(LiveAlloc, TheHudAllocatesNothing) {
-  ShowConfig show;
-  ShowDevice korg;
-  korg.name = "korg";
-  korg.type = "usb_midi";
-  show.devices = {korg};
-  Mapping m;
-  m.set_handles({"head"}, {Vec2(0, 0)});
-  Binding b;
-  b.control.text = "cc 7";
-  b.target = TargetKind::HandleY;
-  b.target_text = "handle.head.y";
-  b.tf.lo = 0;
-  b.tf.hi = 100;
-  show.bindings.push_back(b);
-  m.add_binding(b);
+  test::HudShow hs;
+  const ShowConfig& show = hs.show;
+  Mapping& m = hs.m;
   SDL_Surface* surface = SDL_CreateRGBSurfaceWithFormat(0, 640, 360, 32, SDL_PIXELFORMAT_ABGR8888);
   SDL_Renderer* r = SDL_CreateSoftwareRenderer(surface);
   Hud hud(show);

@@ -1,4 +1,5 @@
 #include "app/loop/hud.h"
+#include "hud_show.h"
 
 #include <SDL.h>
 #include <gtest/gtest.h>
@@ -27,31 +28,7 @@ struct Surface {
   }
 };
 
-struct ShowSetup {
-  ShowConfig show;
-  Mapping m;
-  ShowSetup() {
-    ShowDevice korg;
-    korg.name = "korg";
-    korg.type = "usb_midi";
-    ShowDevice knobs;
-    knobs.name = "knobs";
-    knobs.type = "gpio";
-    show.devices = {korg, knobs};
-    m.set_handles({"head"}, {Vec2(0, 0)});
-    Binding b;
-    b.control.kind = ControlSpec::CC;
-    b.control.number = 7;
-    b.control.text = "cc 7";
-    b.control.device = 0;
-    b.target = TargetKind::HandleY;
-    b.target_text = "handle.head.y";
-    b.tf.lo = 0;
-    b.tf.hi = 100;
-    show.bindings.push_back(b);
-    m.add_binding(b);
-  }
-};
+using ShowSetup = test::HudShow;
 
 Event cc(int number, int value) {
   Event e;
