@@ -242,7 +242,7 @@ bool LiveShow::open_output(std::string* err) {
     wo.transparent = background_.a < 1;
     std::string note;
     auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
-    if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] screen: " << note << "\n";
+    if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] " << note << "\n";
     if (w.ok()) {
       canvas_ = std::move(*w.value);
       if (sh.kiosk.enabled) SDL_ShowCursor(SDL_DISABLE);

@@ -93,7 +93,7 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
     const auto screens = list_screens(nullptr);
     screen = pick_screen(screens, o.screen, o.screen_name);
     if (screen < 0 && note) {
-      *note = "no screen " + (o.screen_name.empty() ? std::to_string(o.screen) : "named like '" + o.screen_name + "'") +
+      *note = "screen: no screen " + (o.screen_name.empty() ? std::to_string(o.screen) : "named like '" + o.screen_name + "'") +
               " among the " + std::to_string(screens.size()) + " there (marionette devices lists them); using the first";
     }
   }
@@ -142,7 +142,7 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
     c->backdrop_ = byte(o.fallback.r) | byte(o.fallback.g) << 8 | byte(o.fallback.b) << 16 | 255u << 24;
     c->backdrop_px_.resize(size_t(width) * size_t(height) * 4);
     if (note)
-      *note = std::string("this display gives windows no alpha channel (") + SDL_GetCurrentVideoDriver() +
+      *note += std::string(note->empty() ? "" : "; ") + "background: this display gives windows no alpha channel (" + SDL_GetCurrentVideoDriver() +
               (!forced_visual ? ", no ARGB visual" : !gl ? ", not drawn with OpenGL" : ", no alpha in its OpenGL surface") +
               "): the window shows the stage on " +
               color_hex(o.fallback) + " instead; dumps and outputs stay transparent";

@@ -55,7 +55,8 @@ class Canvas {
   /// Offscreen: a canvas of width x height. Needs no display.
   static Result<std::unique_ptr<Canvas>> offscreen(int width, int height);
   /// A window showing a canvas of width x height. `note` (when given) receives what the
-  /// window could not have as asked (a screen that is not there).
+  /// window could not have as asked (a screen that is not there, an alpha channel), each
+  /// part named after its [display] key.
   static Result<std::unique_ptr<Canvas>> window(const WindowOptions& o, int width, int height, std::string* note = nullptr);
   ~Canvas();
   Canvas(const Canvas&) = delete;

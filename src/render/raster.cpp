@@ -1,10 +1,14 @@
 #include "render/raster.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 namespace mar {
 namespace {
+
+// Pixels are bytes R, G, B, A; a packed pixel (pack()) is stored as one 32-bit word.
+static_assert(std::endian::native == std::endian::little, "packed RGBA stores assume a little-endian machine");
 
 // x / 255, rounded, for x in 0..255 * 255.
 inline std::uint32_t div255(std::uint32_t x) {
@@ -122,12 +126,12 @@ void Rasterizer::composite_solid(Band& b, SDL_Color c) {
   const PixelTarget& t = target_;
   const std::uint32_t a = c.a;
   const std::uint32_t src = pack(div255(c.r * a), div255(c.g * a), div255(c.b * a), a);
-  const int bx0_ = b.bx0, xend = std::min(b.bx1, stride_), xdraw = std::min(b.bx1, w_);
+  const int bx0 = b.bx0, xend = std::min(b.bx1, stride_), xdraw = std::min(b.bx1, w_);
   auto span = [&](std::uint8_t* d, int lo, int hi, std::uint32_t cov) {  // constant coverage over [lo, hi)
     if (cov == 0 || lo >= hi) return;
     if (cov == 255 && a == 255) {
       auto* p = reinterpret_cast<std::uint32_t*>(d) + lo;
-      for (int x = 0; x < hi - lo; ++x) p[x] = src;  // (little-endian RGBA)
+      for (int x = 0; x < hi - lo; ++x) p[x] = src;
     } else {
       for (int x = lo; x < hi; ++x) over(d + size_t(x) * 4, src, cov);
     }
@@ -137,8 +141,8 @@ void Rasterizer::composite_solid(Band& b, SDL_Color c) {
     std::uint8_t* flags = touched_.data() + size_t(y) * size_t(blocks_);
     std::uint8_t* d = t.px + size_t(y) * size_t(t.stride);
     float s = 0.0f;
-    for (int bx = bx0_ & ~(kBlock - 1); bx < xend; bx += kBlock) {
-      const int lo = std::max(bx, bx0_), hi = std::min(bx + kBlock, xend);
+    for (int bx = bx0 & ~(kBlock - 1); bx < xend; bx += kBlock) {
+      const int lo = std::max(bx, bx0), hi = std::min(bx + kBlock, xend);
       std::uint8_t& f = flags[bx >> kBlockShift];
       if (!f) {  // no edge here: the running coverage throughout
         span(d, lo, std::min(hi, xdraw), coverage_byte(s));
@@ -192,13 +196,17 @@ void Rasterizer::sample_triangle(Band& bd, const SDL_Vertex& a, const SDL_Vertex
   const float x0 = a.position.x, y0 = a.position.y;
   const float e1x = b.position.x - x0, e1y = b.position.y - y0, e2x = c.position.x - x0, e2y = c.position.y - y0;
   const float det = e1x * e2y - e1y * e2x;
-  if (!(std::fabs(det) > 1e-12f)) return;
+  if (!(std::fabs(det) > 1e-12f) || !std::isfinite(det)) return;  // (degenerate, or a vertex at infinity)
   const float inv = 1.0f / det;
-  // The band's rows and one more each side (edge pixels there take a neighbour's sample).
-  const int ylo = std::max({0, bd.y0 - 1, int(std::ceil(std::min({a.position.y, b.position.y, c.position.y}) - 0.5f))});
-  const int yhi = std::min({h_ - 1, bd.y1, int(std::floor(std::max({a.position.y, b.position.y, c.position.y}) - 0.5f))});
-  const int xlo = std::max(0, int(std::ceil(std::min({a.position.x, b.position.x, c.position.x}) - 0.5f)));
-  const int xhi = std::min(w_ - 1, int(std::floor(std::max({a.position.x, b.position.x, c.position.x}) - 0.5f)));
+  // The band's rows and one more each side (edge pixels there take a neighbour's sample);
+  // bounds clamped as floats first (a far-flung vertex must not overflow an int).
+  auto pixel_lo = [](float v, float lo, float hi) { return int(std::clamp(std::ceil(v - 0.5f), lo, hi)); };
+  auto pixel_hi = [](float v, float lo, float hi) { return int(std::clamp(std::floor(v - 0.5f), lo, hi)); };
+  const float ytop = float(std::max(0, bd.y0 - 1)), ybottom = float(std::min(h_ - 1, bd.y1)), xright = float(w_ - 1);
+  const int ylo = pixel_lo(std::min({a.position.y, b.position.y, c.position.y}), ytop, ybottom + 1);
+  const int yhi = pixel_hi(std::max({a.position.y, b.position.y, c.position.y}), ytop - 1, ybottom);
+  const int xlo = pixel_lo(std::min({a.position.x, b.position.x, c.position.x}), 0, xright + 1);
+  const int xhi = pixel_hi(std::max({a.position.x, b.position.x, c.position.x}), -1, xright);
   const float tw = float(tex.width), th = float(tex.height);
   for (int y = ylo; y <= yhi; ++y) {
     const float py = float(y) + 0.5f - y0;
