@@ -177,6 +177,7 @@ void draw_tiles(Canvas& c, const std::vector<Character>& chars, const std::vecto
                 double k, DrawList& list) {
   c.clear(Rgba{1, 1, 1, 1});
   list.clear();
+  list.fringe = c.wants_fringe();
   const int n = static_cast<int>(chars.size());
   const int tw = c.width() / n;
   for (int i = 0; i < n; ++i) {

@@ -449,6 +449,7 @@ void LiveShow::render() {
   stats_.quality.add(quality_pct_ * 1000.0);
   canvas_->clear(background_);
   list_.clear();
+  list_.fringe = canvas_->wants_fringe();
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
   canvas_->draw(list_);
 }

@@ -53,9 +53,12 @@ std::string LiveShow::stats_json() const {
       {"show", show_.path},
       {"frames", stats_.frames},
       {"rate_hz", 1.0 / pacer_.period_s()},
-      // Where the canvas is drawn, and the window's renderer ("software", "opengl", ...; "none" headless).
+      // Where the canvas is drawn ("gpu": by the window's accelerated renderer, with fringes;
+      // "software": the rasterizer), and the window's renderer ("software", "opengl", ...;
+      // "none" headless).
       {"canvas", {{"width", canvas_->width()}, {"height", canvas_->height()},
                   {"antialias", canvas_->antialias()},
+                  {"drawn_by", canvas_->gpu() ? "gpu" : "software"},
                   {"window_renderer", canvas_->is_window() ? canvas_->renderer_name() : "none"}}},
       {"stages_us", stages},
       {"overruns", stats_.overruns},

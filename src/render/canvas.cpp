@@ -64,6 +64,7 @@ std::vector<ScreenInfo> list_screens(std::string* error) {
     out.push_back(s);
   }
   SDL_QuitSubSystem(SDL_INIT_VIDEO);
+  if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0) SDL_Quit();  // (and SDL's D-Bus connection)
   return out;
 }
 
@@ -125,6 +126,21 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
   if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
   if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");  // (an OpenGL renderer re-creates the window)
   if (!c->wrenderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
+  c->premultiplied_ = SDL_ComposeCustomBlendMode(SDL_BLENDFACTOR_ONE, SDL_BLENDFACTOR_ONE_MINUS_SRC_ALPHA, SDL_BLENDOPERATION_ADD,
+                                                 SDL_BLENDFACTOR_ONE, SDL_BLENDFACTOR_ONE_MINUS_SRC_ALPHA, SDL_BLENDOPERATION_ADD);
+  // The GPU draws the canvas where the renderer is an accelerated one with render targets.
+  SDL_RendererInfo info;
+  if (o.gpu && SDL_GetRendererInfo(c->wrenderer_, &info) == 0 && !(info.flags & SDL_RENDERER_SOFTWARE) &&
+      SDL_RenderTargetSupported(c->wrenderer_)) {
+    c->target_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_TARGET, width, height);
+    if (c->target_ && SDL_SetTextureBlendMode(c->target_, c->premultiplied_) == 0) {
+      SDL_SetTextureScaleMode(c->target_, SDL_ScaleModeLinear);
+      c->gpu_ = true;
+    } else if (note) {
+      *note += std::string(note->empty() ? "" : "; ") + "gpu: the " + info.name + " renderer cannot draw the " + std::to_string(width) + "x" +
+               std::to_string(height) + " canvas (" + SDL_GetError() + "); it is drawn in software and uploaded";
+    }
+  }
   c->shown_tex_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STREAMING, width, height);
   if (!c->shown_tex_) return R::failure(std::string("cannot create the canvas texture: ") + SDL_GetError());
   SDL_SetTextureBlendMode(c->shown_tex_, SDL_BLENDMODE_NONE);
@@ -154,6 +170,8 @@ int Canvas::screen() const { return window_ ? SDL_GetWindowDisplayIndex(window_)
 
 Canvas::~Canvas() {
   for (auto& [k, t] : textures_) SDL_DestroyTexture(t);
+  for (auto& [k, t] : gpu_textures_) SDL_DestroyTexture(t);
+  if (target_) SDL_DestroyTexture(target_);
   if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
@@ -178,6 +196,15 @@ void Canvas::make_white() {
 
 void Canvas::clear(const Rgba& bg) {
   auto byte = [](float v) { return static_cast<Uint8>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255.0f)); };
+  composed_ = false;
+  if (gpu_) {
+    SDL_SetRenderTarget(wrenderer_, target_);
+    SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_NONE);
+    SDL_SetRenderDrawColor(wrenderer_, byte(bg.r * bg.a), byte(bg.g * bg.a), byte(bg.b * bg.a), byte(bg.a));
+    SDL_RenderClear(wrenderer_);
+    SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+    return;
+  }
   // Stored premultiplied, which is what blending onto it then keeps.
   SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_NONE);
   SDL_SetRenderDrawColor(renderer_, byte(bg.r * bg.a), byte(bg.g * bg.a), byte(bg.b * bg.a), byte(bg.a));
@@ -187,6 +214,12 @@ void Canvas::clear(const Rgba& bg) {
 }
 
 PixelTarget Canvas::pixels() {
+  if (gpu_) {  // read back from the GPU into the surface
+    SDL_Texture* was = SDL_GetRenderTarget(wrenderer_);
+    SDL_SetRenderTarget(wrenderer_, target_);
+    SDL_RenderReadPixels(wrenderer_, nullptr, SDL_PIXELFORMAT_ABGR8888, surface_->pixels, surface_->pitch);
+    SDL_SetRenderTarget(wrenderer_, was);
+  }
   SDL_RenderFlush(renderer_);  // what SDL still has queued for the canvas goes first
   return {static_cast<std::uint8_t*>(surface_->pixels), width_, height_, surface_->pitch};
 }
@@ -208,8 +241,46 @@ SDL_Texture* Canvas::texture_for(const Texture* t) {
   return tex;
 }
 
+// Textures for the GPU, uploaded premultiplied for lists built with fringes (their modulation
+// colours are premultiplied too: bilinear filtering then blends no dark halo in); straight
+// for plain lists. Keyed by the texture's address, with the low bit for "premultiplied".
+SDL_Texture* Canvas::gpu_texture_for(const Texture* t, bool premultiplied) {
+  const auto* key = reinterpret_cast<const Texture*>(reinterpret_cast<std::uintptr_t>(t) | (premultiplied ? 1u : 0u));
+  auto it = gpu_textures_.find(key);
+  if (it != gpu_textures_.end()) return it->second;
+  SDL_Texture* tex = SDL_CreateTexture(wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, t->width, t->height);
+  if (tex) {
+    upload_.assign(t->rgba.begin(), t->rgba.end());
+    if (premultiplied)
+      for (size_t i = 0; i + 3 < upload_.size(); i += 4)
+        for (size_t ch = 0; ch < 3; ++ch) upload_[i + ch] = std::uint8_t((upload_[i + ch] * upload_[i + 3] + 127) / 255);
+    SDL_UpdateTexture(tex, nullptr, upload_.data(), t->width * 4);
+    SDL_SetTextureBlendMode(tex, premultiplied ? premultiplied_ : SDL_BLENDMODE_BLEND);
+    SDL_SetTextureScaleMode(tex, SDL_ScaleModeLinear);
+  }
+  gpu_textures_.emplace(key, tex);
+  return tex;
+}
+
+// The GPU draws the list into the canvas texture: SDL queues the triangles (batched) and hands
+// them to the driver at present or read-back.
+std::string Canvas::draw_gpu(const DrawList& list) {
+  SDL_SetRenderTarget(wrenderer_, target_);
+  SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+  for (const DrawList::Batch& b : list.batches) {
+    if (b.index_count <= 0) continue;
+    SDL_Texture* tex = b.texture ? gpu_texture_for(b.texture, list.fringe) : nullptr;
+    if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
+    if (SDL_RenderGeometry(wrenderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
+                           list.indices.data() + b.first_index, b.index_count) != 0)
+      return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
+  }
+  return {};
+}
+
 std::string Canvas::draw(const DrawList& list) {
   composed_ = false;
+  if (gpu_) return draw_gpu(list);
   if (antialias_) {
     raster_.draw(list, pixels());
     return {};
@@ -275,6 +346,21 @@ std::vector<std::uint8_t> Canvas::read_premultiplied() {
 void Canvas::compose() {
   if (!window_ || composed_) return;
   composed_ = true;
+  if (gpu_) {
+    SDL_SetRenderTarget(wrenderer_, nullptr);
+    place();
+    SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_NONE);
+    SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, window_alpha_ ? 0 : 255);
+    SDL_RenderClear(wrenderer_);
+    if (backdrop_on_) {  // the canvas over the chroma colour
+      SDL_SetRenderDrawColor(wrenderer_, backdrop_ & 0xFF, backdrop_ >> 8 & 0xFF, backdrop_ >> 16 & 0xFF, 255);
+      SDL_RenderFillRect(wrenderer_, &shown_);
+    }
+    SDL_SetTextureBlendMode(target_, backdrop_on_ ? premultiplied_ : SDL_BLENDMODE_NONE);
+    SDL_RenderCopy(wrenderer_, target_, nullptr, &shown_);
+    SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+    return;
+  }
   const PixelTarget t = pixels();
   if (backdrop_on_) {  // premultiplied canvas over the opaque chroma colour
     for (int y = 0; y < height_; ++y) {
@@ -290,16 +376,20 @@ void Canvas::compose() {
   } else {
     SDL_UpdateTexture(shown_tex_, nullptr, t.px, t.stride);
   }
-  SDL_GetRendererOutputSize(wrenderer_, &ww_, &wh_);
-  // Scaled to fit, centred; the bars around it black (transparent in a window with alpha).
-  const double s = std::min(double(ww_) / width_, double(wh_) / height_);
-  const int w = std::max(1, int(std::lround(width_ * s))), h = std::max(1, int(std::lround(height_ * s)));
-  shown_ = {(ww_ - w) / 2, (wh_ - h) / 2, w, h};
+  place();
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_NONE);
   SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, window_alpha_ ? 0 : 255);
   SDL_RenderClear(wrenderer_);
   SDL_RenderCopy(wrenderer_, shown_tex_, nullptr, &shown_);
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+}
+
+// Scaled to fit, centred; the bars around it black (transparent in a window with alpha).
+void Canvas::place() {
+  SDL_GetRendererOutputSize(wrenderer_, &ww_, &wh_);
+  const double s = std::min(double(ww_) / width_, double(wh_) / height_);
+  const int w = std::max(1, int(std::lround(width_ * s))), h = std::max(1, int(std::lround(height_ * s)));
+  shown_ = {(ww_ - w) / 2, (wh_ - h) / 2, w, h};
 }
 
 void Canvas::present() {

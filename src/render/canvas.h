@@ -3,6 +3,10 @@
 // software renderer. Offscreen, that is all. A window shows the canvas scaled to fit,
 // letterboxed, whatever its own size; overlays for the performer (the HUD) are drawn on the
 // window after the canvas, never into it, so dumps and outputs never carry them.
+//
+// In a window with an accelerated renderer (OpenGL, GLES2) the canvas is a texture the GPU
+// draws into instead: the same triangles with a one-pixel fringe for anti-aliasing
+// (DrawList::fringe; ask wants_fringe()), read back only when someone reads the pixels.
 #pragma once
 
 #include "character/character.h"
@@ -30,6 +34,9 @@ struct WindowOptions {
   int width = 0, height = 0;    ///< the window's size (0: the canvas's)
   bool fullscreen = false;
   bool software = false;        ///< SDL's software renderer instead of the GPU's
+  /// With an accelerated renderer, the canvas is a render target the GPU draws into (fringe
+  /// anti-aliasing, DrawList::fringe); false keeps the software rasterizer and uploads its pixels.
+  bool gpu = true;
   int screen = -1;              ///< screen index (-1: SDL's choice)
   std::string screen_name;      ///< or a substring of its name (case-insensitive)
   /// A window with an alpha channel (X11: an ARGB visual, premultiplied, as compositors and
@@ -69,6 +76,10 @@ class Canvas {
   /// Anti-aliased (the default) or SDL's aliased software triangles.
   void set_antialias(bool on) { antialias_ = on; }
   bool antialias() const { return antialias_; }
+  /// Whether draw() wants its list built with fringes (the GPU draws the canvas, anti-aliased).
+  bool wants_fringe() const { return gpu_ && antialias_; }
+  /// Whether the GPU draws the canvas (a window with an accelerated renderer).
+  bool gpu() const { return gpu_; }
 
   /// Fills the whole canvas with a straight-alpha colour (alpha 0 = transparent).
   void clear(const Rgba& background);
@@ -108,6 +119,14 @@ class Canvas {
   bool antialias_ = true;
   Rasterizer raster_;
   std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
+  std::string draw_gpu(const DrawList& list);
+  SDL_Texture* gpu_texture_for(const Texture* t, bool premultiplied);
+  void place();  ///< where the canvas shows in the window
+  bool gpu_ = false;
+  SDL_Texture* target_ = nullptr;  ///< the canvas on the GPU (gpu_)
+  std::unordered_map<const Texture*, SDL_Texture*> gpu_textures_;  ///< premultiplied
+  std::vector<std::uint8_t> upload_;  ///< a texture being premultiplied
+  SDL_BlendMode premultiplied_ = SDL_BLENDMODE_INVALID;  ///< "over" for premultiplied colours
   void make_white();
   SDL_Texture* white_ = nullptr;  ///< one white texel (draw_software)
   // SDL's software renderer gets every triangle with its own vertices (see draw_software());

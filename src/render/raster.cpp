@@ -122,6 +122,17 @@ void Rasterizer::add_triangle(Band& b, const SDL_FPoint& a, const SDL_FPoint& q0
   b.by1 = std::max(b.by1, int(std::clamp(std::ceil(hi_y), float(b.y0), float(b.y1))));
 }
 
+// One outline edge, and the item's cells grown to hold it.
+void Rasterizer::add_edge(Band& b, const SDL_FPoint& p, const SDL_FPoint& q) {
+  const float lo_y = std::min(p.y, q.y), hi_y = std::max(p.y, q.y);
+  if (!(hi_y > float(b.y0)) || !(lo_y < float(b.y1))) return;  // (also NaN)
+  add_line(b, p.x, p.y, q.x, q.y);
+  b.bx0 = std::min(b.bx0, int(std::clamp(std::floor(std::min(p.x, q.x)), 0.0f, float(w_))));
+  b.bx1 = std::max(b.bx1, int(std::clamp(std::ceil(std::max(p.x, q.x)), 0.0f, float(w_))) + 2);
+  b.by0 = std::min(b.by0, int(std::clamp(std::floor(lo_y), float(b.y0), float(b.y1))));
+  b.by1 = std::max(b.by1, int(std::clamp(std::ceil(hi_y), float(b.y0), float(b.y1))));
+}
+
 void Rasterizer::composite_solid(Band& b, SDL_Color c) {
   const PixelTarget& t = target_;
   const std::uint32_t a = c.a;
@@ -284,6 +295,17 @@ void Rasterizer::band(Band& b) {
       b.by0 = b.y1;
       b.bx1 = 0;
       b.by1 = b.y0;
+      // A fill with its outline (DrawList::item_outline): the outline's edges stand for the
+      // triangles' (the textured ones still sample through the triangles).
+      const size_t item = next_start - 1;
+      if (next_start > 0 && item < list.item_outline.size() && list.item_starts[item] == k &&
+          list.item_outline[item][1] > list.item_outline[item][0]) {
+        const auto [o0, o1] = list.item_outline[item];
+        for (int e = o0; e + 1 < o1; e += 2) add_edge(b, v[size_t(list.outline[size_t(e)])].position, v[size_t(list.outline[size_t(e + 1)])].position);
+        if (tex)
+          for (; k + 2 < stop; k += 3) sample_triangle(b, v[size_t(idx[size_t(k)])], v[size_t(idx[size_t(k + 1)])], v[size_t(idx[size_t(k + 2)])], *tex);
+        k = stop;
+      }
       for (; k + 2 < stop; k += 3) {
         const SDL_Vertex& p = v[size_t(idx[size_t(k)])];
         const SDL_Vertex& q = v[size_t(idx[size_t(k + 1)])];

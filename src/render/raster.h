@@ -57,6 +57,7 @@ class Rasterizer {
   void band(Band& b);
   void add_line(Band& b, float x0, float y0, float x1, float y1);
   void add_triangle(Band& b, const SDL_FPoint& p, const SDL_FPoint& q, const SDL_FPoint& r);
+  void add_edge(Band& b, const SDL_FPoint& p, const SDL_FPoint& q);
   void sample_triangle(Band& b, const SDL_Vertex& p, const SDL_Vertex& q, const SDL_Vertex& r, const Texture& tex);
   void composite_solid(Band& b, SDL_Color color);
   void composite_textured(Band& b);

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <tuple>
 
 namespace mar {
 namespace {
@@ -50,6 +52,289 @@ void end_batch(DrawList& out) {
   b.index_count = static_cast<int>(out.indices.size()) - b.first_index;
 }
 
+// The edges of a fill's triangulation that only one triangle has. Vertices at the same rest
+// position count as one (a ring's closing point, a point where two rings touch).
+std::vector<std::array<int, 3>> fill_outline(const FillMesh& m) {
+  std::map<std::pair<double, double>, int> first;
+  std::vector<int> canon(m.vertices.size());
+  for (size_t v = 0; v < m.vertices.size(); ++v)
+    canon[v] = first.emplace(std::make_pair(m.vertices[v].x(), m.vertices[v].y()), int(v)).first->second;
+  struct Half {
+    int lo, hi, a, b, c;
+  };
+  std::vector<Half> halves;
+  for (size_t t = 0; t + 2 < m.triangles.size(); t += 3)
+    for (int k = 0; k < 3; ++k) {
+      const int a = m.triangles[t + size_t(k)], b = m.triangles[t + size_t((k + 1) % 3)], c = m.triangles[t + size_t((k + 2) % 3)];
+      const int ca = canon[size_t(a)], cb = canon[size_t(b)];
+      if (ca == cb) continue;
+      halves.push_back({std::min(ca, cb), std::max(ca, cb), a, b, c});
+    }
+  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) { return std::tie(x.lo, x.hi) < std::tie(y.lo, y.hi); });
+  std::vector<std::array<int, 3>> out;
+  for (size_t i = 0; i < halves.size();) {
+    size_t j = i;
+    while (j < halves.size() && halves[j].lo == halves[i].lo && halves[j].hi == halves[i].hi) ++j;
+    if (j - i == 1) out.push_back({halves[i].a, halves[i].b, halves[i].c});
+    i = j;
+  }
+  return out;
+}
+
+SDL_Color with_alpha(SDL_Color c, double k) {
+  c.a = static_cast<Uint8>(std::lround(std::clamp(k, 0.0, 1.0) * c.a));
+  return c;
+}
+
+double cross2(const Vec2& a, const Vec2& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+// A fill with its fringe (DrawList::fringe). `pos`: the mesh's vertices in pixels.
+void fill_with_fringe(const ShapeMesh& sm, std::span<const Vec2> pos, SDL_Color col, bool textured, DrawList& out) {
+  auto& fv = out.fringe_scratch;
+  const size_t nv = pos.size();
+  fv.assign(nv, DrawList::FringeVertex{});
+  for (size_t v = 0; v < nv; ++v) fv[v].p = pos[v];
+  // Outward normals of the outline's edges, summed at their ends.
+  for (const auto& [a, b, c] : sm.outline) {
+    const Vec2 e = pos[size_t(b)] - pos[size_t(a)];
+    const double len = e.norm();
+    if (!(len > 1e-9)) continue;
+    Vec2 n = perp(e) / len;
+    if (n.dot(pos[size_t(c)] - pos[size_t(a)]) > 0) n = -n;
+    for (int v : {a, b}) {
+      fv[size_t(v)].off += n;
+      fv[size_t(v)].count += 1;
+    }
+    if (textured) {  // the texture's gradient at a and b, from this triangle
+      const Vec2 p = pos[size_t(b)] - pos[size_t(a)], q = pos[size_t(c)] - pos[size_t(a)];
+      const double det = cross2(p, q);
+      if (std::abs(det) > 1e-12) {
+        const SDL_FPoint ua = sm.uv[size_t(a)], ub = sm.uv[size_t(b)], uc = sm.uv[size_t(c)];
+        const double du1 = ub.x - ua.x, du2 = uc.x - ua.x, dv1 = ub.y - ua.y, dv2 = uc.y - ua.y;
+        const double j[4] = {(du1 * q.y() - du2 * p.y()) / det, (du2 * p.x() - du1 * q.x()) / det,
+                             (dv1 * q.y() - dv2 * p.y()) / det, (dv2 * p.x() - dv1 * q.x()) / det};
+        for (int v : {a, b}) std::copy(j, j + 4, fv[size_t(v)].j);
+      }
+    }
+  }
+  // Half a pixel along the mitred normal (at most 2 px at a sharp corner).
+  for (auto& x : fv) {
+    if (x.count == 0) continue;
+    const Vec2 avg = x.off / x.count;
+    const double l2 = avg.squaredNorm();
+    x.off = l2 > 1e-12 ? Vec2(0.5 * avg / l2) : Vec2(Vec2::Zero());
+    if (x.off.norm() > 2) x.off *= 2 / x.off.norm();
+  }
+  // Where the shape is thinner than a pixel, pulling both sides in by half a pixel would turn
+  // triangles over: pull them in only until the triangle closes, and draw them that much fainter
+  // (a band w < 1 px wide ends up as a 1 px fringe at alpha w, its coverage).
+  const auto& tris = sm.fill.triangles;
+  for (size_t t = 0; t + 2 < tris.size(); t += 3) {
+    const int a = tris[t], b = tris[t + 1], c = tris[t + 2];
+    if (fv[size_t(a)].count == 0 && fv[size_t(b)].count == 0 && fv[size_t(c)].count == 0) continue;
+    const Vec2 u = pos[size_t(b)] - pos[size_t(a)], w = pos[size_t(c)] - pos[size_t(a)];
+    const Vec2 du = fv[size_t(a)].off - fv[size_t(b)].off, dw = fv[size_t(a)].off - fv[size_t(c)].off;
+    auto area = [&](double s) { return cross2(u + s * du, w + s * dw); };
+    const double a0 = area(0);
+    if (a0 == 0 || area(1) * a0 > 0) continue;
+    // Thin means outlines facing each other across the triangle; a sliver along one side of a
+    // thick shape (its offsets side by side) may turn over at a concave corner harmlessly.
+    auto opposed = [&](int x, int y) { return fv[size_t(x)].off.dot(fv[size_t(y)].off) < -0.1 * fv[size_t(x)].off.norm() * fv[size_t(y)].off.norm(); };
+    if (!opposed(a, b) && !opposed(b, c) && !opposed(a, c)) continue;
+    double lo = 0, hi = 1;
+    for (int it = 0; it < 12; ++it) {
+      const double mid = 0.5 * (lo + hi);
+      (area(mid) * a0 > 0 ? lo : hi) = mid;
+    }
+    for (int v : {a, b, c}) fv[size_t(v)].f = std::min(fv[size_t(v)].f, lo);
+  }
+  // The inside, pulled in; then the fringe, one quad per outline edge.
+  auto uv_at = [&](size_t v, const Vec2& d) {
+    if (!textured) return SDL_FPoint{0, 0};
+    const auto& j = fv[v].j;
+    return SDL_FPoint{std::clamp(float(sm.uv[v].x + j[0] * d.x() + j[1] * d.y()), 0.0f, 1.0f),
+                      std::clamp(float(sm.uv[v].y + j[2] * d.x() + j[3] * d.y()), 0.0f, 1.0f)};
+  };
+  SDL_Color clear = col;
+  clear.a = 0;
+  if (textured) clear = {0, 0, 0, 0};
+  const int base = static_cast<int>(out.vertices.size());
+  for (size_t v = 0; v < nv; ++v) {
+    const Vec2 d = -fv[v].f * fv[v].off;
+    SDL_Color c = with_alpha(col, fv[v].f);
+    if (textured) c = {Uint8(c.r * c.a / 255), Uint8(c.g * c.a / 255), Uint8(c.b * c.a / 255), c.a};
+    push_vertex(out, fv[v].p + d, c, uv_at(v, d));
+  }
+  for (int idx : tris) out.indices.push_back(base + idx);
+  for (const auto& [a, b, c] : sm.outline) {
+    for (int v : {a, b})
+      if (fv[size_t(v)].outer < 0) fv[size_t(v)].outer = push_vertex(out, fv[size_t(v)].p + fv[size_t(v)].off, clear, uv_at(size_t(v), fv[size_t(v)].off));
+    tri(out, base + a, base + b, fv[size_t(b)].outer);
+    tri(out, base + a, fv[size_t(b)].outer, fv[size_t(a)].outer);
+  }
+}
+
+// A fan around p with its fringe: the core out to radius `core` along each of `n` directions
+// dir(k) (scaled: a direction of length l reaches l * radius), then a strip out to `outer`
+// whose alpha falls to 0. Round joins and caps, mitres, bevels and square dots are all fans.
+template <class Dir>
+void fringed_fan(DrawList& out, const Vec2& p, int n, Dir dir, double core, double outer, SDL_Color col) {
+  SDL_Color clear = col;
+  clear.a = 0;
+  const int ic = push_vertex(out, p, col);
+  int pc = -1, po = -1;
+  for (int k = 0; k < n; ++k) {
+    const Vec2 u = dir(k);
+    const int c = push_vertex(out, p + core * u, col), o = push_vertex(out, p + outer * u, clear);
+    if (k > 0) {
+      tri(out, ic, pc, c);
+      tri(out, pc, c, o);
+      tri(out, pc, o, po);
+    }
+    pc = c;
+    po = o;
+  }
+}
+
+// A stroke with its fringe (DrawList::fringe): a core w - 1 px wide and half-pixel fringes
+// either side; thinner than a pixel, a 1 px fringe at alpha w. Segments overlap at joins as the
+// plain stroke's do; only the outside of a join (and the caps) get a fan of their own.
+void stroke_with_fringe(std::span<const Vec2> pts, bool closed, const StrokeStyle& st, SDL_Color col, DrawList& out) {
+  const size_t n = pts.size();
+  const double hw = std::max(st.half_width, 0.5);
+  col = with_alpha(col, std::min(1.0, 2 * st.half_width));
+  SDL_Color clear = col;
+  clear.a = 0;
+  const double core = hw - 0.5, outer = hw + 0.5;
+  const size_t nseg = closed ? n : n - 1;
+  auto dir = [&](size_t i) -> Vec2 {
+    const Vec2 d = pts[(i + 1) % n] - pts[i];
+    const double len = d.norm();
+    return len > 1e-12 ? Vec2(d / len) : Vec2(Vec2::Zero());
+  };
+  size_t first = nseg, last = nseg;  // the first and last segments that have a direction
+  for (size_t i = 0; i < nseg; ++i)
+    if (!dir(i).isZero()) {
+      if (first == nseg) first = i;
+      last = i;
+    }
+  auto round_dirs = [&](const Vec2& from, double sweep) {
+    const double r = outer;
+    const double max_step = r > st.tolerance ? 2.0 * std::acos(std::max(-1.0, 1.0 - st.tolerance / r)) : M_PI / 2;
+    const int steps = std::clamp(static_cast<int>(std::ceil(std::abs(sweep) / std::max(max_step, 1e-3))), 1, 64);
+    const double a0 = std::atan2(from.y(), from.x());
+    return std::make_pair(steps + 1, [a0, sweep, steps](int k) {
+      const double a = a0 + sweep * k / steps;
+      return Vec2(std::cos(a), std::sin(a));
+    });
+  };
+  if (first == nseg) {  // all points coincide: a dot, drawn by round or square caps only
+    if (st.cap == LineCap::Round) {
+      auto [cnt, f] = round_dirs(Vec2(1, 0), 2 * M_PI);
+      fringed_fan(out, pts[0], cnt, f, core, outer, col);
+    } else if (st.cap == LineCap::Square) {
+      const Vec2 c[5] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}, {-1, -1}};
+      fringed_fan(out, pts[0], 5, [&](int k) { return c[k]; }, core, outer, col);
+    }
+    return;
+  }
+  // An open end: a round cap is a half fan; butt and square end with a fringe across.
+  const bool open = !closed;
+  auto end_of = [&](const Vec2& p, const Vec2& d, bool at_end) {  // d: the segment's direction
+    const Vec2 o = at_end ? d : Vec2(-d);
+    if (st.cap == LineCap::Round) return p;
+    return Vec2(p + o * ((st.cap == LineCap::Square ? st.half_width : 0.0) - 0.5));
+  };
+  for (size_t i = 0; i < nseg; ++i) {
+    const Vec2 d = dir(i);
+    if (d.isZero()) continue;
+    Vec2 a = pts[i], b = pts[(i + 1) % n];
+    if (open && i == first) a = end_of(a, d, false);
+    if (open && i == last) b = end_of(b, d, true);
+    const Vec2 nr = perp(d);
+    int prev[4] = {-1, -1, -1, -1};
+    for (const Vec2& p : {a, b}) {
+      const int v[4] = {push_vertex(out, p + outer * nr, clear), push_vertex(out, p + core * nr, col),
+                        push_vertex(out, p - core * nr, col), push_vertex(out, p - outer * nr, clear)};
+      if (prev[0] >= 0)
+        for (int k = 0; k < 3; ++k) {
+          tri(out, prev[k], prev[k + 1], v[k + 1]);
+          tri(out, prev[k], v[k + 1], v[k]);
+        }
+      std::copy(v, v + 4, prev);
+    }
+  }
+  // Joins: the outside of each turn.
+  auto join_at = [&](const Vec2& p, const Vec2& d0, const Vec2& d1) {
+    const double cross = d0.x() * d1.y() - d0.y() * d1.x();
+    const double dot = d0.dot(d1);
+    if (std::abs(cross) < 1e-9 && dot > 0) return;
+    const double s = cross > 0 ? -1.0 : 1.0;
+    const Vec2 n0 = s * perp(d0), n1 = s * perp(d1);
+    if (st.join == LineJoin::Round || (std::abs(cross) < 1e-9 && st.join != LineJoin::Bevel)) {
+      double delta = std::atan2(n1.y(), n1.x()) - std::atan2(n0.y(), n0.x());
+      while (delta > M_PI) delta -= 2 * M_PI;
+      while (delta < -M_PI) delta += 2 * M_PI;
+      if (std::abs(cross) < 1e-9) delta = cross2(n0, d0) > 0 ? M_PI : -M_PI;
+      if (st.join == LineJoin::Round) {
+        auto [cnt, f] = round_dirs(n0, delta);
+        fringed_fan(out, p, cnt, f, core, outer, col);
+        return;
+      }
+    }
+    if (st.join == LineJoin::Miter) {
+      const double sin_half = std::sqrt(std::max(0.0, (1.0 + dot) / 2.0));
+      const Vec2 m = n0 + n1;
+      if (sin_half > 1e-9 && 1.0 / sin_half <= st.miter_limit && m.norm() > 1e-12) {
+        const Vec2 tip = m / m.norm() / sin_half;
+        const Vec2 u[3] = {n0, tip, n1};
+        fringed_fan(out, p, 3, [&](int k) { return u[k]; }, core, outer, col);
+        return;
+      }
+    }
+    const Vec2 u[2] = {n0, n1};
+    fringed_fan(out, p, 2, [&](int k) { return u[k]; }, core, outer, col);
+  };
+  Vec2 last_dir = Vec2::Zero();
+  for (size_t i = 0; i < nseg; ++i) {
+    const Vec2 d = dir(i);
+    if (d.isZero()) continue;
+    if (!last_dir.isZero()) join_at(pts[i], last_dir, d);
+    last_dir = d;
+  }
+  if (closed) {
+    join_at(pts[first], last_dir, dir(first));
+    return;
+  }
+  // Caps: a half fan (round), or a fringe across the end (butt, square; the segment stops half a
+  // pixel short of it).
+  auto cap = [&](const Vec2& p, const Vec2& d) {  // d points outwards
+    const Vec2 nr = perp(d);
+    if (st.cap == LineCap::Round) {
+      auto [cnt, f] = round_dirs(nr, cross2(nr, d) > 0 ? M_PI : -M_PI);
+      fringed_fan(out, p, cnt, f, core, outer, col);
+      return;
+    }
+    const Vec2 e = p + d * ((st.cap == LineCap::Square ? st.half_width : 0.0) - 0.5);
+    int prev[4] = {-1, -1, -1, -1};
+    for (int row = 0; row < 2; ++row) {
+      const Vec2 q = e + d * double(row);
+      const SDL_Color in = row == 0 ? col : clear;
+      const int v[4] = {push_vertex(out, q + outer * nr, clear), push_vertex(out, q + core * nr, in),
+                        push_vertex(out, q - core * nr, in), push_vertex(out, q - outer * nr, clear)};
+      if (prev[0] >= 0)
+        for (int k = 0; k < 3; ++k) {
+          tri(out, prev[k], prev[k + 1], v[k + 1]);
+          tri(out, prev[k], v[k + 1], v[k]);
+        }
+      std::copy(v, v + 4, prev);
+    }
+  };
+  cap(pts[first], -dir(first));
+  size_t last_end = (last + 1) % n;
+  cap(pts[last_end], dir(last));
+}
+
 }  // namespace
 
 CharacterMesh prepare_mesh(const Character& ch) {
@@ -60,6 +345,7 @@ CharacterMesh prepare_mesh(const Character& ch) {
     if (!s.fill.enabled) continue;
     const std::vector<Ring> rings = s.rings();
     m.shapes[i].fill = triangulate_fill(s.points, rings, s.fill.rule);
+    m.shapes[i].outline = fill_outline(m.shapes[i].fill);
     if (s.fill.texture) {
       for (const Vec2& v : m.shapes[i].fill.vertices) {
         // SDL_RenderGeometry rejects a whole call for one coordinate outside [0, 1],
@@ -76,6 +362,7 @@ void stroke_polyline(std::span<const Vec2> pts, bool closed, const StrokeStyle& 
                      DrawList& out) {
   const size_t n = pts.size();
   if (n < 2 || st.half_width <= 0) return;
+  if (out.fringe) return stroke_with_fringe(pts, closed, st, col, out);
   const double hw = st.half_width;
   const size_t nseg = closed ? n : n - 1;
   // Segment directions (zero-length segments get a zero direction and are skipped).
@@ -213,10 +500,29 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       const size_t nv = sm.fill.vertices.size();
       out.scratch.resize(nv);
       fill_mesh_positions(sm.fill, pts, out.scratch);
-      for (size_t v = 0; v < nv; ++v) {
-        push_vertex(out, view.apply(out.scratch[v]), col, tex ? sm.uv[v] : SDL_FPoint{0, 0});
+      for (Vec2& v : out.scratch) v = view.apply(v);
+      const int outline_begin = static_cast<int>(out.outline.size());
+      if (out.fringe) {
+        fill_with_fringe(sm, out.scratch, col, tex != nullptr, out);
+      } else {
+        for (size_t v = 0; v < nv; ++v) push_vertex(out, out.scratch[v], col, tex ? sm.uv[v] : SDL_FPoint{0, 0});
+        for (int idx : sm.fill.triangles) out.indices.push_back(base + idx);
+        // The outline stands for the triangles while none is turned over (counter-clockwise
+        // at rest, as the view keeps or mirrors them).
+        const double sign = view.det() < 0 ? -1.0 : 1.0;
+        bool folded = false;
+        const auto& t = sm.fill.triangles;
+        for (size_t k = 0; k + 2 < t.size() && !folded; k += 3) {
+          const Vec2 &a = out.scratch[size_t(t[k])], &b = out.scratch[size_t(t[k + 1])], &c = out.scratch[size_t(t[k + 2])];
+          folded = !(sign * ((b.x() - a.x()) * (c.y() - a.y()) - (b.y() - a.y()) * (c.x() - a.x())) >= 0);
+        }
+        if (!folded)
+          for (const auto& e : sm.outline) {
+            out.outline.push_back(base + e[0]);
+            out.outline.push_back(base + e[1]);
+          }
       }
-      for (int idx : sm.fill.triangles) out.indices.push_back(base + idx);
+      out.item_outline.push_back({outline_begin, static_cast<int>(out.outline.size())});
       end_batch(out);
     }
     if (s.stroke.enabled) {
@@ -229,6 +535,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity);
       begin_batch(out, nullptr);
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
+      out.item_outline.push_back({static_cast<int>(out.outline.size()), static_cast<int>(out.outline.size())});
       for (const Contour& c : s.contours) {
         if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));

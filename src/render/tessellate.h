@@ -5,6 +5,7 @@
 
 #include <SDL2/SDL_render.h>
 
+#include <array>
 #include <span>
 
 namespace mar {
@@ -14,6 +15,9 @@ namespace mar {
 struct ShapeMesh {
   FillMesh fill;
   std::vector<SDL_FPoint> uv;  ///< #fill.vertices texture coordinates (textured fills only)
+  /// The fill's outline, for fringe anti-aliasing (DrawList::fringe): each edge that only one
+  /// triangle has, as {a, b, c} — the edge a-b and that triangle's third vertex c (the inside).
+  std::vector<std::array<int, 3>> outline;
 };
 
 struct CharacterMesh {
@@ -37,13 +41,37 @@ struct DrawList {
   /// Where each paint item (one shape's fill, one stroke) begins, as offsets into `indices`:
   /// the anti-aliased rasterizer covers an item's triangles together (render/raster.h).
   std::vector<int> item_starts;
+  /// Per paint item (parallel to item_starts): its outline, a range of `outline` — index pairs
+  /// a, b into `vertices`, each the edge a -> b of one of its triangles that no other triangle
+  /// of the item has, in that triangle's winding. Empty for strokes, and for a fill with a
+  /// triangle turned over (a fold): the rasterizer then covers the triangles themselves. Its
+  /// triangles' inner edges cancel, so the outline alone gives the same coverage, with a third
+  /// of the edges (plain lists only).
+  std::vector<std::array<int, 2>> item_outline;
+  std::vector<int> outline;
   std::vector<Vec2> scratch;  ///< working space
+  /// Anti-aliased geometry for renderers that only draw aliased triangles (the GPU's): when
+  /// set before build_draw_list(), every fill and stroke comes with a fringe, a strip one pixel
+  /// wide along its outline whose alpha falls from the item's to 0 (ALGORITHMS.md §8, NanoVG's
+  /// way). The inside is pulled in by half a pixel, so the fringe straddles the true edge.
+  /// Textured fills then carry premultiplied modulation colours (their textures are uploaded
+  /// premultiplied, see Canvas). The software rasterizer wants the plain list (fringe unset).
+  bool fringe = false;
+  struct FringeVertex {
+    Vec2 p{0, 0}, off{0, 0};  ///< position; outward offset to the outer edge of the fringe
+    double count = 0, f = 1;  ///< outline edges met here; how far it may be pulled in (0..1)
+    double j[4] = {0, 0, 0, 0};  ///< d(uv)/d(position), textured fills
+    int outer = -1;           ///< the fringe's outer vertex
+  };
+  std::vector<FringeVertex> fringe_scratch;  ///< working space
 
   void clear() {
     vertices.clear();
     indices.clear();
     batches.clear();
     item_starts.clear();
+    item_outline.clear();
+    outline.clear();
   }
 };
 

@@ -1,7 +1,8 @@
 // What a frame's picture costs, for every example character at 640x720, 1920x1080 and
 // 3840x2160: the anti-aliased rasterizer (the canvas every mode draws), SDL's aliased software
-// triangles (what it replaced), a window's present through OpenGL (Mesa under Xvfb when there is
-// a display: the canvas uploaded and drawn letterboxed), and, as the anchor, librsvg rendering
+// triangles (what it replaced), a window's frame through OpenGL (Mesa's llvmpipe under Xvfb when
+// there is a display; llvmpipe is itself a CPU rasterizer on every core): drawn by the GPU with
+// fringes, and drawn by the rasterizer then uploaded, and, as the anchor, librsvg rendering
 // the same SVG at the same size with cairo (linked into this benchmark only). Each is the median
 // of repetitions; a table of medians and ratios follows the usual output. Also the draw-list
 // rebuild and the one-time mesh preparation.
@@ -61,8 +62,9 @@ void frame(benchmark::State& st, bool antialias) {
 void BM_frame_aa(benchmark::State& st) { frame(st, true); }
 void BM_frame_aliased(benchmark::State& st) { frame(st, false); }
 
-// A window's frame through OpenGL: the anti-aliased canvas drawn, uploaded and presented.
-void BM_frame_gl_window(benchmark::State& st) {
+// A window's frame through OpenGL, presented: the GPU draws the canvas (fringed triangles), or
+// (upload) the rasterizer draws it and the GPU only takes the pixels.
+void gl_window(benchmark::State& st, bool gpu) {
   const char* d = std::getenv("DISPLAY");
   if (!d || !*d) {
     st.SkipWithError("no display (run under xvfb-run)");
@@ -76,6 +78,7 @@ void BM_frame_gl_window(benchmark::State& st) {
   mar::WindowOptions wo;
   wo.width = 640;
   wo.height = 360;
+  wo.gpu = gpu;
   auto win = mar::Canvas::window(wo, w, h);
   if (!win.ok()) {
     st.SkipWithError(win.error.c_str());
@@ -92,12 +95,15 @@ void BM_frame_gl_window(benchmark::State& st) {
     SDL_PumpEvents();
     c.clear(mar::Rgba{0.96f, 0.95f, 0.92f, 1});
     list.clear();
+    list.fringe = c.wants_fringe();
     mar::build_draw_list(ch, mesh, {}, view, 0.3, list);
     c.draw(list);
     c.present();
   }
-  st.SetLabel(label(st) + " (" + c.renderer_name() + ")");
+  st.SetLabel(label(st) + " (" + c.renderer_name() + (c.gpu() ? ", drawn by the GPU)" : ", uploaded)"));
 }
+void BM_frame_gl_window(benchmark::State& st) { gl_window(st, true); }
+void BM_frame_gl_upload(benchmark::State& st) { gl_window(st, false); }
 
 // librsvg (cairo) rendering the same SVG at the same size, into an ARGB surface: the anchor.
 void BM_frame_librsvg(benchmark::State& st) {
@@ -141,6 +147,7 @@ void sizes(benchmark::internal::Benchmark* b) {
 BENCHMARK(BM_frame_aa)->Apply(sizes);
 BENCHMARK(BM_frame_aliased)->Apply(sizes);
 BENCHMARK(BM_frame_gl_window)->Apply(sizes);
+BENCHMARK(BM_frame_gl_upload)->Apply(sizes);
 BENCHMARK(BM_frame_librsvg)->Apply(sizes);
 
 void BM_build_draw_list(benchmark::State& st) {
@@ -178,17 +185,18 @@ int main(int argc, char** argv) {
     const std::string key = std::string(bm) + "/" + std::to_string(c) + "/" + std::to_string(s);
     return bench::median_us(collector, key + "/");
   };
-  std::printf("\nmedian us per frame            AA    aliased   AA/aliased   GL window   librsvg  librsvg/AA\n");
+  std::printf("\nmedian us per frame            AA    aliased   AA/aliased   GL (GPU)  GL (upload)   librsvg  librsvg/AA\n");
   for (int s = 0; s < 3; ++s)
     for (int c = 0; c < kCharacters; ++c) {
       const double aa = med("BM_frame_aa", c, s), al = med("BM_frame_aliased", c, s);
-      const double gl = med("BM_frame_gl_window", c, s), rs = med("BM_frame_librsvg", c, s);
+      const double gl = med("BM_frame_gl_window", c, s), up = med("BM_frame_gl_upload", c, s), rs = med("BM_frame_librsvg", c, s);
       if (aa < 0) continue;
-      char g[16] = "-", r[16] = "-", rr[16] = "-";
+      char g[16] = "-", u[16] = "-", r[16] = "-", rr[16] = "-";
       if (gl > 0) std::snprintf(g, sizeof g, "%.0f", gl);
+      if (up > 0) std::snprintf(u, sizeof u, "%.0f", up);
       if (rs > 0) std::snprintf(r, sizeof r, "%.0f", rs);
       if (rs > 0) std::snprintf(rr, sizeof rr, "%.1fx", rs / aa);
-      std::printf("%-10s %4dx%-4d %8.0f %9.0f %10.2fx %11s %9s %11s\n", kNames[c], kSizes[s][0], kSizes[s][1], aa, al, aa / al, g, r, rr);
+      std::printf("%-10s %4dx%-4d %8.0f %9.0f %10.2fx %10s %12s %9s %11s\n", kNames[c], kSizes[s][0], kSizes[s][1], aa, al, aa / al, g, u, r, rr);
     }
   return 0;
 }
