@@ -101,6 +101,14 @@ struct RunArgs {
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);
 
+struct RigArgs {
+  std::string input;   ///< the character
+  std::string mask;
+  std::string output;  ///< the rig to write ("": print it)
+};
+/// `rig`: the automatic rig of a character (rig/auto_rig.h).
+int cmd_rig(const RigArgs& a);
+
 struct DevicesArgs {
   bool json = false;
 };

@@ -102,6 +102,12 @@ int main(int argc, char** argv) {
   CLI::App* devices_cmd = app.add_subcommand("devices", "List the input devices every backend finds, their status and problems");
   devices_cmd->add_flag("--json", devs.json, "Machine-readable output");
 
+  mar::RigArgs rigargs;
+  CLI::App* rig_cmd = app.add_subcommand("rig", "The automatic rig of a character: hinges at its drawn joints, handles, swap sets and triggers");
+  rig_cmd->add_option("character", rigargs.input, "Character file (.svg or .png)")->required();
+  rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write (default: print it)");
+  rig_cmd->add_option("--mask", rigargs.mask, "Mask PNG for a PNG character (non-black = figure)");
+
   mar::RunArgs replay;
   CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");
   replay_cmd->add_option("recording", replay.replay, "File written by run --record")->required();
@@ -137,6 +143,7 @@ int main(int argc, char** argv) {
     return mar::cmd_run(run);
   }
   if (devices_cmd->parsed()) return mar::cmd_devices(devs);
+  if (rig_cmd->parsed()) return mar::cmd_rig(rigargs);
   if (replay_cmd->parsed()) return mar::cmd_run(replay);
   return mar::kExitBadInput;
 }

@@ -1,0 +1,757 @@
+#include "rig/auto_rig.h"
+
+#include "frame/joints.h"
+#include "geom/polygon.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <deque>
+#include <limits>
+#include <map>
+#include <queue>
+#include <set>
+#include <sstream>
+
+namespace mar {
+
+std::vector<std::string> name_words(const std::string& name) {
+  std::vector<std::string> out;
+  std::string cur;
+  auto flush = [&] {
+    if (!cur.empty()) out.push_back(cur);
+    cur.clear();
+  };
+  for (size_t i = 0; i < name.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(name[i]);
+    if (!std::isalnum(c)) {
+      flush();
+      continue;
+    }
+    // camelCase and letter/digit boundaries split words
+    if (!cur.empty() && ((std::isupper(c) && std::islower(static_cast<unsigned char>(cur.back()))) ||
+                         (std::isdigit(c) != 0) != (std::isdigit(static_cast<unsigned char>(cur.back())) != 0)))
+      flush();
+    cur.push_back(static_cast<char>(std::tolower(c)));
+  }
+  flush();
+  return out;
+}
+
+namespace {
+
+// What a word says about a part.
+enum class Hint { None, Head, Body, Limb, Hand, Mouth, Eye };
+
+Hint hint_of(const std::vector<std::string>& words) {
+  static const std::map<std::string, Hint> kWords = {
+      {"head", Hint::Head},   {"face", Hint::Head},   {"body", Hint::Body},  {"torso", Hint::Body}, {"chest", Hint::Body},
+      {"arm", Hint::Limb},    {"leg", Hint::Limb},    {"tail", Hint::Limb},  {"ear", Hint::Limb},   {"hair", Hint::Limb},
+      {"wing", Hint::Limb},   {"fin", Hint::Limb},    {"antenna", Hint::Limb}, {"hand", Hint::Hand}, {"foot", Hint::Hand},
+      {"feet", Hint::Hand},   {"paw", Hint::Hand},    {"mouth", Hint::Mouth}, {"eye", Hint::Eye},   {"eyes", Hint::Eye}};
+  for (const std::string& w : words) {
+    // plurals and numbered parts ("arms", "ears", "leg2") read as their word
+    std::string s = w;
+    if (s.size() > 3 && s.back() == 's' && !kWords.count(s)) s.pop_back();
+    if (auto it = kWords.find(s); it != kWords.end()) return it->second;
+  }
+  return Hint::None;
+}
+
+bool has_word(const std::vector<std::string>& words, std::initializer_list<const char*> any) {
+  for (const std::string& w : words)
+    for (const char* a : any)
+      if (w == a) return true;
+  return false;
+}
+
+// An id the loader made up ("path-L12") or an editor's default ("path1234", "g12"): no name.
+bool made_up(const std::string& id) {
+  static const char* kTags[] = {"path", "rect", "circle", "ellipse", "line", "polyline", "polygon", "region", "image", "g", "use", "layer"};
+  for (const char* t : kTags) {
+    const std::string tag = t;
+    if (id.rfind(tag, 0) != 0) continue;
+    std::string rest = id.substr(tag.size());
+    if (!rest.empty() && rest[0] == '-') rest.erase(0, 1);
+    if (!rest.empty() && rest[0] == 'L') rest.erase(0, 1);
+    if (rest.empty() || std::all_of(rest.begin(), rest.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '-'; }))
+      return true;
+  }
+  return false;
+}
+
+// A handle name from a part's id: lower case, words joined by '-'.
+std::string handle_name(const std::string& id) {
+  std::string out;
+  for (const std::string& w : name_words(id)) out += (out.empty() ? "" : "-") + w;
+  return out;
+}
+
+struct Geo {
+  int shape = -1;
+  Points ring;  ///< the outer outline (the largest closed contour)
+  double area = 0;
+  Vec2 lo{0, 0}, hi{0, 0};
+  Vec2 centroid{0, 0};
+  std::vector<std::string> words;
+  bool named = false;
+  Hint hint = Hint::None;
+};
+
+Vec2 ring_centroid(const Points& r) {
+  double a = 0;
+  Vec2 c = Vec2::Zero();
+  for (size_t i = 0; i < r.size(); ++i) {
+    const Vec2& p = r[i];
+    const Vec2& q = r[(i + 1) % r.size()];
+    const double k = cross(p, q);
+    a += k;
+    c += (p + q) * k;
+  }
+  if (std::abs(a) < 1e-12) {
+    Vec2 m = Vec2::Zero();
+    for (const Vec2& p : r) m += p;
+    return r.empty() ? m : Vec2(m / double(r.size()));
+  }
+  return c / (3 * a);
+}
+
+// Principal axis: centre of the extent, unit major axis, half extents.
+struct Axis {
+  Vec2 centre{0, 0}, major{1, 0};
+  double half_major = 0, half_minor = 0;
+};
+
+Axis axis_of(const Points& r) {
+  Axis ax;
+  Vec2 m = Vec2::Zero();
+  for (const Vec2& p : r) m += p;
+  m /= double(std::max<size_t>(1, r.size()));
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const Vec2& p : r) {
+    const Vec2 d = p - m;
+    sxx += d.x() * d.x();
+    sxy += d.x() * d.y();
+    syy += d.y() * d.y();
+  }
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  ax.major = Vec2(std::cos(angle), std::sin(angle));
+  const Vec2 minor(-ax.major.y(), ax.major.x());
+  double lo = 1e300, hi = -1e300, mlo = 1e300, mhi = -1e300;
+  for (const Vec2& p : r) {
+    lo = std::min(lo, (p - m).dot(ax.major));
+    hi = std::max(hi, (p - m).dot(ax.major));
+    mlo = std::min(mlo, (p - m).dot(minor));
+    mhi = std::max(mhi, (p - m).dot(minor));
+  }
+  ax.half_major = 0.5 * (hi - lo);
+  ax.half_minor = 0.5 * (mhi - mlo);
+  ax.centre = m + 0.5 * (hi + lo) * ax.major + 0.5 * (mhi + mlo) * minor;
+  return ax;
+}
+
+// Points where two closed outlines cross.
+std::vector<Vec2> crossings(const Points& a, const Points& b) {
+  std::vector<Vec2> out;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const Vec2 &p = a[i], &p2 = a[(i + 1) % a.size()];
+    const Vec2 r = p2 - p;
+    const Vec2 alo = p.cwiseMin(p2), ahi = p.cwiseMax(p2);
+    for (size_t j = 0; j < b.size(); ++j) {
+      const Vec2 &q = b[j], &q2 = b[(j + 1) % b.size()];
+      if (std::max(q.x(), q2.x()) < alo.x() || std::min(q.x(), q2.x()) > ahi.x() || std::max(q.y(), q2.y()) < alo.y() ||
+          std::min(q.y(), q2.y()) > ahi.y())
+        continue;
+      const Vec2 s = q2 - q;
+      const double d = cross(r, s);
+      if (std::abs(d) < 1e-12) continue;
+      const double t = cross(q - p, s) / d, u = cross(q - p, r) / d;
+      if (t >= 0 && t < 1 && u >= 0 && u < 1) out.push_back(p + t * r);
+    }
+  }
+  return out;
+}
+
+double ring_distance(const Points& a, const Points& b) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Vec2& p : a)
+    for (size_t j = 0; j < b.size(); ++j) best = std::min(best, point_segment_distance(p, b[j], b[(j + 1) % b.size()]));
+  return best;
+}
+
+// A limb's medial axis, from its free end to its attached end: on a grid over the limb, the
+// free end is the middle of what lies farthest (walking inside the limb, 8-neighbour
+// Dijkstra) from where it is attached — a hand, a fan of a tail's edge — and the axis is the
+// centroids of bands of equal distance from that free end: cross-sections, so it follows a
+// curved limb.
+std::vector<Vec2> medial_path(const Points& ring, const Vec2& attached) {
+  Vec2 lo = ring[0], hi = ring[0];
+  for (const Vec2& p : ring) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double size = std::max(hi.x() - lo.x(), hi.y() - lo.y());
+  if (!(size > 0)) return {};
+  const double h = size / 96;
+  const int nx = std::max(1, int(std::ceil((hi.x() - lo.x()) / h))), ny = std::max(1, int(std::ceil((hi.y() - lo.y()) / h)));
+  auto centre = [&](int x, int y) { return Vec2(lo.x() + (x + 0.5) * h, lo.y() + (y + 0.5) * h); };
+  std::vector<char> in(size_t(nx) * size_t(ny), 0);
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) in[size_t(y) * size_t(nx) + size_t(x)] = winding_number(ring, centre(x, y)) != 0;
+  auto nearest_cell = [&](const Vec2& p) {
+    int best = -1;
+    double bd = std::numeric_limits<double>::infinity();
+    for (int y = 0; y < ny; ++y)
+      for (int x = 0; x < nx; ++x)
+        if (in[size_t(y) * size_t(nx) + size_t(x)] && (centre(x, y) - p).squaredNorm() < bd) {
+          bd = (centre(x, y) - p).squaredNorm();
+          best = y * nx + x;
+        }
+    return best;
+  };
+  auto walk = [&](int start) {
+    std::vector<double> dist(in.size(), std::numeric_limits<double>::infinity());
+    using Item = std::pair<double, int>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<Item>> q;
+    dist[size_t(start)] = 0;
+    q.push({0.0, start});
+    while (!q.empty()) {
+      const auto [d, c] = q.top();
+      q.pop();
+      if (d > dist[size_t(c)]) continue;
+      const int cx = c % nx, cy = c / nx;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const int x = cx + dx, y = cy + dy;
+          if ((dx == 0 && dy == 0) || x < 0 || y < 0 || x >= nx || y >= ny || !in[size_t(y) * size_t(nx) + size_t(x)]) continue;
+          const double nd = d + ((dx != 0 && dy != 0) ? M_SQRT2 : 1.0);
+          const size_t k = size_t(y) * size_t(nx) + size_t(x);
+          if (nd < dist[k]) {
+            dist[k] = nd;
+            q.push({nd, int(k)});
+          }
+        }
+    }
+    return dist;
+  };
+  const int a = nearest_cell(attached);
+  if (a < 0) return {};
+  const std::vector<double> from_a = walk(a);
+  double far = 0;
+  for (double d : from_a)
+    if (std::isfinite(d)) far = std::max(far, d);
+  Vec2 sum = Vec2::Zero();
+  int count = 0;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x)
+      if (const double d = from_a[size_t(y) * size_t(nx) + size_t(x)]; std::isfinite(d) && d >= 0.9 * far) {
+        sum += centre(x, y);
+        ++count;
+      }
+  const int f = nearest_cell(sum / std::max(1, count));
+  const std::vector<double> dist = walk(f);
+  const double band = 2.0;  // cells
+  std::vector<Vec2> bsum;
+  std::vector<int> bcount;
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const double d = dist[size_t(y) * size_t(nx) + size_t(x)];
+      if (!std::isfinite(d)) continue;
+      const size_t b = size_t(d / band);
+      if (b >= bsum.size()) {
+        bsum.resize(b + 1, Vec2::Zero());
+        bcount.resize(b + 1, 0);
+      }
+      bsum[b] += centre(x, y);
+      ++bcount[b];
+    }
+  std::vector<Vec2> path;
+  for (size_t b = 0; b < bsum.size(); ++b)
+    if (bcount[b] > 0) path.push_back(bsum[b] / bcount[b]);
+  return path;
+}
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+std::string point_toml(const Vec2& p) { return "[" + fmt(p.x()) + ", " + fmt(p.y()) + "]"; }
+
+}  // namespace
+
+AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask) {
+  AutoRig out;
+  Rig& rig = out.rig;
+  rig.character = character;
+  rig.mask = mask;
+  const Bounds cb = ch.bounds();
+  const double height = cb.empty() ? 1.0 : std::max(1e-9, cb.hi.y() - cb.lo.y());
+
+  // ---- swap sets and triggers from names --------------------------------------------------
+  std::set<int> members;  // shapes a swap or trigger shows and hides: not parts of the tree
+  {
+    std::vector<int> mouths, open_eyes, shut_eyes;
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      const auto w = name_words(ch.shapes[s].id);
+      if (w.size() >= 2 && w[0] == "mouth") mouths.push_back(int(s));
+      if (hint_of(w) == Hint::Eye) {
+        if (has_word(w, {"closed", "close", "shut", "blink"})) shut_eyes.push_back(int(s));
+        else if (has_word(w, {"open"})) open_eyes.push_back(int(s));
+      }
+    }
+    if (mouths.size() >= 2) {
+      RigSwap sw;
+      sw.name = "mouth";
+      for (int s : mouths) {
+        sw.members.push_back(ch.shapes[size_t(s)].id);
+        if (has_word(name_words(ch.shapes[size_t(s)].id), {"neutral", "rest", "closed"})) sw.default_member = int(sw.members.size()) - 1;
+        members.insert(s);
+      }
+      rig.swaps.push_back(sw);
+    }
+    if (!shut_eyes.empty() && !open_eyes.empty()) {
+      RigSwap sw;
+      sw.name = "eyes";
+      RigTrigger tr;
+      tr.name = "blink";
+      for (int s : open_eyes) sw.members.push_back(ch.shapes[size_t(s)].id);
+      for (int s : shut_eyes) {
+        sw.members.push_back(ch.shapes[size_t(s)].id);
+        tr.shapes.push_back(ch.shapes[size_t(s)].id);
+      }
+      for (int s : open_eyes) members.insert(s);
+      for (int s : shut_eyes) members.insert(s);
+      rig.swaps.push_back(sw);
+      rig.triggers.push_back(tr);
+    }
+  }
+
+  // ---- the parts: closed, filled sub-shapes ---------------------------------------------------
+  std::vector<Geo> geo;
+  for (size_t s = 0; s < ch.shapes.size(); ++s) {
+    const SubShape& sh = ch.shapes[s];
+    if (members.count(int(s))) continue;
+    Geo g;
+    g.shape = int(s);
+    for (const Contour& c : sh.contours) {
+      if (!c.closed || c.count < 3) continue;
+      const std::span<const Vec2> r(sh.points.data() + c.begin, size_t(c.count));
+      const double a = std::abs(signed_area(r));
+      if (a > g.area) {
+        g.area = a;
+        g.ring.assign(r.begin(), r.end());
+      }
+    }
+    if (!sh.fill.enabled || g.area <= 1e-6 * height * height) continue;
+    g.lo = g.hi = g.ring[0];
+    for (const Vec2& p : g.ring) {
+      g.lo = g.lo.cwiseMin(p);
+      g.hi = g.hi.cwiseMax(p);
+    }
+    g.centroid = ring_centroid(g.ring);
+    g.named = !made_up(sh.id);
+    if (g.named) g.words = name_words(sh.id);
+    g.hint = hint_of(g.words);
+    geo.push_back(std::move(g));
+  }
+  const size_t n = geo.size();
+  if (n == 0) {
+    out.notes.push_back("no closed, filled part to rig");
+    return out;
+  }
+
+  // ---- overlaps --------------------------------------------------------------------------------
+  std::vector<std::vector<double>> overlap(n, std::vector<double>(n, 0.0));
+  std::vector<std::vector<Vec2>> overlap_at(n, std::vector<Vec2>(n, Vec2::Zero()));
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (geo[i].hi.x() < geo[j].lo.x() || geo[j].hi.x() < geo[i].lo.x() || geo[i].hi.y() < geo[j].lo.y() || geo[j].hi.y() < geo[i].lo.y())
+        continue;
+      Vec2 c;
+      double a = 0;
+      if (overlap_centre(geo[i].ring, geo[j].ring, c, &a) && a > 0) {
+        overlap[i][j] = overlap[j][i] = a;
+        overlap_at[i][j] = overlap_at[j][i] = c;
+      }
+    }
+  // Details: mostly inside a bigger part (eyes, a pocket, spots). They follow their container.
+  std::vector<int> container(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    double best = 0;
+    for (size_t j = 0; j < n; ++j)
+      if (j != i && geo[j].area > geo[i].area && overlap[i][j] >= 0.85 * geo[i].area && overlap[i][j] > best) {
+        best = overlap[i][j];
+        container[i] = int(j);
+      }
+  }
+  // Neighbours among the others: overlapping, or within 2% of the height of each other.
+  std::vector<std::vector<int>> nb(n);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (container[i] >= 0 || container[j] >= 0) continue;
+      bool near = overlap[i][j] > 0;
+      if (!near) {
+        const double gap = 0.02 * height;
+        const bool boxes = !(geo[i].hi.x() + gap < geo[j].lo.x() || geo[j].hi.x() + gap < geo[i].lo.x() || geo[i].hi.y() + gap < geo[j].lo.y() ||
+                             geo[j].hi.y() + gap < geo[i].lo.y());
+        if (boxes && ring_distance(geo[i].ring, geo[j].ring) <= gap) {
+          near = true;
+          // where they come closest stands for the overlap
+          double best = std::numeric_limits<double>::infinity();
+          for (const Vec2& p : geo[i].ring)
+            for (size_t k = 0; k < geo[j].ring.size(); ++k) {
+              const double d = point_segment_distance(p, geo[j].ring[k], geo[j].ring[(k + 1) % geo[j].ring.size()]);
+              if (d < best) {
+                best = d;
+                overlap_at[i][j] = overlap_at[j][i] = p;
+              }
+            }
+        }
+      }
+      if (near) {
+        nb[i].push_back(int(j));
+        nb[j].push_back(int(i));
+      }
+    }
+  // Connectors: an open stroke from one part to another (a wick from a candle to its flame)
+  // joins them; a hinge then goes where it leaves the parent.
+  std::vector<std::vector<int>> via(n, std::vector<int>(n, -1));           // the stroke's shape
+  std::vector<std::vector<Vec2>> stroke_end(n, std::vector<Vec2>(n, Vec2::Zero()));  // its end at the first part
+  {
+    std::vector<char> is_part(ch.shapes.size(), 0);
+    for (const Geo& g : geo) is_part[size_t(g.shape)] = 1;
+    auto part_at = [&](const Vec2& q) {
+      int best = -1;
+      double bd = 0.02 * height;
+      for (size_t i = 0; i < n; ++i) {
+        if (container[i] >= 0) continue;
+        const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
+        if (d <= bd) {
+          bd = d;
+          best = int(i);
+        }
+      }
+      return best;
+    };
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      const SubShape& sh = ch.shapes[s];
+      if (is_part[s] || members.count(int(s)) || !sh.stroke.enabled) continue;
+      for (const Contour& c : sh.contours) {
+        if (c.closed || c.count < 2) continue;
+        const Vec2 a = sh.points[size_t(c.begin)], b = sh.points[size_t(c.begin + c.count - 1)];
+        const int pa = part_at(a), pb = part_at(b);
+        if (pa < 0 || pb < 0 || pa == pb || overlap[size_t(pa)][size_t(pb)] > 0) continue;
+        if (std::find(nb[size_t(pa)].begin(), nb[size_t(pa)].end(), pb) != nb[size_t(pa)].end()) continue;
+        nb[size_t(pa)].push_back(pb);
+        nb[size_t(pb)].push_back(pa);
+        via[size_t(pa)][size_t(pb)] = via[size_t(pb)][size_t(pa)] = int(s);
+        stroke_end[size_t(pa)][size_t(pb)] = a;
+        stroke_end[size_t(pb)][size_t(pa)] = b;
+        overlap_at[size_t(pa)][size_t(pb)] = a;  // (where each is attached: its end of the stroke)
+        overlap_at[size_t(pb)][size_t(pa)] = b;
+      }
+    }
+  }
+  auto hops_from = [&](size_t root) {
+    std::vector<int> d(n, -1);
+    std::deque<int> q{int(root)};
+    d[root] = 0;
+    while (!q.empty()) {
+      const int u = q.front();
+      q.pop_front();
+      for (int v : nb[size_t(u)])
+        if (d[size_t(v)] < 0) {
+          d[size_t(v)] = d[size_t(u)] + 1;
+          q.push_back(v);
+        }
+    }
+    return d;
+  };
+  // ---- the body: the part the others hang from ------------------------------------------------
+  // Most area within reach, then least area-weighted distance to it (a torso, not a wing or
+  // a face). A part named body or torso wins among those that reach as much.
+  size_t root = 0;
+  double best_reach = -1, best_cost = 0;
+  bool best_named = false;
+  for (size_t r = 0; r < n; ++r) {
+    if (container[r] >= 0) continue;
+    const auto d = hops_from(r);
+    double reach = 0, cost = 0;
+    for (size_t p = 0; p < n; ++p)
+      if (d[p] >= 0) {
+        reach += geo[p].area;
+        cost += geo[p].area * d[p];
+      }
+    const bool named = geo[r].hint == Hint::Body;
+    const bool better = reach > best_reach * 1.0001 ||
+                        (reach >= best_reach * 0.9999 && (named != best_named ? named : cost < best_cost));
+    if (better) {
+      root = r;
+      best_reach = reach;
+      best_cost = cost;
+      best_named = named;
+    }
+  }
+  // ---- the tree ----------------------------------------------------------------------------------
+  const auto depth = hops_from(root);
+  std::vector<int> parent(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    if (container[i] >= 0) {
+      parent[i] = container[i];
+      continue;
+    }
+    if (i == root || depth[i] < 0) continue;
+    double best = -1;
+    for (int j : nb[i])
+      if (depth[size_t(j)] == depth[i] - 1 && overlap[i][size_t(j)] > best) {
+        best = overlap[i][size_t(j)];
+        parent[i] = j;
+      }
+  }
+  // ---- kinds ----------------------------------------------------------------------------------------
+  out.parts.resize(n);
+  std::vector<Axis> axes(n);
+  std::vector<char> flap(n, 0);  // a limb by its name, not by its shape: attached along a side
+  for (size_t i = 0; i < n; ++i) {
+    AutoRigPart& p = out.parts[i];
+    p.shape = geo[i].shape;
+    p.parent = parent[i];
+    axes[i] = axis_of(geo[i].ring);
+    if (i == root) {
+      p.kind = AutoRigPart::Body;
+      p.why = "the body: the part the others hang from";
+      continue;
+    }
+    if (container[i] >= 0) {
+      p.why = "mostly inside " + ch.shapes[size_t(geo[size_t(container[i])].shape)].id + ": follows it";
+      continue;
+    }
+    if (parent[i] < 0) {
+      p.why = "attached to nothing: moves on its own, pinned by no handle";
+      continue;
+    }
+    const size_t par = size_t(parent[i]);
+    const Axis& ax = axes[i];
+    const Vec2 at = overlap_at[i][par];
+    const double along = (at - ax.centre).dot(ax.major);
+    const bool elongated = ax.half_major >= 1.4 * ax.half_minor;
+    const bool at_end = std::abs(along) > 0.45 * ax.half_major;
+    const Hint h = geo[i].hint;
+    // (a part named as a limb only needs to hang off-centre: a fan of a tail, a round ear)
+    const bool off_centre = (at - geo[i].centroid).norm() > 0.5 * std::sqrt(geo[i].area / M_PI);
+    if ((elongated && at_end) || ((h == Hint::Limb || h == Hint::Hand) && off_centre)) {
+      p.kind = AutoRigPart::Limb;
+      p.why = std::string("a limb on ") + ch.shapes[size_t(geo[par].shape)].id +
+              (elongated && at_end ? ", attached at one end" : ", by its name");
+      flap[i] = !(elongated && at_end);
+    } else if (h == Hint::Head || geo[i].area >= 0.15 * geo[root].area) {
+      p.kind = AutoRigPart::Head;
+      p.why = h == Hint::Head ? "a head, by its name" : "a big part that is not a limb";
+    } else {
+      p.why = "a detail on " + ch.shapes[size_t(geo[par].shape)].id + ": follows it";
+    }
+  }
+  // One head: the parts named head or face, else the biggest candidate (hair on a head, a
+  // hat, a second big part are details of what they sit on).
+  {
+    bool named_head = false;
+    size_t biggest = n;
+    for (size_t i = 0; i < n; ++i)
+      if (out.parts[i].kind == AutoRigPart::Head) {
+        named_head = named_head || geo[i].hint == Hint::Head;
+        if (biggest == n || geo[i].area > geo[biggest].area) biggest = i;
+      }
+    for (size_t i = 0; i < n; ++i)
+      if (out.parts[i].kind == AutoRigPart::Head && (named_head ? geo[i].hint != Hint::Head : i != biggest)) {
+        out.parts[i].kind = AutoRigPart::Detail;
+        out.parts[i].why = "a detail on " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id + ": follows it";
+      }
+  }
+  // Hands and feet on a limb's end are limbs too (the chain goes on), whatever their shape.
+  for (size_t i = 0; i < n; ++i)
+    if (out.parts[i].kind == AutoRigPart::Detail && geo[i].hint == Hint::Hand && parent[i] >= 0 && container[i] < 0 &&
+        out.parts[size_t(parent[i])].kind == AutoRigPart::Limb) {
+      out.parts[i].kind = AutoRigPart::Limb;
+      out.parts[i].why = "a " + geo[i].words.front() + " at the end of " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id;
+    }
+
+  // ---- hinges at the drawn joints ------------------------------------------------------------------
+  for (size_t i = 0; i < n; ++i) {
+    AutoRigPart& p = out.parts[i];
+    if (p.kind != AutoRigPart::Limb) continue;
+    const size_t par = size_t(parent[i]);
+    // Walking its medial axis in from the free end, the joint is at the attached end's centre,
+    // or where the axis goes into the parent.
+    const Vec2 attached = overlap_at[i][par];
+    p.path = medial_path(geo[i].ring, attached);
+
+    const auto& path = p.path;
+    p.joint = path.empty() ? attached : path.back();
+    // A wing, a fan of a tail, a fin: it turns about the middle of where it meets the parent.
+    if (flap[i]) p.joint = attached;
+    if (!path.empty() && !flap[i]) {
+      auto radius = [&](const Vec2& q) {
+        double r = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < geo[i].ring.size(); ++k)
+          r = std::min(r, point_segment_distance(q, geo[i].ring[k], geo[i].ring[(k + 1) % geo[i].ring.size()]));
+        return r;
+      };
+      // The centre of the attached end: back from the end along the axis by the limb's half
+      // width there (the centre of the circle that rounds a round end off, of the square that
+      // ends a flat one), the half width being the typical distance to the outline near the end.
+      std::vector<double> rs;
+      for (size_t k = path.size() * 6 / 10; k < path.size() * 9 / 10; ++k) rs.push_back(radius(path[k]));
+      double half_width = 0;
+      if (!rs.empty()) {
+        std::nth_element(rs.begin(), rs.begin() + long(rs.size() / 2), rs.end());
+        half_width = rs[rs.size() / 2];
+      }
+      Vec2 cap = path.back();
+      double run = 0;
+      for (size_t k = path.size() - 1; k > 0 && run < half_width; --k) {
+        const double step = (path[k] - path[k - 1]).norm();
+        if (run + step >= half_width) {
+          cap = path[k] + (path[k - 1] - path[k]) * ((half_width - run) / std::max(1e-12, step));
+          break;
+        }
+        run += step;
+        cap = path[k - 1];
+      }
+      // Where the axis goes into the parent's outline, walking in from the free end.
+      size_t entry_k = path.size();
+      Vec2 entry = path.back();
+      for (size_t k = 0; k < path.size(); ++k) {
+        if (winding_number(geo[par].ring, path[k]) == 0) continue;
+        entry_k = k;
+        entry = path[k];
+        if (k > 0) {
+          const Points step{path[k - 1], path[k]};
+          double best = std::numeric_limits<double>::infinity();
+          for (const Vec2& x : crossings(step, geo[par].ring))
+            if ((x - path[k - 1]).norm() < best) {
+              best = (x - path[k - 1]).norm();
+              entry = x;
+            }
+        }
+        break;
+      }
+      // A limb drawn over its parent shows its end: the joint is the end's centre. One drawn
+      // under it turns where it goes in, unless what the parent hides is only a short stub
+      // (a shoulder behind a torso, a thigh's top under shorts).
+      double hidden = 0;
+      for (size_t k = entry_k; k + 1 < path.size(); ++k) hidden += (path[k + 1] - path[k]).norm();
+      const bool over = geo[i].shape > geo[par].shape;
+      const bool cap_inside = winding_number(geo[par].ring, cap) != 0;
+      double total = 0;
+      for (size_t k = 0; k + 1 < path.size(); ++k) total += (path[k + 1] - path[k]).norm();
+      const bool long_stub = entry_k < path.size() && hidden > 3 * radius(cap) && hidden > 0.4 * total;
+      // (a cap outside the parent: a flap attached along a side, a wing, turns where it meets it)
+      p.joint = cap_inside && (over || !long_stub) ? cap : entry;
+    }
+    p.has_joint = true;
+    RigJoint j;
+    j.has_at = true;
+    j.at = p.joint;
+    j.part_a = ch.shapes[size_t(p.shape)].id;
+    j.part_b = ch.shapes[size_t(geo[par].shape)].id;
+    if (const int s = via[i][par]; s >= 0) {
+      // Through a connector: the stroke turns where it leaves the parent (the limb is welded
+      // to its other end, as crossings are).
+      p.joint = j.at = stroke_end[par][i];
+      j.part_a = ch.shapes[size_t(s)].id;
+    }
+    rig.joints.push_back(j);
+  }
+
+  // ---- handles -----------------------------------------------------------------------------------------
+  std::set<std::string> used;
+  auto unique = [&](std::string base) {
+    std::string name = base;
+    for (int k = 2; used.count(name); ++k) name = base + "-" + std::to_string(k);
+    used.insert(name);
+    return name;
+  };
+  const Vec2 body_centre = geo[root].centroid;
+  auto add_handle = [&](size_t i, const std::string& fallback, const Vec2& at) {
+    const std::string base = geo[i].named ? handle_name(ch.shapes[size_t(geo[i].shape)].id) : fallback;
+    out.parts[i].handle = unique(base.empty() ? fallback : base);
+    rig.handles.push_back({out.parts[i].handle, at});
+  };
+  add_handle(root, "body", geo[root].centroid);
+  for (size_t i = 0; i < n; ++i)
+    if (out.parts[i].kind == AutoRigPart::Head) add_handle(i, "head", geo[i].centroid);
+  for (size_t i = 0; i < n; ++i) {
+    if (out.parts[i].kind != AutoRigPart::Limb) continue;
+    bool has_limb_child = false;
+    for (size_t c = 0; c < n; ++c) has_limb_child = has_limb_child || (parent[c] == int(i) && out.parts[c].kind == AutoRigPart::Limb);
+    if (has_limb_child) continue;  // the chain's last part carries the handle
+    // On the medial axis, 8% of the way in from the free end (inside a rounded tip).
+    const auto& path = out.parts[i].path;
+    Vec2 tip = out.parts[i].joint;
+    if (!path.empty()) {
+      double total = 0;
+      for (size_t k = 1; k < path.size(); ++k) total += (path[k] - path[k - 1]).norm();
+      tip = path[0];
+      double run = 0;
+      for (size_t k = 1; k < path.size() && run < 0.08 * total; ++k) {
+        run += (path[k] - path[k - 1]).norm();
+        tip = path[k];
+      }
+    }
+    const std::string side = tip.x() < body_centre.x() ? "left" : "right";
+    add_handle(i, "limb-" + side, tip);
+  }
+  if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
+  return out;
+}
+
+std::string write_auto_rig(const AutoRig& a, const Character& ch) {
+  std::ostringstream o;
+  const Rig& r = a.rig;
+  o << "# Automatic rig (marionette rig) for " << r.character << ".\n"
+    << "# Every handle, hinge, swap set and trigger below says why it is there; edit freely.\n";
+  for (const std::string& n : a.notes) o << "# Note: " << n << "\n";
+  o << "character = \"" << r.character << "\"\n";
+  if (!r.mask.empty()) o << "mask = \"" << r.mask << "\"\n";
+  o << "iterations = " << r.iterations << "\n";
+  auto part_of_handle = [&](const std::string& h) -> const AutoRigPart* {
+    for (const AutoRigPart& p : a.parts)
+      if (p.handle == h) return &p;
+    return nullptr;
+  };
+  o << "\n# ---- handles: what a control or a pen moves ----\n";
+  for (const RigHandle& h : r.handles) {
+    const AutoRigPart* p = part_of_handle(h.name);
+    if (p) {
+      const std::string& id = ch.shapes[size_t(p->shape)].id;
+      o << "\n# " << id << ": " << p->why << (p->kind == AutoRigPart::Limb ? "; the handle at its free end" : "") << ".\n";
+    }
+    o << "[[handle]]\nname = \"" << h.name << "\"\nrest = " << point_toml(h.rest) << "\n";
+  }
+  if (!r.joints.empty()) o << "\n# ---- hinges, where each limb goes into its parent (the drawn joint) ----\n";
+  for (const RigJoint& j : r.joints) {
+    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [\"" << j.part_a << "\", \"" << j.part_b << "\"]\nkind = \"hinge\"\n";
+  }
+  if (!r.swaps.empty() || !r.triggers.empty()) o << "\n# ---- swap sets and triggers, from the shapes' names ----\n";
+  for (const RigSwap& s : r.swaps) {
+    o << "\n[[swap]]\nname = \"" << s.name << "\"\nmembers = [";
+    for (size_t k = 0; k < s.members.size(); ++k) o << (k ? ", " : "") << "\"" << s.members[k] << "\"";
+    o << "]\ndefault = \"" << s.members[size_t(s.default_member)] << "\"\n";
+  }
+  for (const RigTrigger& t : r.triggers) {
+    o << "\n[[trigger]]\nname = \"" << t.name << "\"\nshapes = [";
+    for (size_t k = 0; k < t.shapes.size(); ++k) o << (k ? ", " : "") << "\"" << t.shapes[k] << "\"";
+    o << "]\n";
+  }
+  // The parts with no handle, for the record.
+  std::ostringstream rest;
+  for (const AutoRigPart& p : a.parts)
+    if (p.handle.empty() && p.kind != AutoRigPart::Limb) rest << "#   " << ch.shapes[size_t(p.shape)].id << ": " << p.why << "\n";
+  if (!rest.str().empty()) o << "\n# Parts without a handle of their own:\n" << rest.str();
+  return o.str();
+}
+
+}  // namespace mar

@@ -1,0 +1,52 @@
+// The automatic rig: from a drawing alone, a rig that loads and performs with no edits.
+//
+// The parts (closed, filled sub-shapes) and where they overlap make a tree hanging from the
+// body, the part most others attach to. A part attached to its parent near one end of its own
+// long axis is a limb: a hinge where it enters its parent (the middle of the two points where
+// their outlines cross: where the limb's medial axis goes in), followed down chains (upper arm,
+// forearm, hand), and a handle at the free end of the last. The body gets a handle, and so does
+// a big part that is not a limb (a head). Parts mostly inside another (eyes, a pocket) and
+// small ones are details: they follow their parent.
+//
+// Names are hints, never requirements (Character Animator's way, case-insensitive, from ids and
+// Inkscape labels): head/face, body/torso, arm, hand, leg, foot, tail, ear, hair, left/right
+// name and classify parts; `mouth-*` shapes make a swap set `mouth`, eyes with open and closed
+// (or shut) shapes a swap set `eyes` and a trigger `blink`.
+#pragma once
+
+#include "character/character.h"
+#include "character/rig.h"
+
+#include <string>
+#include <vector>
+
+namespace mar {
+
+struct AutoRigPart {
+  enum Kind { Body, Head, Limb, Detail };
+  int shape = -1;   ///< index into Character::shapes
+  int parent = -1;  ///< index into AutoRig::parts (-1: the body, or a part attached to nothing)
+  Kind kind = Detail;
+  bool has_joint = false;  ///< a limb's hinge
+  Vec2 joint = Vec2::Zero();
+  std::vector<Vec2> path;  ///< a limb's medial axis, from its free end
+  std::string handle;      ///< the handle it carries ("" for none)
+  std::string why;         ///< one line for the rig's comments
+};
+
+struct AutoRig {
+  Rig rig;  ///< handles, joints, swaps and triggers (character as given)
+  std::vector<AutoRigPart> parts;
+  std::vector<std::string> notes;  ///< what it could not do, for the user
+};
+
+/// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).
+AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask = "");
+
+/// The rig as commented TOML, each handle, hinge, swap and trigger with why it is there.
+std::string write_auto_rig(const AutoRig& a, const Character& ch);
+
+/// Words of a name, lower case: "armRight_2" -> {"arm", "right", "2"}.
+std::vector<std::string> name_words(const std::string& name);
+
+}  // namespace mar
