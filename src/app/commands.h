@@ -105,6 +105,8 @@ struct RigArgs {
   std::string input;   ///< the character
   std::string mask;
   std::string output;  ///< the rig to write ("": print it)
+  std::string show;    ///< a starter show to write beside it (needs `output`)
+  std::string device = "nanokontrol2";  ///< the starter show's device
 };
 /// `rig`: the automatic rig of a character (rig/auto_rig.h).
 int cmd_rig(const RigArgs& a);

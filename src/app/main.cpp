@@ -107,6 +107,8 @@ int main(int argc, char** argv) {
   rig_cmd->add_option("character", rigargs.input, "Character file (.svg or .png)")->required();
   rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write (default: print it)");
   rig_cmd->add_option("--mask", rigargs.mask, "Mask PNG for a PNG character (non-black = figure)");
+  rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o)");
+  rig_cmd->add_option("--device", rigargs.device, "The starter show's device: nanokontrol2 (default), gamepad, pen_tablet, knob_box");
 
   mar::RunArgs replay;
   CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");

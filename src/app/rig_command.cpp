@@ -3,6 +3,7 @@
 #include "app/puppet.h"
 #include "character/load.h"
 #include "rig/auto_rig.h"
+#include "rig/starter_show.h"
 
 #include <filesystem>
 #include <fstream>
@@ -12,7 +13,36 @@ namespace mar {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Atomic: a temporary file beside it, then renamed over it.
+bool write_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << text;
+    if (!f.flush()) {
+      std::cerr << "error: cannot write " << tmp << "\n";
+      return false;
+    }
+  }
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    std::cerr << "error: cannot write " << path << ": " << ec.message() << "\n";
+    fs::remove(tmp, ec);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 int cmd_rig(const RigArgs& a) {
+  if (!a.show.empty() && a.output.empty()) {
+    std::cerr << "error: --show needs -o RIG.toml (the show names the rig file)\n";
+    return kExitBadInput;
+  }
   LoadOptions lo;
   lo.mask_path = a.mask;
   auto ch = load_character(a.input, lo);
@@ -37,30 +67,27 @@ int cmd_rig(const RigArgs& a) {
     std::cerr << "error: the automatic rig does not load (" << parsed.error << "); please report this with the character\n";
     return kExitRuntime;
   }
+  std::string show_text;
+  if (!a.show.empty()) {
+    std::error_code ec;
+    fs::path rel = fs::relative(fs::absolute(a.output), fs::absolute(a.show).parent_path(), ec);
+    if (ec || rel.empty()) rel = fs::absolute(a.output);
+    auto show = starter_show(ar, *ch.value, rel.generic_string(), a.device);
+    if (!show.ok()) {
+      std::cerr << "error: " << show.error << "\n";
+      return kExitBadInput;
+    }
+    show_text = *show.value;
+  }
   if (a.output.empty()) {
     std::cout << text;
-  } else {
-    // Atomic: a temporary file beside it, then renamed over it.
-    const std::string tmp = a.output + ".tmp";
-    {
-      std::ofstream f(tmp, std::ios::binary);
-      f << text;
-      if (!f.flush()) {
-        std::cerr << "error: cannot write " << tmp << "\n";
-        return kExitRuntime;
-      }
-    }
-    std::error_code ec;
-    fs::rename(tmp, a.output, ec);
-    if (ec) {
-      std::cerr << "error: cannot write " << a.output << ": " << ec.message() << "\n";
-      fs::remove(tmp, ec);
-      return kExitRuntime;
-    }
+  } else if (!write_atomically(a.output, text) || (!a.show.empty() && !write_atomically(a.show, show_text))) {
+    return kExitRuntime;
   }
   size_t limbs = 0;
   for (const AutoRigPart& p : ar.parts) limbs += p.kind == AutoRigPart::Limb;
   std::ostream& say = a.output.empty() ? std::cerr : std::cout;
+  if (!a.show.empty()) say << "starter show for a " << a.device << " -> " << a.show << " (marionette run " << a.show << ")\n";
   say << "rigged " << a.input << ": " << ar.rig.handles.size() << " handles, " << ar.rig.joints.size() << " hinges (" << limbs << " limbs), "
       << ar.rig.swaps.size() << " swap sets, " << ar.rig.triggers.size() << " triggers" << (a.output.empty() ? "" : " -> " + a.output) << "\n";
   for (const std::string& n : ar.notes) say << "note: " << n << "\n";

@@ -325,6 +325,26 @@ void Mapping::button(Binding& b, bool down) {
     case TargetKind::Pose: {  // every handle it names eases there
       if (!edge) return;
       const Pose& p = poses_[size_t(b.index)];
+      // A group a knob has turned lets go of its turn when the pose names one of its handles:
+      // they take the positions the turn gave them (nothing jumps) and ease on from there.
+      for (size_t g = 0; g < groups_.size(); ++g) {
+        RotationGroup& grp = groups_[g];
+        bool named = false;
+        for (int h : grp.handles) named = named || (size_t(h) < p.positions.size() && std::isfinite(p.positions[size_t(h)].x()));
+        if (!named || (angle_[g] == 0 && angle_goal_[g] == 0)) continue;
+        const double c = std::cos(angle_[g] * kDeg), sn = std::sin(angle_[g] * kDeg);
+        auto turn = [&](std::vector<Vec2>& at, int h) {
+          const Vec2 pivot = grp.pivot_handle >= 0 ? at[size_t(grp.pivot_handle)] : grp.pivot;
+          const Vec2 r = at[size_t(h)] - pivot;
+          return Vec2(pivot + Vec2(c * r.x() - sn * r.y(), sn * r.x() + c * r.y()));
+        };
+        for (int h : grp.handles) {
+          const Vec2 now = turn(current_, h), goal = turn(goal_, h);
+          current_[size_t(h)] = now;
+          goal_[size_t(h)] = goal;
+        }
+        angle_[g] = angle_goal_[g] = 0;
+      }
       for (size_t h = 0; h < p.positions.size() && h < goal_.size(); ++h)
         if (std::isfinite(p.positions[h].x())) {
           written_by(&b, TargetKind::HandleX, int(h));

@@ -307,6 +307,41 @@ TEST(Swaps, NotesCcsAndButtonsSwapMembersAndFireTriggers) {
   EXPECT_FALSE(m.take_shown_changed());
 }
 
+// A pose recalled after a knob turned a group: the group lets go of its turn, its handle
+// starts from where the turn put it (no jump) and eases to the pose's position.
+TEST(Poses, APoseBringsBackAHandleAKnobTurned) {
+  Mapping m;
+  m.set_handles({"hand"}, {Vec2(100, 0)});
+  RotationGroup g;
+  g.name = "arm";
+  g.handles = {0};
+  g.pivot = Vec2(0, 0);
+  m.add_group(g);
+  Binding knob = bind(ControlSpec::CC, 16, TargetKind::Rotate, -90, 90);
+  m.add_binding(knob);
+  Pose p;
+  p.name = "rest";
+  p.positions = {Vec2(100, 0)};
+  m.add_pose(p);
+  Binding b = bind(ControlSpec::Note, 36, TargetKind::Pose);
+  b.tf.transition = 0.5;
+  m.add_binding(b);
+  m.apply(cc(16, 127));  // +90 degrees: the hand below the pivot (y down)
+  m.update(1.0 / 60);
+  EXPECT_NEAR(m.targets()[0].x(), 0, 1e-9);
+  EXPECT_NEAR(m.targets()[0].y(), 100, 1e-9);
+  m.apply(note_event(36, true));
+  m.update(1.0 / 60);
+  EXPECT_NEAR(m.targets()[0].y(), 100, 1.0) << "no jump: it starts where the turn left it";
+  for (int f = 0; f < 40; ++f) m.update(1.0 / 60);
+  EXPECT_NEAR(m.targets()[0].x(), 100, 1e-9);
+  EXPECT_NEAR(m.targets()[0].y(), 0, 1e-9);
+  // the knob's next move turns from the pose again (soft takeover off: at once)
+  m.apply(cc(16, 64));
+  m.update(1.0 / 60);
+  EXPECT_NEAR((m.targets()[0] - Vec2(0, 0)).norm(), 100, 1e-6);
+}
+
 // A pose eases every handle it names there over the binding's transition; a pose.KEY asks the
 // loop for a recall; a pen dragging a handle returns it to rest over `return` seconds.
 TEST(Poses, APoseEasesThereInItsTransitionAndAPenReturnsToRest) {

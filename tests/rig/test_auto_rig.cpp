@@ -3,6 +3,7 @@
 // the hand rigs put their joints, and a drawing with no names at all still gets its limbs.
 #include "app/puppet.h"
 #include "character/load.h"
+#include "render/image.h"
 #include "rig/auto_rig.h"
 #include "test_util.h"
 
@@ -168,6 +169,53 @@ TEST(AutoRig, TheCommandWritesARigThatPoses) {
   auto bad = test::run_cli("rig '" + (dir / "missing.svg").string() + "' -o '" + (dir / "x.toml").string() + "'");
   EXPECT_EQ(bad.exit_code, 2);
   EXPECT_NE(bad.err.find("missing.svg"), std::string::npos) << bad.err;
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// `rig --show SHOW --device D`: a starter show that runs at once with the device's simulator
+// and moves the character, for every device there is a starter for.
+TEST(StarterShow, EveryDeviceRunsAndMovesTheCharacter) {
+  for (const char* device : {"nanokontrol2", "gamepad", "pen_tablet", "knob_box"}) {
+    const auto dir = test::temp_dir(std::string("starter-") + device);
+    const std::string rig = (dir / "boy.toml").string(), show = (dir / "show.toml").string();
+    auto r = test::run_cli("rig '" + (test::characters_dir() / "boy.svg").string() + "' -o '" + rig + "' --show '" + show + "' --device " + device);
+    ASSERT_EQ(r.exit_code, 0) << device << ": " << r.err;
+    auto run = test::run_cli("run '" + show + "' --headless --frames 121 --dump-frames '" + (dir / "f").string() + "' --every 40");
+    ASSERT_EQ(run.exit_code, 0) << device << ": " << run.err;
+    EXPECT_EQ(run.err.find("warning"), std::string::npos) << device << ": " << run.err;
+    auto first = read_png_image((dir / "f" / "frame_000000.png").string()), later = read_png_image((dir / "f" / "frame_000080.png").string());
+    ASSERT_TRUE(first.ok() && later.ok()) << device;
+    const ImageDiff d = compare_images(*first.value, *later.value, 16);
+    EXPECT_GT(d.differing_share(), 0.005) << device << ": the character should have moved";
+  }
+}
+
+// Swap sets and triggers go on buttons; an unknown device is refused naming the ones there are;
+// a show needs the rig written beside it.
+TEST(StarterShow, ButtonsSwapAndTriggerAndBadArgumentsAreRefused) {
+  const auto dir = test::temp_dir("starter-singer");
+  const std::string rig = (dir / "singer.toml").string(), show = (dir / "show.toml").string();
+  const std::string ch = (test::characters_dir() / "singer.svg").string();
+  auto r = test::run_cli("rig '" + ch + "' -o '" + rig + "' --show '" + show + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(show);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("target = \"trigger.blink\""), std::string::npos) << text;
+  EXPECT_NE(text.find("target = \"swap.mouth.mouth-a\""), std::string::npos) << text;
+  EXPECT_NE(text.find("rig = \"singer.toml\""), std::string::npos) << "the rig, relative to the show";
+  auto run = test::run_cli("run '" + show + "' --headless --frames 60");
+  EXPECT_EQ(run.exit_code, 0) << run.err;
+  auto bad = test::run_cli("rig '" + ch + "' -o '" + rig + "' --show '" + show + "' --device theremin");
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_NE(bad.err.find("knob_box"), std::string::npos) << bad.err;
+  auto no_rig = test::run_cli("rig '" + ch + "' --show '" + show + "'");
+  EXPECT_EQ(no_rig.exit_code, 2);
+  EXPECT_NE(no_rig.err.find("-o"), std::string::npos) << no_rig.err;
 }
 
 }  // namespace
