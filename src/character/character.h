@@ -60,6 +60,7 @@ struct Contour {
 /// sharing one style. Points are in character units (document px after viewBox).
 struct SubShape {
   std::string id;       ///< id from the file (made unique), or "<tag>-L<line>"
+  std::string label;    ///< the name an editor shows (Inkscape's inkscape:label), if any
   std::string element;  ///< source element name (path, rect, ..., or "region")
   int line = 0;         ///< source line, 0 if not from a text file
   int layer = 0;        ///< index into Character::layers

@@ -699,6 +699,7 @@ class SvgLoader {
     s.line = line_of(n);
     const char* id = n.attribute("id").value();
     s.id = ctx.id_prefix + (*id ? std::string(id) : s.element + "-L" + std::to_string(s.line));
+    s.label = n.attribute("inkscape:label").value();
     for (const svg::FlatContour& fc : flat) {
       Points pts = fc.points;
       for (Vec2& p : pts) {

@@ -1,5 +1,6 @@
 #include "rig/auto_rig.h"
 
+#include "frame/feature_frame.h"
 #include "frame/joints.h"
 #include "geom/polygon.h"
 
@@ -295,7 +296,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   {
     std::vector<int> mouths, open_eyes, shut_eyes;
     for (size_t s = 0; s < ch.shapes.size(); ++s) {
-      const auto w = name_words(ch.shapes[s].id);
+      const auto w = name_words(ch.shapes[s].label.empty() ? ch.shapes[s].id : ch.shapes[s].label);
       if (w.size() >= 2 && w[0] == "mouth") mouths.push_back(int(s));
       if (hint_of(w) == Hint::Eye) {
         if (has_word(w, {"closed", "close", "shut", "blink"})) shut_eyes.push_back(int(s));
@@ -352,8 +353,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       g.hi = g.hi.cwiseMax(p);
     }
     g.centroid = ring_centroid(g.ring);
-    g.named = !made_up(sh.id);
-    if (g.named) g.words = name_words(sh.id);
+    g.named = !sh.label.empty() || !made_up(sh.id);
+    if (g.named) g.words = name_words(sh.label.empty() ? sh.id : sh.label);
     g.hint = hint_of(g.words);
     geo.push_back(std::move(g));
   }
@@ -496,20 +497,45 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
   }
   // ---- the tree ----------------------------------------------------------------------------------
-  const auto depth = hops_from(root);
-  std::vector<int> parent(n, -1);
-  for (size_t i = 0; i < n; ++i) {
-    if (container[i] >= 0) {
-      parent[i] = container[i];
-      continue;
-    }
-    if (i == root || depth[i] < 0) continue;
-    double best = -1;
-    for (int j : nb[i])
-      if (depth[size_t(j)] == depth[i] - 1 && overlap[i][size_t(j)] > best) {
-        best = overlap[i][size_t(j)];
-        parent[i] = j;
+  // Out from the body through overlaps (and connectors) first, nearest overlapping parent; a
+  // part only near its neighbours (drawn touching) joins where nothing overlapping reaches it.
+  // A forearm that overlaps its upper arm and only touches the torso hangs from the arm.
+  std::vector<int> parent(n, -1), depth(n, -1);
+  {
+    auto overlapping = [&](size_t i, size_t j) { return overlap[i][j] > 0 || via[i][j] >= 0; };
+    depth[root] = 0;
+    std::deque<size_t> q{root};
+    for (;;) {
+      while (!q.empty()) {
+        const size_t u = q.front();
+        q.pop_front();
+        for (int v : nb[u])
+          if (depth[size_t(v)] < 0 && overlapping(u, size_t(v))) {
+            depth[size_t(v)] = depth[u] + 1;
+            parent[size_t(v)] = int(u);
+            q.push_back(size_t(v));
+          } else if (depth[size_t(v)] == depth[u] + 1 && overlapping(u, size_t(v)) && parent[size_t(v)] >= 0 &&
+                     overlap[size_t(v)][u] > overlap[size_t(v)][size_t(parent[size_t(v)])]) {
+            parent[size_t(v)] = int(u);  // of two parents as near the body, the one it overlaps most
+          }
       }
+      // The nearest unreached part touching a reached one.
+      size_t best_v = n, best_u = n;
+      for (size_t v = 0; v < n; ++v) {
+        if (depth[v] >= 0 || container[v] >= 0) continue;
+        for (int u : nb[v])
+          if (depth[size_t(u)] >= 0 && (best_v == n || depth[size_t(u)] < depth[best_u])) {
+            best_v = v;
+            best_u = size_t(u);
+          }
+      }
+      if (best_v == n) break;
+      depth[best_v] = depth[best_u] + 1;
+      parent[best_v] = int(best_u);
+      q.push_back(best_v);
+    }
+    for (size_t i = 0; i < n; ++i)
+      if (container[i] >= 0) parent[i] = container[i];
   }
   // ---- kinds ----------------------------------------------------------------------------------------
   out.parts.resize(n);
@@ -554,6 +580,28 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       p.why = "a detail on " + ch.shapes[size_t(geo[par].shape)].id + ": follows it";
     }
   }
+  // A part hung along its side (an upper arm beside a torso) with a limb at one end of its long
+  // axis is that limb's first link, attached at its other end.
+  std::vector<char> end_attached(n, 0);
+  std::vector<Vec2> attach_at(n, Vec2::Zero());
+  for (size_t i = 0; i < n; ++i) {
+    const Axis& ax = axes[i];
+    const bool candidate = out.parts[i].kind == AutoRigPart::Detail || (out.parts[i].kind == AutoRigPart::Head && geo[i].hint != Hint::Head);
+    if (!candidate || container[i] >= 0 || parent[i] < 0 || ax.half_major < 1.4 * ax.half_minor) continue;
+    // (beside its parent, not at one end of it: a dish a candle stands on is not an arm)
+    const Axis& pax = axes[size_t(parent[i])];
+    if (std::abs((overlap_at[i][size_t(parent[i])] - pax.centre).dot(pax.major)) > 0.45 * pax.half_major) continue;
+    for (size_t c = 0; c < n; ++c) {
+      if (parent[c] != int(i) || out.parts[c].kind != AutoRigPart::Limb) continue;
+      const double along = (overlap_at[c][i] - ax.centre).dot(ax.major);
+      if (std::abs(along) <= 0.45 * ax.half_major) continue;
+      out.parts[i].kind = AutoRigPart::Limb;
+      out.parts[i].why = "a limb on " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id + ", hung along its side, its next link at its other end";
+      end_attached[i] = 1;
+      attach_at[i] = ax.centre - (along > 0 ? 1.0 : -1.0) * ax.half_major * ax.major;
+      break;
+    }
+  }
   // One head: the parts named head or face, else the biggest candidate (hair on a head, a
   // hat, a second big part are details of what they sit on).
   {
@@ -578,6 +626,23 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       out.parts[i].why = "a " + geo[i].words.front() + " at the end of " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id;
     }
 
+  // A detail that overlaps a limb hanging from its parent more than it overlaps the parent (a
+  // sleeve on a shoulder, a cuff) goes with the limb.
+  for (size_t i = 0; i < n; ++i) {
+    if (out.parts[i].kind != AutoRigPart::Detail || container[i] >= 0 || parent[i] < 0) continue;
+    const int q = parent[i];
+    int best = -1;
+    for (size_t l = 0; l < n; ++l)
+      if (l != i && parent[l] == q && out.parts[l].kind == AutoRigPart::Limb && overlap[i][l] > overlap[i][size_t(q)] &&
+          (best < 0 || overlap[i][l] > overlap[i][size_t(best)]))
+        best = int(l);
+    if (best >= 0) {
+      parent[i] = best;
+      out.parts[i].parent = best;
+      out.parts[i].why = "a detail on " + ch.shapes[size_t(geo[size_t(best)].shape)].id + ", which it overlaps most: follows it";
+    }
+  }
+
   // ---- hinges at the drawn joints ------------------------------------------------------------------
   for (size_t i = 0; i < n; ++i) {
     AutoRigPart& p = out.parts[i];
@@ -585,7 +650,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     const size_t par = size_t(parent[i]);
     // Walking its medial axis in from the free end, the joint is at the attached end's centre,
     // or where the axis goes into the parent.
-    const Vec2 attached = overlap_at[i][par];
+    const Vec2 attached = end_attached[i] ? attach_at[i] : overlap_at[i][par];
     p.path = medial_path(geo[i].ring, attached);
 
     const auto& path = p.path;
@@ -649,7 +714,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       for (size_t k = 0; k + 1 < path.size(); ++k) total += (path[k + 1] - path[k]).norm();
       const bool long_stub = entry_k < path.size() && hidden > 3 * radius(cap) && hidden > 0.4 * total;
       // (a cap outside the parent: a flap attached along a side, a wing, turns where it meets it)
-      p.joint = cap_inside && (over || !long_stub) ? cap : entry;
+      // (an upper arm hung beside its torso turns at the centre of its top, inside or not)
+      p.joint = end_attached[i] || (cap_inside && (over || !long_stub)) ? cap : entry;
     }
     p.has_joint = true;
     RigJoint j;
@@ -666,6 +732,72 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     rig.joints.push_back(j);
   }
 
+  // ---- sewing that follows the tree --------------------------------------------------------------------
+  // The solver sews each part to its nearest neighbour (a spanning tree over the parts). Where
+  // that is not its parent or child here — a forearm touching the torso's side — the line would
+  // hold a limb to a part it does not hang from: it is deleted, and a part left with no tie to
+  // its parent (no hinge, no line) is sewn to it at their closest points.
+  {
+    // (the spanning tree alone: no joints, so no welds are made of its crossing lines)
+    Character refined = ch;
+    FrameOptions fo = frame_options_from_rig(rig);
+    fo.auto_joints = false;
+    fo.joints.clear();
+    refine_for_frame(refined, fo);
+    const FeatureFrame f = build_feature_frame(refined, fo);
+    std::vector<int> part_of(ch.shapes.size(), -1);
+    for (size_t i = 0; i < n; ++i) part_of[size_t(geo[i].shape)] = int(i);
+    auto related = [&](int i, int j) { return parent[size_t(i)] == j || parent[size_t(j)] == i; };
+    std::vector<char> tied(n, 0);
+    for (const RigJoint& j : rig.joints)
+      for (size_t i = 0; i < n; ++i)
+        if (ch.shapes[size_t(geo[i].shape)].id == j.part_a || (via[i][size_t(std::max(0, parent[i]))] >= 0 && parent[i] >= 0)) tied[i] = 1;
+    // The spanning tree's lines: the sewing lines right after the feature lines, one per
+    // sub-frame but the first (welds made of its crossing lines come after them).
+    size_t subframes = 0;
+    for (const auto& sub : f.subframes) subframes += !sub.empty();
+    const size_t first = size_t(f.feature_lines), last = std::min(f.lines.size(), first + (subframes > 0 ? subframes - 1 : 0));
+    for (size_t li = first; li < last; ++li) {
+      const FrameLine& l = f.lines[li];
+      if (l.kind != FrameLine::Sewing) break;
+      const int sa = f.origin[size_t(l.a)].shape, sb = f.origin[size_t(l.b)].shape;
+      if (sa == sb || size_t(sa) >= part_of.size() || size_t(sb) >= part_of.size()) continue;
+      const int i = part_of[size_t(sa)], j = part_of[size_t(sb)];
+      if (i < 0 || j < 0) continue;
+      if (related(i, j)) {
+        tied[size_t(parent[size_t(i)] == j ? i : j)] = 1;
+        continue;
+      }
+      RigSewing del;
+      del.action = RigSewing::Delete;
+      del.from = f.rest[size_t(l.a)];
+      del.to = f.rest[size_t(l.b)];
+      rig.sewing.push_back(del);
+      out.notes_sewing.push_back(ch.shapes[size_t(sa)].id + " and " + ch.shapes[size_t(sb)].id + " touch but neither hangs from the other: not sewn");
+    }
+    for (size_t i = 0; i < n; ++i) {
+      if (tied[i] || parent[i] < 0 || rig.sewing.empty()) continue;
+      // the closest frame vertices of the part and its parent
+      double best = std::numeric_limits<double>::infinity();
+      RigSewing add;
+      add.action = RigSewing::Add;
+      for (size_t a = 0; a < f.rest.size(); ++a) {
+        if (f.origin[a].shape != geo[i].shape) continue;
+        for (size_t b = 0; b < f.rest.size(); ++b)
+          if (f.origin[b].shape == geo[size_t(parent[i])].shape && (f.rest[a] - f.rest[b]).norm() < best) {
+            best = (f.rest[a] - f.rest[b]).norm();
+            add.from = f.rest[a];
+            add.to = f.rest[b];
+          }
+      }
+      if (std::isfinite(best)) {
+        rig.sewing.push_back(add);
+        out.notes_sewing.push_back(ch.shapes[size_t(geo[i].shape)].id + " sewn to " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id +
+                                   ", which it hangs from");
+      }
+    }
+  }
+
   // ---- handles -----------------------------------------------------------------------------------------
   std::set<std::string> used;
   auto unique = [&](std::string base) {
@@ -676,7 +808,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   };
   const Vec2 body_centre = geo[root].centroid;
   auto add_handle = [&](size_t i, const std::string& fallback, const Vec2& at) {
-    const std::string base = geo[i].named ? handle_name(ch.shapes[size_t(geo[i].shape)].id) : fallback;
+    const SubShape& sh = ch.shapes[size_t(geo[i].shape)];
+    const std::string base = geo[i].named ? handle_name(sh.label.empty() ? sh.id : sh.label) : fallback;
     out.parts[i].handle = unique(base.empty() ? fallback : base);
     rig.handles.push_back({out.parts[i].handle, at});
   };
@@ -686,8 +819,9 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   for (size_t i = 0; i < n; ++i) {
     if (out.parts[i].kind != AutoRigPart::Limb) continue;
     bool has_limb_child = false;
-    for (size_t c = 0; c < n; ++c) has_limb_child = has_limb_child || (parent[c] == int(i) && out.parts[c].kind == AutoRigPart::Limb);
-    if (has_limb_child) continue;  // the chain's last part carries the handle
+    for (size_t c = 0; c < n; ++c)
+      has_limb_child = has_limb_child || (parent[c] == int(i) && (out.parts[c].kind == AutoRigPart::Limb || out.parts[c].kind == AutoRigPart::Head));
+    if (has_limb_child) continue;  // the chain's last part (or the head on a neck) carries the handle
     // On the medial axis, 8% of the way in from the free end (inside a rounded tip).
     const auto& path = out.parts[i].path;
     Vec2 tip = out.parts[i].joint;
@@ -703,6 +837,69 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
     const std::string side = tip.x() < body_centre.x() ? "left" : "right";
     add_handle(i, "limb-" + side, tip);
+  }
+  // Strokes that hang from a part by one end (whiskers, antennae, a curl): limbs too, hinged
+  // where they leave the part, a handle at the free end. (A stroke with both ends on parts is a
+  // connector or a line drawn on them: a mouth, a belt.)
+  {
+    std::vector<char> is_part(ch.shapes.size(), 0);
+    for (const Geo& g : geo) is_part[size_t(g.shape)] = 1;
+    auto part_at = [&](const Vec2& q) {
+      int best = -1;
+      double bd = 0.02 * height;
+      for (size_t i = 0; i < n; ++i) {
+        const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
+        if (d <= bd && (best < 0 || d < bd || geo[i].area < geo[size_t(best)].area)) {  // (the smallest part holding it)
+          bd = d;
+          best = int(i);
+        }
+      }
+      return best;
+    };
+    std::vector<char> connector(ch.shapes.size(), 0);
+    for (size_t i = 0; i < n; ++i)
+      for (size_t j = 0; j < n; ++j)
+        if (via[i][j] >= 0) connector[size_t(via[i][j])] = 1;
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      const SubShape& sh = ch.shapes[s];
+      if (is_part[s] || connector[s] || members.count(int(s)) || !sh.stroke.enabled || sh.contours.size() != 1) continue;
+      const Contour& c = sh.contours[0];
+      if (c.closed || c.count < 2) continue;
+      const std::span<const Vec2> pts(sh.points.data() + c.begin, size_t(c.count));
+      double length = 0;
+      for (size_t k = 1; k < pts.size(); ++k) length += (pts[k] - pts[k - 1]).norm();
+      if (length < 0.04 * height) continue;
+      const int pa = part_at(pts.front()), pb = part_at(pts.back());
+      if ((pa >= 0) == (pb >= 0)) continue;
+      const bool from_front = pa >= 0;
+      const int par = from_front ? pa : pb;
+      // the free end, 8% of the way back along the stroke
+      Vec2 tip = from_front ? pts.back() : pts.front();
+      double run = 0;
+      for (size_t k = 1; k < pts.size() && run < 0.08 * length; ++k) {
+        const size_t a = from_front ? pts.size() - k : k - 1, b = from_front ? pts.size() - k - 1 : k;
+        run += (pts[b] - pts[a]).norm();
+        tip = pts[b];
+      }
+      AutoRigPart p;
+      p.shape = int(s);
+      p.parent = par;
+      p.kind = AutoRigPart::Limb;
+      p.has_joint = true;
+      p.joint = from_front ? pts.front() : pts.back();
+      p.why = "a stroke hanging from " + ch.shapes[size_t(geo[size_t(par)].shape)].id + " by one end";
+      RigJoint j;
+      j.has_at = true;
+      j.at = p.joint;
+      j.part_a = sh.id;
+      j.part_b = ch.shapes[size_t(geo[size_t(par)].shape)].id;
+      rig.joints.push_back(j);
+      const bool named = !sh.label.empty() || !made_up(sh.id);
+      const std::string base = named ? handle_name(sh.label.empty() ? sh.id : sh.label) : std::string("strand-") + (tip.x() < body_centre.x() ? "left" : "right");
+      p.handle = unique(base);
+      rig.handles.push_back({p.handle, tip});
+      out.parts.push_back(p);
+    }
   }
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;
@@ -734,6 +931,13 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   if (!r.joints.empty()) o << "\n# ---- hinges, where each limb goes into its parent (the drawn joint) ----\n";
   for (const RigJoint& j : r.joints) {
     o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [\"" << j.part_a << "\", \"" << j.part_b << "\"]\nkind = \"hinge\"\n";
+  }
+  if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
+  for (size_t k = 0; k < r.sewing.size(); ++k) {
+    const RigSewing& e = r.sewing[k];
+    if (k < a.notes_sewing.size()) o << "# " << a.notes_sewing[k] << "\n";
+    o << "[[sewing]]\naction = \"" << (e.action == RigSewing::Add ? "add" : "delete") << "\"\nfrom = " << point_toml(e.from) << "\nto = " << point_toml(e.to)
+      << "\n";
   }
   if (!r.swaps.empty() || !r.triggers.empty()) o << "\n# ---- swap sets and triggers, from the shapes' names ----\n";
   for (const RigSwap& s : r.swaps) {

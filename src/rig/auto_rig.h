@@ -38,6 +38,7 @@ struct AutoRig {
   Rig rig;  ///< handles, joints, swaps and triggers (character as given)
   std::vector<AutoRigPart> parts;
   std::vector<std::string> notes;  ///< what it could not do, for the user
+  std::vector<std::string> notes_sewing;  ///< why each of rig.sewing is there
 };
 
 /// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).

@@ -21,6 +21,7 @@ struct Chain {
   std::string part;  ///< the first part's id, for comments
   Vec2 pivot{0, 0};
   int outward = 1;  ///< the sign of a turn away from the body
+  bool stroke = false;  ///< a stroke hanging by one end (a whisker), not a part
 };
 
 std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
@@ -29,7 +30,7 @@ std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
     if (p.kind != AutoRigPart::Limb || p.handle.empty()) continue;
     const AutoRigPart* root = &p;
     while (root->parent >= 0 && a.parts[size_t(root->parent)].kind == AutoRigPart::Limb) root = &a.parts[size_t(root->parent)];
-    Chain c{p.handle, ch.shapes[size_t(root->shape)].id, root->joint, 1};
+    Chain c{p.handle, ch.shapes[size_t(root->shape)].id, root->joint, 1, !ch.shapes[size_t(p.shape)].fill.enabled};
     // The turn that swings it away from the body: a small clockwise turn (positive, y down)
     // moves the handle by angle * (-dy, dx).
     const AutoRigPart* body = nullptr;
@@ -45,8 +46,10 @@ std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
       }
     out.push_back(c);
   }
-  // Top to bottom, then left to right (arms before legs on the first knobs).
+  // Limbs that are parts before strokes (an arm before a curl of hair), then top to bottom,
+  // then left to right (arms before legs on the first knobs).
   std::stable_sort(out.begin(), out.end(), [](const Chain& x, const Chain& y) {
+    if (x.stroke != y.stroke) return !x.stroke;
     if (std::abs(x.pivot.y() - y.pivot.y()) > 1e-6) return x.pivot.y() < y.pivot.y();
     return x.pivot.x() < y.pivot.x();
   });

@@ -21,12 +21,21 @@
 //                 the nearest mesh vertices (the baseline seeds 000 and 003 compare against);
 //   grid-live     the same rig on the rigid grid (seed 003, solver = "rigid_grid"), a live drag
 //                 as ff-live;
-//   arap-live     the same rig on our outline ARAP baseline (solver = "arap"), a live drag.
+//   arap-live     the same rig on our outline ARAP baseline (solver = "arap"), a live drag;
+//   auto-rest     the automatic rig (`marionette rig`, rig/auto_rig.h) of the same character
+//                 instead of the hand rig, solved as ff-rest: its handles on moved parts get
+//                 their group's motion;
+//   auto-reach    the automatic rig again, each limb's group turned about the automatic rig's
+//                 own hinge for it (the targets the limb can reach by turning about its joint),
+//                 the articulated ideal turned about the same hinges.
+// (The automatic rig is skipped for a one-region raster character: it has no parts to rig.)
 // A raster character's case splits its one traced region into parts by polygons (`region`).
 //
 // Usage: bench_pose_quality [--case NAME] [--json FILE] [--grid CASE=out.png] [--smoke]
 //        [Google Benchmark flags]. Timing of each method is reported by Google Benchmark.
 #include "app/puppet.h"
+#include "character/load.h"
+#include "rig/auto_rig.h"
 #include "geom/polygon.h"
 #include "geom/triangulate.h"
 #include "render/canvas.h"
@@ -95,7 +104,14 @@ struct PoseCase {
   std::vector<Pose> poses;
   std::vector<int> handle_part;  ///< part each handle is on
   double height = 1;
+  // The automatic rig of the same character (none for a one-region raster character).
+  std::unique_ptr<mar::Puppet> autorig;
+  std::vector<Part> auto_parts;
+  std::vector<int> auto_handle_part;
+  std::vector<Group> auto_groups;  ///< the groups turned about the automatic rig's hinges
 };
+
+constexpr int kAutoRest = 6, kAutoReach = 7;
 
 [[noreturn]] void fail(const std::string& msg) {
   std::fprintf(stderr, "bench_pose_quality: %s\n", msg.c_str());
@@ -214,6 +230,37 @@ PoseCase load_case(const fs::path& file) {
   } else {
     for (const mar::RigHandle& h : c.puppet->rig.handles) c.handle_part.push_back(region_of(c, h.rest));
   }
+  if (regions.empty()) {
+    // The automatic rig of the hand rig's character, loaded as `marionette rig` writes it.
+    const std::string character = fs::absolute(rig.value->character_path()).string();
+    auto drawn = mar::load_character(character);
+    if (!drawn.ok()) fail(drawn.error);
+    const mar::AutoRig ar = mar::auto_rig(*drawn.value, character);
+    auto parsed = mar::parse_rig(mar::write_auto_rig(ar, *drawn.value), rig_path + " (automatic)");
+    if (!parsed.ok()) fail(parsed.error);
+    auto loaded = mar::load_puppet("", *parsed.value);
+    if (!loaded.ok()) fail(loaded.error);
+    c.autorig = std::move(*loaded.value);
+    c.auto_parts = c.parts;
+    fill_parts(c, c.autorig->character, c.auto_parts);
+    const mar::FeatureFrameMethod* aff = c.autorig->feature_frame();
+    for (const mar::ShapeParam& b : aff->bindings()) c.auto_handle_part.push_back(aff->frame().origin[static_cast<size_t>(b.a)].shape);
+    // Each group turned about the automatic hinge of its first limb: the hinge of a limb in the
+    // group whose parent is not in it (an arm's shoulder, not its wrist); else its own pivot.
+    c.auto_groups = c.groups;
+    for (Group& g : c.auto_groups) {
+      auto in_group = [&](const std::string& id) {
+        for (int pi : g.parts)
+          if (c.parts[static_cast<size_t>(pi)].name == id) return true;
+        return false;
+      };
+      for (const mar::RigJoint& j : ar.rig.joints)
+        if (in_group(j.part_a) && !in_group(j.part_b)) {
+          g.pivot = j.at;
+          break;
+        }
+    }
+  }
   return c;
 }
 
@@ -227,12 +274,19 @@ const Move* move_of(const PoseCase& c, const Pose& pose, int s) {
   return found;
 }
 
-std::vector<Vec2> targets_at(const PoseCase& c, const Pose& pose, double f) {
+bool automatic(int method) { return method == kAutoRest || method == kAutoReach; }
+
+// The groups a method's targets and ideal turn about: the automatic rig's hinges for auto-reach.
+const std::vector<Group>& groups_for(const PoseCase& c, int method) { return method == kAutoReach ? c.auto_groups : c.groups; }
+
+std::vector<Vec2> targets_at(const PoseCase& c, int method, const Pose& pose, double f) {
+  const mar::Puppet& p = automatic(method) ? *c.autorig : *c.puppet;
+  const std::vector<int>& on = automatic(method) ? c.auto_handle_part : c.handle_part;
   std::vector<Vec2> t;
-  for (size_t h = 0; h < c.puppet->rig.handles.size(); ++h) {
-    const Vec2 rest = c.puppet->rig.handles[h].rest;
-    const Move* m = move_of(c, pose, c.handle_part[h]);
-    t.push_back(m ? m->apply(c.groups, rest, f) : rest);
+  for (size_t h = 0; h < p.rig.handles.size(); ++h) {
+    const Vec2 rest = p.rig.handles[h].rest;
+    const Move* m = move_of(c, pose, on[h]);
+    t.push_back(m ? m->apply(groups_for(c, method), rest, f) : rest);
   }
   return t;
 }
@@ -250,8 +304,8 @@ bool g_parts = false;  // --parts: print every part's figures
 PoseResult measure(const PoseCase& c, int method, const Pose& pose, const std::vector<mar::Points>& shapes,
                    const std::vector<Vec2>& handle_points) {
   PoseResult r;
-  const mar::Character& ch = (method == 4 ? c.grid : method == 5 ? c.outline : c.puppet)->character;
-  const std::vector<Part>& parts = method == 4 ? c.grid_parts : method == 5 ? c.outline_parts : c.parts;
+  const mar::Character& ch = (method == 4 ? c.grid : method == 5 ? c.outline : automatic(method) ? c.autorig : c.puppet)->character;
+  const std::vector<Part>& parts = method == 4 ? c.grid_parts : method == 5 ? c.outline_parts : automatic(method) ? c.auto_parts : c.parts;
   const double pct = 100.0 / c.height;
   int counted = 0;
   for (size_t pi = 0; pi < parts.size(); ++pi) {
@@ -273,7 +327,7 @@ PoseResult measure(const PoseCase& c, int method, const Pose& pose, const std::v
     const Move* m = move_of(c, pose, static_cast<int>(pi));
     double art = 0;
     for (size_t i = 0; i < rest.size(); ++i) {
-      const Vec2 ideal = m ? m->apply(c.groups, rest[i], 1) : rest[i];
+      const Vec2 ideal = m ? m->apply(groups_for(c, method), rest[i], 1) : rest[i];
       art += (got[i] - ideal).squaredNorm();
     }
     art = std::sqrt(art / static_cast<double>(rest.size())) * pct;
@@ -293,11 +347,12 @@ PoseResult measure(const PoseCase& c, int method, const Pose& pose, const std::v
     r.dist_mean /= counted;
     r.art_mean /= counted;
   }
-  const std::vector<Vec2> t = targets_at(c, pose, 1);
+  const std::vector<Vec2> t = targets_at(c, method, pose, 1);
+  const mar::Rig& rig = (automatic(method) ? c.autorig : c.puppet)->rig;
   for (size_t h = 0; h < t.size() && h < handle_points.size(); ++h) {
     r.handle_max = std::max(r.handle_max, (handle_points[h] - t[h]).norm() * pct);
     if (g_parts && (handle_points[h] - t[h]).norm() * pct > 0.5) {
-      std::printf("      handle %-10s residual %.3f\n", c.puppet->rig.handles[h].name.c_str(), (handle_points[h] - t[h]).norm() * pct);
+      std::printf("      handle %-10s residual %.3f\n", rig.handles[h].name.c_str(), (handle_points[h] - t[h]).norm() * pct);
     }
   }
   return r;
@@ -325,13 +380,13 @@ Solved ff_result(mar::Puppet& p) {
 // along the groups' motion over 0.5 s at 120 Hz, warm start, the live iteration count.
 Solved live(const PoseCase& c, mar::Puppet& p, const Pose& pose) {
   p.solver->reset_to_rest();
-  for (int k = 1; k <= kLiveFrames; ++k) p.solver->solve(targets_at(c, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
+  for (int k = 1; k <= kLiveFrames; ++k) p.solver->solve(targets_at(c, 1, pose, static_cast<double>(k) / kLiveFrames), kLiveIterations);
   return ff_result(p);
 }
 
-Solved ff_rest(PoseCase& c, const Pose& pose, int iterations) {
-  mar::Puppet& p = *c.puppet;
-  const std::vector<Vec2> t = targets_at(c, pose, 1);
+Solved ff_rest(PoseCase& c, const Pose& pose, int iterations, int method = 0) {
+  mar::Puppet& p = automatic(method) ? *c.autorig : *c.puppet;
+  const std::vector<Vec2> t = targets_at(c, method, pose, 1);
   p.solver->reset_to_rest();
   p.solver->initial_guess(t);
   p.solver->solve(t, iterations);
@@ -465,7 +520,7 @@ std::unique_ptr<ArapBaseline> make_arap(const PoseCase& c) {
 
 Solved arap_solve(const PoseCase& c, ArapBaseline& a, const Pose& pose) {
   a.deform->reset();
-  const std::vector<Vec2> t = targets_at(c, pose, 1);
+  const std::vector<Vec2> t = targets_at(c, 3, pose, 1);
   for (size_t h = 0; h < a.controls.size(); ++h) {
     const Vec2 rest = a.rest[a.controls[h].idx()];
     const Vec2 p = rest + (t[h] - c.puppet->rig.handles[h].rest);
@@ -499,8 +554,8 @@ Solved arap_solve(const PoseCase& c, ArapBaseline& a, const Pose& pose) {
 
 // --- the run ----------------------------------------------------------------------------
 
-const char* const kMethods[] = {"ff-rest", "ff-live", "ff-converged", "cgal-arap", "grid-live", "arap-live"};
-constexpr int kMethodCount = 6;
+const char* const kMethods[] = {"ff-rest", "ff-live", "ff-converged", "cgal-arap", "grid-live", "arap-live", "auto-rest", "auto-reach"};
+constexpr int kMethodCount = 8;
 
 struct Options {
   std::string only_case, json_path = "bench_pose_quality.json";
@@ -525,14 +580,15 @@ Solved run_method(size_t ci, int method, const Pose& pose) {
     case 2: return ff_rest(c, pose, kConverged);
     case 3: return arap_solve(c, *arap_of()[ci], pose);
     case 4: return live(c, *c.grid, pose);
-    default: return live(c, *c.outline, pose);
+    case 5: return live(c, *c.outline, pose);
+    default: return ff_rest(c, pose, c.autorig->rig.iterations, method);
   }
 }
 
 // The puppet whose character (and fill mesh) a method's shapes belong to: the rigid grid and
 // the outline ARAP add interior points to theirs.
 const mar::Puppet& puppet_of(const PoseCase& c, int method) {
-  return method == 4 ? *c.grid : method == 5 ? *c.outline : *c.puppet;
+  return method == 4 ? *c.grid : method == 5 ? *c.outline : automatic(method) ? *c.autorig : *c.puppet;
 }
 
 void render_cell(const mar::Puppet& p, const std::vector<Points>& shapes, int size, std::vector<std::uint8_t>& grid,
@@ -563,6 +619,7 @@ void write_grid(size_t ci, const std::string& path) {
   const int gw = cols * (size + gap), gh = rows * (size + gap);
   std::vector<std::uint8_t> grid(static_cast<size_t>(4 * gw * gh), 255);
   for (int m = 0; m < rows; ++m) {
+    if (automatic(m) && !c.autorig) continue;
     const mar::Puppet& pup = puppet_of(c, m);
     std::vector<Points> rest;
     for (const mar::SubShape& s : pup.character.shapes) rest.push_back(s.points);
@@ -652,6 +709,7 @@ int main(int argc, char** argv) {
     for (size_t p = 0; p < c.poses.size(); ++p) {
       json << (p ? ",\n" : "") << "      {\"name\": \"" << c.poses[p].name << "\"";
       for (int m = 0; m < kMethodCount; ++m) {
+        if (automatic(m) && !c.autorig) continue;
         const Solved s = run_method(ci, m, c.poses[p]);
         const PoseResult r = measure(c, m, c.poses[p], s.shapes, s.handle_points);
         nonfinite += r.nonfinite;
@@ -686,6 +744,7 @@ int main(int argc, char** argv) {
   if (o.smoke) return 0;
   for (size_t ci = 0; ci < all_cases().size(); ++ci) {
     for (int m = 0; m < kMethodCount; ++m) {
+      if (automatic(m) && !all_cases()[ci].autorig) continue;
       benchmark::RegisterBenchmark(("pose/" + all_cases()[ci].name + "/" + kMethods[m]).c_str(), BM_method)
           ->Args({static_cast<long>(ci), m})
           ->Unit(benchmark::kMillisecond);

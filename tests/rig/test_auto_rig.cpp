@@ -65,17 +65,37 @@ struct Expected {
 
 TEST(AutoRig, EveryExampleCharacterGetsItsLimbsAndLoads) {
   const Expected cases[] = {
-      {"figure", {"arm-left", "arm-right", "leg-left", "leg-right"}, {"torso", "face", "arm-left", "arm-right", "leg-left", "leg-right"}, "torso"},
+      // the hair's curls are strokes hanging from the cap by one end: limbs with handles
+      {"figure",
+       {"arm-left", "arm-right", "leg-left", "leg-right", "hair-curl-1", "hair-curl-2", "hair-tuft"},
+       {"torso", "face", "arm-left", "arm-right", "leg-left", "leg-right", "hair-curl-1", "hair-curl-2", "hair-tuft"},
+       "torso"},
       // chains: the hands carry the handles, the arms only hinges
       {"boy",
-       {"arm-left", "arm-right", "hand-left", "hand-right", "leg-left", "leg-right"},
-       {"shirt", "head", "hand-left", "hand-right", "leg-left", "leg-right"},
+       {"arm-left", "arm-right", "hand-left", "hand-right", "leg-left", "leg-right", "curl"},
+       {"shirt", "head", "hand-left", "hand-right", "leg-left", "leg-right", "curl"},
        "shirt"},
       {"singer", {"arm-left", "arm-right", "leg-left", "leg-right"}, {"dress", "face", "arm-left", "arm-right", "leg-left", "leg-right"}, "dress"},
-      {"butterfly", {"wing-left", "wing-right"}, {"body", "head", "wing-left", "wing-right"}, "body"},
-      {"koi", {"tail", "fin-top", "fin-side"}, {"body", "tail", "fin-top", "fin-side"}, "body"},
+      {"butterfly",
+       {"wing-left", "wing-right", "antenna-left", "antenna-right"},
+       {"body", "head", "wing-left", "wing-right", "antenna-left", "antenna-right"},
+       "body"},
+      {"koi",
+       {"tail", "fin-top", "fin-side", "whisker-top", "whisker-bottom"},
+       {"body", "tail", "fin-top", "fin-side", "whisker-top", "whisker-bottom"},
+       "body"},
       // the flame hangs from the wax by its wick (an open stroke)
       {"candle", {"arm-left", "arm-right", "flame", "handle-ring"}, {"wax", "holder", "arm-left", "arm-right", "flame", "handle-ring"}, "wax"},
+      // drawn without our names: an editor's ids (the cat), German labels (the robot)
+      {"cat",
+       {"path2291", "rect1187", "rect1189", "rect1191", "rect1193", "path3021", "path3023"},
+       {"body", "head", "limb-left", "limb-left-2", "limb-left-3", "limb-right", "limb-right-2", "limb-right-3", "limb-right-4"},
+       "ellipse1042"},
+      // the upper arms hang beside the torso; the forearms carry the handles
+      {"robot",
+       {"rect101", "rect103", "rect107", "rect109", "rect113", "rect115", "rect121"},
+       {"rumpf", "kopf", "unterarm-links", "unterarm-rechts", "bein-links", "bein-rechts"},
+       "rect123"},
   };
   for (const Expected& e : cases) {
     const Rigged r = rig_of((test::characters_dir() / (std::string(e.name) + ".svg")).string());
@@ -139,9 +159,11 @@ TEST(AutoRig, ADrawingWithNoNamesStillGetsLimbsAndABody) {
   ASSERT_EQ(bare.find("arm-left"), std::string::npos);
   const std::string path = test::write_temp("bare-figure.svg", bare);
   const Rigged r = rig_of(path);
-  int limbs = 0;
-  for (const AutoRigPart& p : r.ar.parts) limbs += p.kind == AutoRigPart::Limb;
+  int limbs = 0, strands = 0;
+  for (const AutoRigPart& p : r.ar.parts)
+    (r.ch.shapes[size_t(p.shape)].fill.enabled ? limbs : strands) += p.kind == AutoRigPart::Limb;
   EXPECT_EQ(limbs, 4);
+  EXPECT_EQ(strands, 3) << "the curls of hair";
   const auto h = handles_of(r);
   EXPECT_TRUE(h.count("body")) << "the body's handle";
   EXPECT_TRUE(h.count("limb-left") && h.count("limb-left-2") && h.count("limb-right") && h.count("limb-right-2"));
@@ -160,7 +182,7 @@ TEST(AutoRig, TheCommandWritesARigThatPoses) {
   const std::string rig = (dir / "boy.toml").string(), png = (dir / "boy.png").string();
   auto r = test::run_cli("rig '" + (test::characters_dir() / "boy.svg").string() + "' -o '" + rig + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("6 hinges"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("7 hinges"), std::string::npos) << r.out;
   EXPECT_FALSE(std::filesystem::exists(rig + ".tmp"));
   auto p = test::run_cli("pose '" + (test::characters_dir() / "boy.svg").string() + "' --rig '" + rig +
                          "' --target hand-right=230,120 -o '" + png + "'");
