@@ -1,4 +1,5 @@
 #include "app/puppet.h"
+#include "rig/auto_rig.h"
 
 #include "character/load.h"
 
@@ -51,6 +52,9 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   Result<Character> ch = load_character(path, lo);
   if (!ch.ok()) return R::failure(ch.error);
   p->character = std::move(*ch.value);
+  // A plain rig's limbs turn at their drawn joints (rig/auto_rig.h), not about the middle of
+  // where they overlap their parent: hinges the rig does not state come from the drawing.
+  if (p->rig.solver == "feature_frame" && p->rig.auto_joints) add_drawn_joints(p->character, p->rig);
   // Swap members and trigger shapes are sub-shapes of the character.
   std::string bad;
   auto shape_indices = [&](const std::vector<std::string>& ids, int line, const std::string& what) {

@@ -905,6 +905,47 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   return out;
 }
 
+int add_drawn_joints(const Character& ch, Rig& rig) {
+  const AutoRig ar = auto_rig(ch, rig.character, rig.mask);
+  const Bounds b = ch.bounds();
+  const double near = 0.02 * (b.empty() ? 1.0 : std::max(1e-9, b.hi.y() - b.lo.y()));
+  auto shape_of = [&](const std::string& id) {
+    for (size_t s = 0; s < ch.shapes.size(); ++s)
+      if (ch.shapes[s].id == id) return int(s);
+    return -1;
+  };
+  int added = 0;
+  const size_t stated = rig.joints.size();
+  for (const RigJoint& j : ar.rig.joints) {
+    // (a stroke hanging by one end, a whisker, stays as the solver has it)
+    bool stroke_limb = false;
+    for (const AutoRigPart& p : ar.parts)
+      stroke_limb = stroke_limb || (p.kind == AutoRigPart::Limb && p.shape == shape_of(j.part_a) && !ch.shapes[size_t(p.shape)].fill.enabled);
+    if (stroke_limb) continue;
+    bool taken = false;
+    for (size_t k = 0; k < stated; ++k) {
+      const RigJoint& r = rig.joints[k];
+      const bool pair = (r.part_a == j.part_a && r.part_b == j.part_b) || (r.part_a == j.part_b && r.part_b == j.part_a);
+      taken = taken || pair || (r.has_at && (r.at - j.at).norm() <= near);
+    }
+    if (taken) continue;
+    rig.joints.push_back(j);
+    ++added;
+  }
+  // (the rig's own sewing first; an edit it already has, as `marionette rig` wrote it, is not
+  // made twice: a second delete would take the next nearest line)
+  const size_t own = rig.sewing.size();
+  for (const RigSewing& e : ar.rig.sewing) {
+    bool have = false;
+    for (size_t k = 0; k < own; ++k) {
+      const RigSewing& r = rig.sewing[k];
+      have = have || (r.action == e.action && (r.from - e.from).norm() < 0.2 && (r.to - e.to).norm() < 0.2);
+    }
+    if (!have) rig.sewing.push_back(e);
+  }
+  return added;
+}
+
 std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   std::ostringstream o;
   const Rig& r = a.rig;

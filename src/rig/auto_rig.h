@@ -47,6 +47,12 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
 /// The rig as commented TOML, each handle, hinge, swap and trigger with why it is there.
 std::string write_auto_rig(const AutoRig& a, const Character& ch);
 
+/// What a rig gets from the drawing where it states nothing (a plain rig: handles only): for
+/// each limb that is a part, whose pair of parts the rig names in no [[joint]] (and no joint of
+/// the rig's stands near), the automatic rig's hinge at the drawn joint; and the automatic
+/// rig's sewing that follows the parts' tree. Returns how many hinges it added.
+int add_drawn_joints(const Character& ch, Rig& rig);
+
 /// Words of a name, lower case: "armRight_2" -> {"arm", "right", "2"}.
 std::vector<std::string> name_words(const std::string& name);
 

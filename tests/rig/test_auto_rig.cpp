@@ -4,6 +4,7 @@
 #include "app/puppet.h"
 #include "character/load.h"
 #include "render/image.h"
+#include "geom/polygon.h"
 #include "rig/auto_rig.h"
 #include "test_util.h"
 
@@ -238,6 +239,62 @@ TEST(StarterShow, ButtonsSwapAndTriggerAndBadArgumentsAreRefused) {
   auto no_rig = test::run_cli("rig '" + ch + "' --show '" + show + "'");
   EXPECT_EQ(no_rig.exit_code, 2);
   EXPECT_NE(no_rig.err.find("-o"), std::string::npos) << no_rig.err;
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// A plain rig (handles only) turns its limbs at the drawn joints: the robot's hand rig states no
+// joint, and its right hand reaches a target turned 90 and 160 degrees about the shoulder with
+// the forearm kept in shape. (The middle of the overlap and the torso's grip on the forearm it
+// touches used to leave the hand 3-7% of the height short and the forearm bent.)
+TEST(DrawnJoints, APlainRigReachesWhatItsLimbsCanReach) {
+  auto p = load_puppet("", (test::source_dir() / "config/rigs/robot.toml").string());
+  ASSERT_TRUE(p.ok()) << p.error;
+  Puppet& pup = **p.value;
+  EXPECT_GE(pup.rig.joints.size(), 6u) << "shoulders, elbows, hips, neck from the drawing";
+  const int hand = pup.rig.find_handle("right-hand");
+  ASSERT_GE(hand, 0);
+  const Vec2 shoulder(213, 160);
+  int forearm = -1;
+  for (size_t s = 0; s < pup.character.shapes.size(); ++s)
+    if (pup.character.shapes[s].id == "rect109") forearm = int(s);
+  ASSERT_GE(forearm, 0);
+  for (double deg : {-90.0, -160.0}) {
+    std::vector<Vec2> t = pup.rest_targets();
+    const double a = deg * M_PI / 180;
+    const Vec2 d = t[size_t(hand)] - shoulder;
+    t[size_t(hand)] = shoulder + Vec2(std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y());
+    pup.solver->reset_to_rest();
+    pup.solver->initial_guess(t);
+    pup.solver->solve(t, pup.rig.iterations);
+    pup.reconstruct();
+    const double h = pup.character.height;
+    EXPECT_LE((pup.solver->handle_point(size_t(hand)) - t[size_t(hand)]).norm(), 0.005 * h) << deg;
+    EXPECT_LE(rigid_fit_rms(pup.character.shapes[size_t(forearm)].points, pup.shapes[size_t(forearm)]), 0.005 * h) << deg;
+  }
+}
+
+// `joints = "none"` keeps a rig exactly as written; joints a rig states win over the drawing's.
+TEST(DrawnJoints, ARigThatSaysNoneOrStatesItsOwnKeepsThem) {
+  const std::string robot = (test::characters_dir() / "robot.svg").string();
+  const std::string none = test::write_temp("robot-none.toml", "character = \"" + robot + "\"\n[feature_frame]\njoints = \"none\"\n[[handle]]\nname = \"h\"\nrest = [213.0, 266.0]\n");
+  auto p = load_puppet("", none);
+  ASSERT_TRUE(p.ok()) << p.error;
+  EXPECT_TRUE((*p.value)->rig.joints.empty());
+  EXPECT_TRUE((*p.value)->rig.sewing.empty());
+  auto boy = load_puppet("", (test::source_dir() / "config/rigs/boy.toml").string());
+  ASSERT_TRUE(boy.ok()) << boy.error;
+  int wrists = 0;
+  for (const RigJoint& j : (*boy.value)->rig.joints)
+    if (j.part_a == "hand-right" || j.part_a == "hand-left") {
+      ++wrists;
+      EXPECT_TRUE(j.weld) << "the boy's rig welds its mittens; the drawing's wrist hinge does not replace that";
+    }
+  EXPECT_EQ(wrists, 2);
 }
 
 }  // namespace
