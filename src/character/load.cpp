@@ -3,11 +3,19 @@
 #include "character/raster_loader.h"
 #include "character/svg_loader.h"
 
+#include <filesystem>
 #include <fstream>
 
 namespace mar {
 
 Result<Character> load_character(const std::string& path, const LoadOptions& options) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {  // a folder of PNG layers
+    if (!options.mask_path.empty()) return Result<Character>::failure(path + ": --mask applies to a single PNG, not a folder of layers");
+    RasterOptions ro;
+    ro.tolerance = options.raster_tolerance;
+    return load_layers(path, ro);
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) return Result<Character>::failure(path + ": cannot open file");
   char sig[8] = {};

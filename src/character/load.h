@@ -1,4 +1,5 @@
-// Loads a character from any supported file: SVG, or PNG (+ optional mask).
+// Loads a character from any supported file: SVG, PNG (+ optional mask), or a folder of PNG
+// layers (character/raster_loader.h: load_layers).
 #pragma once
 
 #include "character/character.h"
@@ -13,7 +14,7 @@ struct LoadOptions {
   double raster_tolerance = 0.75;
 };
 
-/// Chooses the loader by content (PNG signature, else SVG/XML). Every failure is
+/// Chooses the loader by content (a folder: its PNG layers; a PNG signature; else SVG/XML). Every failure is
 /// bad input: a message naming the file and, where known, the line.
 Result<Character> load_character(const std::string& path, const LoadOptions& options = {});
 

@@ -4,6 +4,12 @@
 #include "geom/polygon.h"
 
 #include <stb/stb_image.h>
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <set>
 
 namespace mar {
 
@@ -102,6 +108,123 @@ Result<Character> load_raster(const std::string& path, const RasterOptions& opti
     mask = std::move(m.value->rgba);
   }
   return raster_character(tex, mask, path, options);
+}
+
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// "10-arm-left" -> "arm-left": a part's name is its file's stem without a leading number.
+std::string part_name(const std::string& stem) {
+  size_t i = 0;
+  while (i < stem.size() && std::isdigit(static_cast<unsigned char>(stem[i]))) ++i;
+  if (i > 0 && i < stem.size() && (stem[i] == '-' || stem[i] == '_' || stem[i] == ' ' || stem[i] == '.')) ++i;
+  return i < stem.size() ? stem.substr(i) : stem;
+}
+
+// File names in paint order: a leading number by its value, then the rest.
+bool layer_before(const std::string& a, const std::string& b) {
+  auto key = [](const std::string& s) {
+    size_t i = 0;
+    while (i < s.size() && std::isdigit(static_cast<unsigned char>(s[i]))) ++i;
+    const long long n = i > 0 && i < 18 ? std::stoll(s.substr(0, i)) : -1;
+    return std::make_pair(n, s);
+  };
+  return key(a) < key(b);
+}
+
+}  // namespace
+
+Result<Character> load_layers(const std::string& folder, const RasterOptions& options) {
+  namespace fs = std::filesystem;
+  using R = Result<Character>;
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) return R::failure(folder + ": not a folder");
+  Character ch;
+  ch.source = folder;
+  std::vector<std::string> files;
+  const fs::path order_file = fs::path(folder) / "layers.toml";
+  if (fs::exists(order_file, ec)) {
+    toml::table root;
+    try {
+      root = toml::parse_file(order_file.string());
+    } catch (const toml::parse_error& e) {
+      return R::failure(order_file.string() + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
+    }
+    const toml::array* order = root["order"].as_array();
+    if (!order) return R::failure(order_file.string() + ": needs order = [\"back.png\", ..., \"front.png\"]");
+    for (const toml::node& n : *order) {
+      const auto name = n.value<std::string>();
+      if (!name || name->empty() || name->find('/') != std::string::npos || name->find("..") != std::string::npos)
+        return R::failure(order_file.string() + ": order names file names in the folder (\"arm-left.png\")");
+      files.push_back(*name);
+    }
+  } else {
+    for (const fs::directory_entry& e : fs::directory_iterator(folder, ec)) {
+      std::string ext = e.path().extension().string();
+      for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+      if (e.is_regular_file(ec) && ext == ".png") files.push_back(e.path().filename().string());
+    }
+    std::sort(files.begin(), files.end(), layer_before);
+  }
+  if (files.empty()) return R::failure(folder + ": no PNG layers in the folder");
+  if (int(files.size()) > kMaxLayers)
+    return R::failure(folder + ": " + std::to_string(files.size()) + " layers; the limit is " + std::to_string(kMaxLayers));
+  std::set<std::string> used;
+  for (const std::string& file : files) {
+    const std::string path = (fs::path(folder) / file).string();
+    if (!fs::exists(path, ec)) {
+      ch.warnings.push_back(path + ": no such layer (named in layers.toml); left out");
+      continue;
+    }
+    Result<Texture> img = read_png(path);
+    if (!img.ok()) {
+      ch.warnings.push_back(img.error + "; layer left out");
+      continue;
+    }
+    if (ch.shapes.empty() && ch.width == 0) {
+      ch.width = img.value->width;
+      ch.height = img.value->height;
+    } else if (img.value->width != int(ch.width) || img.value->height != int(ch.height)) {
+      ch.warnings.push_back(path + ": layer is " + std::to_string(img.value->width) + "x" + std::to_string(img.value->height) +
+                            " but the character is " + std::to_string(int(ch.width)) + "x" + std::to_string(int(ch.height)) +
+                            " (its first layer's size); left out");
+      continue;
+    }
+    auto tex = std::make_shared<const Texture>(std::move(*img.value));
+    bool opaque = false;
+    for (size_t i = 3; i < tex->rgba.size() && !opaque; i += 4) opaque = tex->rgba[i] > 0;
+    if (!opaque) {
+      ch.warnings.push_back(path + ": layer is empty (nothing opaque); left out");
+      continue;
+    }
+    Result<Character> one = raster_character(tex, {}, path, options);
+    if (!one.ok()) {
+      ch.warnings.push_back(one.error + "; layer left out");
+      continue;
+    }
+    for (const std::string& w : one.value->warnings) ch.warnings.push_back(w);
+    const std::string base = part_name(fs::path(file).stem().string());
+    const int layer = int(ch.layers.size());
+    ch.layers.push_back(base);
+    int k = 0;
+    for (SubShape& s : one.value->shapes) {
+      std::string id = k++ == 0 ? base : base + "-" + std::to_string(k);
+      for (int n = 2; used.count(id); ++n) id = base + "-" + std::to_string(n);
+      used.insert(id);
+      s.id = id;
+      s.element = "layer";
+      s.layer = layer;
+      ch.shapes.push_back(std::move(s));
+    }
+  }
+  if (ch.shapes.empty()) {
+    std::string why;
+    for (const std::string& w : ch.warnings) why += "\n  " + w;
+    return R::failure(folder + ": no usable layer" + why);
+  }
+  return R::success(std::move(ch));
 }
 
 }  // namespace mar

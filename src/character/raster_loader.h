@@ -24,6 +24,17 @@ Result<Character> raster_character(std::shared_ptr<const Texture> image,
                                    const std::vector<std::uint8_t>& mask_rgba,
                                    const std::string& name, const RasterOptions& options = {});
 
+/// A folder of PNG layers, one part each: each layer's alpha is traced into a part textured
+/// with the layer. Paint order: `layers.toml` in the folder (`order = ["body.png", ...]`,
+/// back to front), else the file names' order (`10-body.png`, `20-arm-left.png`: numbers
+/// first, so 9 comes before 10). A part is named after its file without the leading number
+/// (`arm-left`). Every layer has the first layer's size. A layer that cannot be used (missing,
+/// unreadable, too big, another size, nothing opaque) is left out with a warning naming it;
+/// a folder with no usable layer is an error.
+Result<Character> load_layers(const std::string& folder, const RasterOptions& options = {});
+/// At most this many layers in a folder.
+constexpr int kMaxLayers = 256;
+
 /// Limits of an image (or mask): at most kMaxImageSide pixels a side and kMaxImagePixels
 /// in all (64 MB as RGBA8); a larger one is refused from its header, before decoding.
 constexpr int kMaxImageSide = 8192;

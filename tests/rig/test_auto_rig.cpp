@@ -109,6 +109,16 @@ TEST(AutoRig, EveryExampleCharacterGetsItsLimbsAndLoads) {
   }
 }
 
+// A character made of PNG layers (config/characters/owl) rigs as a drawing does: its parts are
+// traced from each layer's alpha and named after the files.
+TEST(AutoRig, AFolderOfPngLayersGetsItsLimbs) {
+  const Rigged r = rig_of((test::characters_dir() / "owl").string());
+  EXPECT_EQ(ids_of(r, AutoRigPart::Limb), (std::set<std::string>{"wing-left", "wing-right", "foot-left", "foot-right", "ear-left", "ear-right"}));
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"body"});
+  EXPECT_EQ(handles_of(r), (std::set<std::string>{"body", "head", "wing-left", "wing-right", "foot-left", "foot-right", "ear-left", "ear-right"}));
+  loads(r, "owl");
+}
+
 // The singer's mouth shapes make a swap set, her open and shut eyes a swap set and a blink.
 TEST(AutoRig, NamedMouthsAndEyesBecomeSwapSetsAndABlink) {
   const Rigged r = rig_of((test::characters_dir() / "singer.svg").string());
