@@ -6,6 +6,7 @@
 #include "app/puppet.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
+#include "rig/edit.h"
 
 #include <algorithm>
 #include <chrono>
@@ -319,10 +320,8 @@ int cmd_pose(const PoseArgs& a) {
       std::cerr << "error: --save-key needs a new name (not 'rest' nor an existing key) and at least one --target\n";
       return kExitBadInput;
     }
-    std::ofstream out(a.rig, std::ios::app);
-    out << "\n" << key_toml(k);
-    if (!out) {
-      std::cerr << "error: cannot append to " << a.rig << "\n";
+    if (const std::string err = append_atomically(a.rig, "\n" + key_toml(k)); !err.empty()) {
+      std::cerr << "error: " << err << "\n";
       return kExitRuntime;
     }
   }

@@ -3,6 +3,7 @@
 #include "app/puppet.h"
 #include "character/load.h"
 #include "rig/auto_rig.h"
+#include "rig/edit.h"
 #include "rig/starter_show.h"
 
 #include <filesystem>
@@ -12,31 +13,6 @@
 namespace mar {
 
 namespace fs = std::filesystem;
-
-namespace {
-
-// Atomic: a temporary file beside it, then renamed over it.
-bool write_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f << text;
-    if (!f.flush()) {
-      std::cerr << "error: cannot write " << tmp << "\n";
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::cerr << "error: cannot write " << path << ": " << ec.message() << "\n";
-    fs::remove(tmp, ec);
-    return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 int cmd_rig(const RigArgs& a) {
   if (!a.show.empty() && a.output.empty()) {
@@ -81,8 +57,14 @@ int cmd_rig(const RigArgs& a) {
   }
   if (a.output.empty()) {
     std::cout << text;
-  } else if (!write_atomically(a.output, text) || (!a.show.empty() && !write_atomically(a.show, show_text))) {
-    return kExitRuntime;
+  } else {
+    for (const auto& [file, body] : {std::pair{a.output, text}, std::pair{a.show, show_text}}) {
+      if (file.empty()) continue;
+      if (const std::string err = write_atomically(file, body); !err.empty()) {
+        std::cerr << "error: " << err << "\n";
+        return kExitRuntime;
+      }
+    }
   }
   size_t limbs = 0;
   for (const AutoRigPart& p : ar.parts) limbs += p.kind == AutoRigPart::Limb;

@@ -2,6 +2,7 @@
 #include "app/show_toml.h"
 #include "character/color.h"
 #include "input/hid_usages.h"
+#include "rig/edit.h"
 
 #include <SDL2/SDL.h>
 #include <toml++/toml.h>
@@ -593,11 +594,9 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
 
 std::string append_binding(const std::string& path, const std::string& device, const std::string& control,
                            const std::string& target) {
-  std::ofstream out(path, std::ios::app);
-  if (!out) return path + ": cannot write the show file";
-  out << "\n[[binding]]  # learned with --learn\ndevice = \"" << device << "\"\ncontrol = \"" << control
-      << "\"\ntarget = \"" << target << "\"\n";
-  return out ? "" : path + ": write failed";
+  // (atomically: the show file as it was, comments and all, then the binding)
+  return append_atomically(path, "\n[[binding]]  # learned with --learn\ndevice = \"" + device + "\"\ncontrol = \"" + control +
+                                     "\"\ntarget = \"" + target + "\"\n");
 }
 
 }  // namespace mar
