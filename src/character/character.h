@@ -61,6 +61,11 @@ struct Contour {
 struct SubShape {
   std::string id;       ///< id from the file (made unique), or "<tag>-L<line>"
   std::string label;    ///< the name an editor shows (Inkscape's inkscape:label), if any
+  /// The groups it is in, outermost first, each by its label (else id), joined by '/'
+  /// ("head/Mouth"); empty outside any group. `group_key` tells apart two groups of one name
+  /// (-1: none).
+  std::string group;
+  int group_key = -1;
   std::string element;  ///< source element name (path, rect, ..., or "region")
   int line = 0;         ///< source line, 0 if not from a text file
   int layer = 0;        ///< index into Character::layers

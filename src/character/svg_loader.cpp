@@ -56,6 +56,8 @@ struct Ctx {
   int layer_key = -1;  // offset of the layer's <g>, -1 = root
   std::string layer_name = "(root)";
   std::string id_prefix;
+  std::string group;  // the enclosing groups' names (label, else id), outermost first, '/' between
+  int group_key = -1; // offset of the innermost <g>, -1 = none
   int depth = 0;
 };
 
@@ -475,6 +477,13 @@ class SvgLoader {
         const char* id = n.attribute("id").value();
         ctx.layer_name = *label ? label : (*id ? id : "layer-L" + std::to_string(line_of(n)));
       }
+      {
+        const char* label = n.attribute("inkscape:label").value();
+        const char* gid = n.attribute("id").value();
+        const std::string gname = *label ? label : *gid ? gid : "g-L" + std::to_string(line_of(n));
+        ctx.group = parent.group.empty() ? gname : parent.group + "/" + gname;
+        ctx.group_key = static_cast<int>(n.offset_debug());
+      }
       for (pugi::xml_node c : n.children()) visit(c, ctx);
     } else if (name == "svg") {
       visit_nested_svg(n, ctx, n, 0, 0, false);
@@ -700,6 +709,8 @@ class SvgLoader {
     const char* id = n.attribute("id").value();
     s.id = ctx.id_prefix + (*id ? std::string(id) : s.element + "-L" + std::to_string(s.line));
     s.label = n.attribute("inkscape:label").value();
+    s.group = ctx.group;
+    s.group_key = ctx.group_key;
     for (const svg::FlatContour& fc : flat) {
       Points pts = fc.points;
       for (Vec2& p : pts) {

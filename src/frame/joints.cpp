@@ -23,43 +23,6 @@ RingBounds ring_bounds(std::span<const Vec2> r) {
   return b;
 }
 
-// Principal axis of a ring's points: centre, unit major axis, half extents along the major
-// and minor axes.
-struct Axis {
-  Vec2 centre, major;
-  double half_major = 0, half_minor = 0;
-};
-
-Axis principal_axis(std::span<const Vec2> r) {
-  Axis ax;
-  ax.centre = Vec2::Zero();
-  for (const Vec2& p : r) ax.centre += p;
-  ax.centre /= static_cast<double>(std::max<size_t>(1, r.size()));
-  double sxx = 0, sxy = 0, syy = 0;
-  for (const Vec2& p : r) {
-    const Vec2 d = p - ax.centre;
-    sxx += d.x() * d.x();
-    sxy += d.x() * d.y();
-    syy += d.y() * d.y();
-  }
-  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
-  ax.major = Vec2(std::cos(angle), std::sin(angle));
-  const Vec2 minor(-ax.major.y(), ax.major.x());
-  double lo = 0, hi = 0, mlo = 0, mhi = 0;
-  for (const Vec2& p : r) {
-    const Vec2 d = p - ax.centre;
-    lo = std::min(lo, d.dot(ax.major));
-    hi = std::max(hi, d.dot(ax.major));
-    mlo = std::min(mlo, d.dot(minor));
-    mhi = std::max(mhi, d.dot(minor));
-  }
-  ax.half_major = 0.5 * (hi - lo);
-  ax.half_minor = 0.5 * (mhi - mlo);
-  // The centre of the extent (not of the points: dense curves would bias it).
-  ax.centre += 0.5 * (hi + lo) * ax.major + 0.5 * (mhi + mlo) * minor;
-  return ax;
-}
-
 // The joint sits near one end of an elongated part.
 bool at_end_of_limb(std::span<const Vec2> ring, const Vec2& j) {
   const Axis ax = principal_axis(ring);
@@ -96,6 +59,36 @@ std::vector<int> nearest_vertices(const FeatureFrame& f, const std::vector<int>&
 }
 
 }  // namespace
+
+Axis principal_axis(std::span<const Vec2> r) {
+  Axis ax;
+  ax.centre = Vec2::Zero();
+  for (const Vec2& p : r) ax.centre += p;
+  ax.centre /= static_cast<double>(std::max<size_t>(1, r.size()));
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const Vec2& p : r) {
+    const Vec2 d = p - ax.centre;
+    sxx += d.x() * d.x();
+    sxy += d.x() * d.y();
+    syy += d.y() * d.y();
+  }
+  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
+  ax.major = Vec2(std::cos(angle), std::sin(angle));
+  const Vec2 minor(-ax.major.y(), ax.major.x());
+  double lo = 0, hi = 0, mlo = 0, mhi = 0;
+  for (const Vec2& p : r) {
+    const Vec2 d = p - ax.centre;
+    lo = std::min(lo, d.dot(ax.major));
+    hi = std::max(hi, d.dot(ax.major));
+    mlo = std::min(mlo, d.dot(minor));
+    mhi = std::max(mhi, d.dot(minor));
+  }
+  ax.half_major = 0.5 * (hi - lo);
+  ax.half_minor = 0.5 * (mhi - mlo);
+  // The centre of the extent (not of the points: dense curves would bias it).
+  ax.centre += 0.5 * (hi + lo) * ax.major + 0.5 * (mhi + mlo) * minor;
+  return ax;
+}
 
 bool overlap_centre(std::span<const Vec2> a, std::span<const Vec2> b, Vec2& centre, double* area) {
   const RingBounds ba = ring_bounds(a), bb = ring_bounds(b);

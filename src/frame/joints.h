@@ -26,6 +26,14 @@ std::vector<double> part_stiffness(const Character& ch, const FrameOptions& o, s
 /// line by its parts' stiffness. Run by build_feature_frame after the sewing lines exist.
 void add_joints_and_stiffness(const Character& ch, const FrameOptions& o, FeatureFrame& f);
 
+/// The principal axis of a ring's points: the centre of their extent, the unit major axis,
+/// and the half extents along the major and minor axes.
+struct Axis {
+  Vec2 centre{0, 0}, major{1, 0};
+  double half_major = 0, half_minor = 0;
+};
+Axis principal_axis(std::span<const Vec2> r);
+
 /// Centre (and area, when asked) of the region inside both closed rings, sampled on a
 /// 48 x 48 grid over their common bounds; false when they do not overlap.
 bool overlap_centre(std::span<const Vec2> a, std::span<const Vec2> b, Vec2& centre, double* area = nullptr);

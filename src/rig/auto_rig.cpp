@@ -118,40 +118,6 @@ Vec2 ring_centroid(const Points& r) {
   return c / (3 * a);
 }
 
-// Principal axis: centre of the extent, unit major axis, half extents.
-struct Axis {
-  Vec2 centre{0, 0}, major{1, 0};
-  double half_major = 0, half_minor = 0;
-};
-
-Axis axis_of(const Points& r) {
-  Axis ax;
-  Vec2 m = Vec2::Zero();
-  for (const Vec2& p : r) m += p;
-  m /= double(std::max<size_t>(1, r.size()));
-  double sxx = 0, sxy = 0, syy = 0;
-  for (const Vec2& p : r) {
-    const Vec2 d = p - m;
-    sxx += d.x() * d.x();
-    sxy += d.x() * d.y();
-    syy += d.y() * d.y();
-  }
-  const double angle = 0.5 * std::atan2(2 * sxy, sxx - syy);
-  ax.major = Vec2(std::cos(angle), std::sin(angle));
-  const Vec2 minor(-ax.major.y(), ax.major.x());
-  double lo = 1e300, hi = -1e300, mlo = 1e300, mhi = -1e300;
-  for (const Vec2& p : r) {
-    lo = std::min(lo, (p - m).dot(ax.major));
-    hi = std::max(hi, (p - m).dot(ax.major));
-    mlo = std::min(mlo, (p - m).dot(minor));
-    mhi = std::max(mhi, (p - m).dot(minor));
-  }
-  ax.half_major = 0.5 * (hi - lo);
-  ax.half_minor = 0.5 * (mhi - mlo);
-  ax.centre = m + 0.5 * (hi + lo) * ax.major + 0.5 * (mhi + mlo) * minor;
-  return ax;
-}
-
 // Points where two closed outlines cross.
 std::vector<Vec2> crossings(const Points& a, const Points& b) {
   std::vector<Vec2> out;
@@ -298,20 +264,53 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     for (size_t s = 0; s < ch.shapes.size(); ++s) {
       const auto w = name_words(ch.shapes[s].label.empty() ? ch.shapes[s].id : ch.shapes[s].label);
       if (w.size() >= 2 && w[0] == "mouth") mouths.push_back(int(s));
+      if (hint_of(w) != Hint::Eye && has_word(w, {"blink"})) shut_eyes.push_back(int(s));  // a blink layer
       if (hint_of(w) == Hint::Eye) {
         if (has_word(w, {"closed", "close", "shut", "blink"})) shut_eyes.push_back(int(s));
         else if (has_word(w, {"open"})) open_eyes.push_back(int(s));
       }
+    }
+    // Groups (Character Animator's way): a group named mouth whose children are visemes; a
+    // group of eyes with open and closed children; a shape or group named blink.
+    std::map<int, std::vector<int>> children;  // innermost group -> its shapes
+    std::map<int, std::vector<std::string>> group_words;
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      const SubShape& sh = ch.shapes[s];
+      if (sh.group_key < 0) continue;
+      children[sh.group_key].push_back(int(s));
+      const size_t slash = sh.group.rfind('/');
+      group_words[sh.group_key] = name_words(slash == std::string::npos ? sh.group : sh.group.substr(slash + 1));
+    }
+    for (const auto& [key, kids] : children) {
+      const auto& gw = group_words[key];
+      if (mouths.size() < 2 && kids.size() >= 2 && has_word(gw, {"mouth", "mouths", "visemes", "viseme"})) mouths = kids;
+      if (hint_of(gw) == Hint::Eye || has_word(gw, {"blink"}))
+        for (int s : kids) {
+          const auto w = name_words(ch.shapes[size_t(s)].label.empty() ? ch.shapes[size_t(s)].id : ch.shapes[size_t(s)].label);
+          const bool shut = has_word(w, {"closed", "close", "shut", "blink"}) || has_word(gw, {"blink"});
+          auto& list = shut ? shut_eyes : open_eyes;
+          if ((shut || has_word(w, {"open"})) && std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
+        }
     }
     if (mouths.size() >= 2) {
       RigSwap sw;
       sw.name = "mouth";
       for (int s : mouths) {
         sw.members.push_back(ch.shapes[size_t(s)].id);
-        if (has_word(name_words(ch.shapes[size_t(s)].id), {"neutral", "rest", "closed"})) sw.default_member = int(sw.members.size()) - 1;
+        const SubShape& m = ch.shapes[size_t(s)];
+        if (has_word(name_words(m.label.empty() ? m.id : m.label), {"neutral", "rest", "closed"})) sw.default_member = int(sw.members.size()) - 1;
         members.insert(s);
       }
       rig.swaps.push_back(sw);
+    }
+    if (!shut_eyes.empty() && open_eyes.empty()) {  // a blink layer over the eyes: shown while it fires
+      RigTrigger tr;
+      tr.name = "blink";
+      for (int s : shut_eyes) {
+        tr.shapes.push_back(ch.shapes[size_t(s)].id);
+        members.insert(s);
+      }
+      rig.triggers.push_back(tr);
     }
     if (!shut_eyes.empty() && !open_eyes.empty()) {
       RigSwap sw;
@@ -417,33 +416,35 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
         nb[j].push_back(int(i));
       }
     }
+  // The part at a point: inside it or within 2% of the height of it, the smallest holding it;
+  // parts mostly inside another only `with_details`.
+  std::vector<char> is_part(ch.shapes.size(), 0);
+  for (const Geo& g : geo) is_part[size_t(g.shape)] = 1;
+  auto part_at = [&](const Vec2& q, bool with_details) {
+    int best = -1;
+    double bd = 0.02 * height;
+    for (size_t i = 0; i < n; ++i) {
+      if (!with_details && container[i] >= 0) continue;
+      const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
+      if (d <= bd && (best < 0 || d < bd || geo[i].area < geo[size_t(best)].area)) {
+        bd = d;
+        best = int(i);
+      }
+    }
+    return best;
+  };
   // Connectors: an open stroke from one part to another (a wick from a candle to its flame)
   // joins them; a hinge then goes where it leaves the parent.
   std::vector<std::vector<int>> via(n, std::vector<int>(n, -1));           // the stroke's shape
   std::vector<std::vector<Vec2>> stroke_end(n, std::vector<Vec2>(n, Vec2::Zero()));  // its end at the first part
   {
-    std::vector<char> is_part(ch.shapes.size(), 0);
-    for (const Geo& g : geo) is_part[size_t(g.shape)] = 1;
-    auto part_at = [&](const Vec2& q) {
-      int best = -1;
-      double bd = 0.02 * height;
-      for (size_t i = 0; i < n; ++i) {
-        if (container[i] >= 0) continue;
-        const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
-        if (d <= bd) {
-          bd = d;
-          best = int(i);
-        }
-      }
-      return best;
-    };
     for (size_t s = 0; s < ch.shapes.size(); ++s) {
       const SubShape& sh = ch.shapes[s];
       if (is_part[s] || members.count(int(s)) || !sh.stroke.enabled) continue;
       for (const Contour& c : sh.contours) {
         if (c.closed || c.count < 2) continue;
         const Vec2 a = sh.points[size_t(c.begin)], b = sh.points[size_t(c.begin + c.count - 1)];
-        const int pa = part_at(a), pb = part_at(b);
+        const int pa = part_at(a, false), pb = part_at(b, false);
         if (pa < 0 || pb < 0 || pa == pb || overlap[size_t(pa)][size_t(pb)] > 0) continue;
         if (std::find(nb[size_t(pa)].begin(), nb[size_t(pa)].end(), pb) != nb[size_t(pa)].end()) continue;
         nb[size_t(pa)].push_back(pb);
@@ -545,7 +546,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     AutoRigPart& p = out.parts[i];
     p.shape = geo[i].shape;
     p.parent = parent[i];
-    axes[i] = axis_of(geo[i].ring);
+    axes[i] = principal_axis(geo[i].ring);
     if (i == root) {
       p.kind = AutoRigPart::Body;
       p.why = "the body: the part the others hang from";
@@ -842,20 +843,6 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   // where they leave the part, a handle at the free end. (A stroke with both ends on parts is a
   // connector or a line drawn on them: a mouth, a belt.)
   {
-    std::vector<char> is_part(ch.shapes.size(), 0);
-    for (const Geo& g : geo) is_part[size_t(g.shape)] = 1;
-    auto part_at = [&](const Vec2& q) {
-      int best = -1;
-      double bd = 0.02 * height;
-      for (size_t i = 0; i < n; ++i) {
-        const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
-        if (d <= bd && (best < 0 || d < bd || geo[i].area < geo[size_t(best)].area)) {  // (the smallest part holding it)
-          bd = d;
-          best = int(i);
-        }
-      }
-      return best;
-    };
     std::vector<char> connector(ch.shapes.size(), 0);
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n; ++j)
@@ -869,7 +856,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       double length = 0;
       for (size_t k = 1; k < pts.size(); ++k) length += (pts[k] - pts[k - 1]).norm();
       if (length < 0.04 * height) continue;
-      const int pa = part_at(pts.front()), pb = part_at(pts.back());
+      const int pa = part_at(pts.front(), true), pb = part_at(pts.back(), true);
       if ((pa >= 0) == (pb >= 0)) continue;
       const bool from_front = pa >= 0;
       const int par = from_front ? pa : pb;

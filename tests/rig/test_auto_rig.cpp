@@ -11,7 +11,6 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
-#include <regex>
 #include <set>
 
 namespace mar {
@@ -138,6 +137,39 @@ TEST(AutoRig, NamedMouthsAndEyesBecomeSwapSetsAndABlink) {
   EXPECT_TRUE(rig_of((test::characters_dir() / "figure.svg").string()).ar.rig.swaps.empty());
 }
 
+// Groups, Character Animator's way: a Mouth group of visemes is a swap set (its Neutral child
+// showing), an Eyes group with Open and Closed children a swap set and a blink.
+TEST(AutoRig, GroupsOfVisemesAndEyesBecomeSwapSetsAndABlink) {
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+      width="200" height="300" viewBox="0 0 200 300">
+  <g inkscape:label="Body"><rect id="rect10" inkscape:label="Torso" x="60" y="100" width="80" height="130" fill="#48c"/></g>
+  <g inkscape:label="Head">
+    <circle id="circle20" cx="100" cy="60" r="45" fill="#fc9"/>
+    <g inkscape:label="Mouth">
+      <ellipse id="ellipse31" inkscape:label="Ah" cx="100" cy="80" rx="8" ry="10" fill="#822"/>
+      <ellipse id="ellipse32" inkscape:label="Neutral" cx="100" cy="80" rx="10" ry="3" fill="#822"/>
+      <ellipse id="ellipse33" inkscape:label="Oh" cx="100" cy="80" rx="7" ry="7" fill="#822"/>
+    </g>
+    <g inkscape:label="Eyes">
+      <circle id="circle41" inkscape:label="Open" cx="85" cy="55" r="6" fill="#222"/>
+      <rect id="rect42" inkscape:label="Closed" x="78" y="54" width="14" height="3" fill="#222"/>
+    </g>
+  </g>
+</svg>)";
+  const std::string path = test::write_temp("grouped.svg", svg);
+  const Rigged r = rig_of(path);
+  ASSERT_EQ(r.ar.rig.swaps.size(), 2u);
+  EXPECT_EQ(r.ar.rig.swaps[0].name, "mouth");
+  EXPECT_EQ(r.ar.rig.swaps[0].members, (std::vector<std::string>{"ellipse31", "ellipse32", "ellipse33"}));
+  EXPECT_EQ(r.ar.rig.swaps[0].members[size_t(r.ar.rig.swaps[0].default_member)], "ellipse32");
+  EXPECT_EQ(r.ar.rig.swaps[1].name, "eyes");
+  EXPECT_EQ(r.ar.rig.swaps[1].members, (std::vector<std::string>{"circle41", "rect42"}));
+  ASSERT_EQ(r.ar.rig.triggers.size(), 1u);
+  EXPECT_EQ(r.ar.rig.triggers[0].shapes, std::vector<std::string>{"rect42"});
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"rect10"});
+  loads(r, "grouped");
+}
+
 // Hinges at the drawn joints: where the boy's and the candle's hand rigs state their joints
 // (the shoulders, the hips, the wick), within 1% of the character's height. The middle of
 // the overlap, where the solver's automatic hinge goes, is 5-6% away for the shoulders.
@@ -166,7 +198,10 @@ TEST(AutoRig, HingesSitAtTheJointsTheHandRigsState) {
 TEST(AutoRig, ADrawingWithNoNamesStillGetsLimbsAndABody) {
   std::ifstream in(test::characters_dir() / "figure.svg");
   const std::string svg((std::istreambuf_iterator<char>(in)), {});
-  const std::string bare = std::regex_replace(svg, std::regex(R"( (id|inkscape:label)="[^"]*")"), "");
+  // (by hand: std::regex trips GCC 12's maybe-uninitialized warning under the sanitizers)
+  std::string bare = svg;
+  for (const std::string attr : {" id=\"", " inkscape:label=\""})
+    for (size_t at; (at = bare.find(attr)) != std::string::npos;) bare.erase(at, bare.find('"', at + attr.size()) + 1 - at);
   ASSERT_EQ(bare.find("arm-left"), std::string::npos);
   const std::string path = test::write_temp("bare-figure.svg", bare);
   const Rigged r = rig_of(path);
