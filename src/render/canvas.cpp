@@ -170,7 +170,8 @@ int Canvas::screen() const { return window_ ? SDL_GetWindowDisplayIndex(window_)
 
 Canvas::~Canvas() {
   for (auto& [k, t] : textures_) SDL_DestroyTexture(t);
-  for (auto& [k, t] : gpu_textures_) SDL_DestroyTexture(t);
+  for (auto& cache : gpu_textures_)
+    for (auto& [k, t] : cache) SDL_DestroyTexture(t);
   if (target_) SDL_DestroyTexture(target_);
   if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
@@ -243,11 +244,11 @@ SDL_Texture* Canvas::texture_for(const Texture* t) {
 
 // Textures for the GPU, uploaded premultiplied for lists built with fringes (their modulation
 // colours are premultiplied too: bilinear filtering then blends no dark halo in); straight
-// for plain lists. Keyed by the texture's address, with the low bit for "premultiplied".
+// for plain lists.
 SDL_Texture* Canvas::gpu_texture_for(const Texture* t, bool premultiplied) {
-  const auto* key = reinterpret_cast<const Texture*>(reinterpret_cast<std::uintptr_t>(t) | (premultiplied ? 1u : 0u));
-  auto it = gpu_textures_.find(key);
-  if (it != gpu_textures_.end()) return it->second;
+  auto& cache = gpu_textures_[premultiplied ? 1 : 0];
+  auto it = cache.find(t);
+  if (it != cache.end()) return it->second;
   SDL_Texture* tex = SDL_CreateTexture(wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, t->width, t->height);
   if (tex) {
     upload_.assign(t->rgba.begin(), t->rgba.end());
@@ -258,7 +259,7 @@ SDL_Texture* Canvas::gpu_texture_for(const Texture* t, bool premultiplied) {
     SDL_SetTextureBlendMode(tex, premultiplied ? premultiplied_ : SDL_BLENDMODE_BLEND);
     SDL_SetTextureScaleMode(tex, SDL_ScaleModeLinear);
   }
-  gpu_textures_.emplace(key, tex);
+  cache.emplace(t, tex);
   return tex;
 }
 

@@ -124,7 +124,7 @@ class Canvas {
   void place();  ///< where the canvas shows in the window
   bool gpu_ = false;
   SDL_Texture* target_ = nullptr;  ///< the canvas on the GPU (gpu_)
-  std::unordered_map<const Texture*, SDL_Texture*> gpu_textures_;  ///< premultiplied
+  std::unordered_map<const Texture*, SDL_Texture*> gpu_textures_[2];  ///< straight, premultiplied
   std::vector<std::uint8_t> upload_;  ///< a texture being premultiplied
   SDL_BlendMode premultiplied_ = SDL_BLENDMODE_INVALID;  ///< "over" for premultiplied colours
   void make_white();

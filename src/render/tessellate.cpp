@@ -1,5 +1,7 @@
 #include "render/tessellate.h"
 
+#include "geom/polygon.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -104,6 +106,8 @@ void fill_with_fringe(const ShapeMesh& sm, std::span<const Vec2> pos, SDL_Color 
     for (int v : {a, b}) {
       fv[size_t(v)].off += n;
       fv[size_t(v)].count += 1;
+      int* nx = fv[size_t(v)].next;
+      (nx[0] < 0 ? nx[0] : nx[1]) = v == a ? b : a;
     }
     if (textured) {  // the texture's gradient at a and b, from this triangle
       const Vec2 p = pos[size_t(b)] - pos[size_t(a)], q = pos[size_t(c)] - pos[size_t(a)];
@@ -137,9 +141,19 @@ void fill_with_fringe(const ShapeMesh& sm, std::span<const Vec2> pos, SDL_Color 
     auto area = [&](double s) { return cross2(u + s * du, w + s * dw); };
     const double a0 = area(0);
     if (a0 == 0 || area(1) * a0 > 0) continue;
-    // Thin means outlines facing each other across the triangle; a sliver along one side of a
-    // thick shape (its offsets side by side) may turn over at a concave corner harmlessly.
-    auto opposed = [&](int x, int y) { return fv[size_t(x)].off.dot(fv[size_t(y)].off) < -0.1 * fv[size_t(x)].off.norm() * fv[size_t(y)].off.norm(); };
+    // Thin means outlines facing each other less than a pixel and a half apart: a vertex that
+    // close to the outline at another whose offset faces its own. A sliver along one side of a
+    // thick shape (offsets side by side), or one across it from side to side (facing, but the
+    // sides far apart), may turn over harmlessly.
+    auto near_side = [&](int x, int y) {
+      for (int z : fv[size_t(y)].next)
+        if (z >= 0 && point_segment_distance(pos[size_t(x)], pos[size_t(y)], pos[size_t(z)]) < 1.5) return true;
+      return false;
+    };
+    auto opposed = [&](int x, int y) {
+      return fv[size_t(x)].off.dot(fv[size_t(y)].off) < -0.1 * fv[size_t(x)].off.norm() * fv[size_t(y)].off.norm() &&
+             (near_side(x, y) || near_side(y, x));
+    };
     if (!opposed(a, b) && !opposed(b, c) && !opposed(a, c)) continue;
     double lo = 0, hi = 1;
     for (int it = 0; it < 12; ++it) {
@@ -193,6 +207,28 @@ void fringed_fan(DrawList& out, const Vec2& p, int n, Dir dir, double core, doub
     }
     pc = c;
     po = o;
+  }
+}
+
+// A strip from a to b across the normal nr: a core out to `core` either side, fringes out to
+// `outer` fading to 0. The core takes colour `at_a` at a and `at_b` at b (a cap's fringe across
+// the end fades along it too).
+void fringed_strip(DrawList& out, const Vec2& a, const Vec2& b, const Vec2& nr, double core, double outer, SDL_Color at_a,
+                   SDL_Color at_b) {
+  int prev[4] = {-1, -1, -1, -1};
+  for (int row = 0; row < 2; ++row) {
+    const Vec2 p = row == 0 ? a : b;
+    const SDL_Color in = row == 0 ? at_a : at_b;
+    SDL_Color clear = at_a;
+    clear.a = 0;
+    const int v[4] = {push_vertex(out, p + outer * nr, clear), push_vertex(out, p + core * nr, in),
+                      push_vertex(out, p - core * nr, in), push_vertex(out, p - outer * nr, clear)};
+    if (prev[0] >= 0)
+      for (int k = 0; k < 3; ++k) {
+        tri(out, prev[k], prev[k + 1], v[k + 1]);
+        tri(out, prev[k], v[k + 1], v[k]);
+      }
+    std::copy(v, v + 4, prev);
   }
 }
 
@@ -251,18 +287,7 @@ void stroke_with_fringe(std::span<const Vec2> pts, bool closed, const StrokeStyl
     Vec2 a = pts[i], b = pts[(i + 1) % n];
     if (open && i == first) a = end_of(a, d, false);
     if (open && i == last) b = end_of(b, d, true);
-    const Vec2 nr = perp(d);
-    int prev[4] = {-1, -1, -1, -1};
-    for (const Vec2& p : {a, b}) {
-      const int v[4] = {push_vertex(out, p + outer * nr, clear), push_vertex(out, p + core * nr, col),
-                        push_vertex(out, p - core * nr, col), push_vertex(out, p - outer * nr, clear)};
-      if (prev[0] >= 0)
-        for (int k = 0; k < 3; ++k) {
-          tri(out, prev[k], prev[k + 1], v[k + 1]);
-          tri(out, prev[k], v[k + 1], v[k]);
-        }
-      std::copy(v, v + 4, prev);
-    }
+    fringed_strip(out, a, b, perp(d), core, outer, col, col);
   }
   // Joins: the outside of each turn.
   auto join_at = [&](const Vec2& p, const Vec2& d0, const Vec2& d1) {
@@ -316,19 +341,7 @@ void stroke_with_fringe(std::span<const Vec2> pts, bool closed, const StrokeStyl
       return;
     }
     const Vec2 e = p + d * ((st.cap == LineCap::Square ? st.half_width : 0.0) - 0.5);
-    int prev[4] = {-1, -1, -1, -1};
-    for (int row = 0; row < 2; ++row) {
-      const Vec2 q = e + d * double(row);
-      const SDL_Color in = row == 0 ? col : clear;
-      const int v[4] = {push_vertex(out, q + outer * nr, clear), push_vertex(out, q + core * nr, in),
-                        push_vertex(out, q - core * nr, in), push_vertex(out, q - outer * nr, clear)};
-      if (prev[0] >= 0)
-        for (int k = 0; k < 3; ++k) {
-          tri(out, prev[k], prev[k + 1], v[k + 1]);
-          tri(out, prev[k], v[k + 1], v[k]);
-        }
-      std::copy(v, v + 4, prev);
-    }
+    fringed_strip(out, e, e + d, nr, core, outer, col, clear);
   };
   cap(pts[first], -dir(first));
   size_t last_end = (last + 1) % n;

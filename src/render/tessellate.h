@@ -62,6 +62,7 @@ struct DrawList {
     double count = 0, f = 1;  ///< outline edges met here; how far it may be pulled in (0..1)
     double j[4] = {0, 0, 0, 0};  ///< d(uv)/d(position), textured fills
     int outer = -1;           ///< the fringe's outer vertex
+    int next[2] = {-1, -1};   ///< its neighbours along the outline
   };
   std::vector<FringeVertex> fringe_scratch;  ///< working space
 

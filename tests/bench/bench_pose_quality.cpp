@@ -693,6 +693,13 @@ int main(int argc, char** argv) {
     std::printf("\n%s (%zu sub-shapes, %zu handles, %zu joints, ARAP mesh %zu vertices / %zu faces)\n", c.name.c_str(),
                 c.puppet->character.shapes.size(), c.handle_part.size(), c.puppet->feature_frame()->frame().joints.size(),
                 arap_of()[ci]->rest.size(), arap_of()[ci]->faces);
+    if (c.autorig) {  // where the automatic rig's hinges are against the pivots the case picked
+      std::printf("  automatic rig's hinges off the case's pivots, %% of the height:");
+      for (size_t g = 0; g < c.groups.size(); ++g)
+        if (c.auto_groups[g].pivot != c.groups[g].pivot)
+          std::printf(" %s %.2f", c.groups[g].name.c_str(), (c.auto_groups[g].pivot - c.groups[g].pivot).norm() * 100.0 / c.height);
+      std::printf("\n");
+    }
     if (g_parts) {
       for (const mar::FrameJoint& j : c.puppet->feature_frame()->frame().joints) {
         std::printf("  joint %s - %s at (%.1f, %.1f)\n", c.puppet->character.shapes[static_cast<size_t>(j.shape_a)].id.c_str(),

@@ -99,6 +99,25 @@ TEST(Fringe, AThickStrokeHasAnOpaqueCoreAndEdgesAtTheirCoverage) {
   EXPECT_NEAR(s.alpha(4, 10), 0.0, 0.01);
 }
 
+// Fills: one thinner than a pixel is drawn at its coverage (0.4 px wide: alpha 0.4 along its
+// middle), and a long rectangle, triangulated into slivers from side to side, stays opaque
+// inside (a sliver turned over by the pull is not a thin part).
+TEST(Fringe, AThinFillIsFaintAndAThickOneOpaque) {
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" width="60" height="40" viewBox="0 0 60 40">
+    <rect x="5" y="10.3" width="50" height="0.4" fill="#000"/>
+    <path d="M5 20 L15 20.5 L25 20 L35 20.5 L45 20 L55 20.5 L55 35 L45 34.5 L35 35 L25 34.5 L15 35 L5 34.5 Z" fill="#000"/></svg>)";
+  auto ch = load_character(test::write_temp("thin-fill.svg", svg));
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  DrawList l;
+  l.fringe = true;
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2::identity(), 0.2, l);
+  Sampled s(60, 40);
+  sample_centres(l, s.px, s.w, s.h);
+  for (int x = 8; x < 52; ++x) EXPECT_NEAR(s.alpha(x, 10), 0.4, 0.05) << x;
+  for (int y = 22; y < 33; ++y)
+    for (int x = 7; x < 53; ++x) EXPECT_NEAR(s.alpha(x, y), 1.0, 1e-3) << x << "," << y;
+}
+
 // Every drawn example character at 640x720: sampled at pixel centres as a GPU does, the
 // fringed triangles put at least 99% of pixels within 16/255 of the exact rasterizer's; the
 // plain triangles (aliased) far fewer.

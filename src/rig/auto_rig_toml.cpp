@@ -1,0 +1,73 @@
+// The automatic rig as commented TOML (write_auto_rig).
+#include "rig/auto_rig.h"
+
+#include <cstdio>
+#include <sstream>
+
+namespace mar {
+namespace {
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.1f", v);
+  return buf;
+}
+
+std::string point_toml(const Vec2& p) { return "[" + fmt(p.x()) + ", " + fmt(p.y()) + "]"; }
+
+}  // namespace
+
+std::string write_auto_rig(const AutoRig& a, const Character& ch) {
+  std::ostringstream o;
+  const Rig& r = a.rig;
+  o << "# Automatic rig (marionette rig) for " << r.character << ".\n"
+    << "# Every handle, hinge, swap set and trigger below says why it is there; edit freely.\n";
+  for (const std::string& n : a.notes) o << "# Note: " << n << "\n";
+  o << "character = \"" << r.character << "\"\n";
+  if (!r.mask.empty()) o << "mask = \"" << r.mask << "\"\n";
+  o << "iterations = " << r.iterations << "\n";
+  auto part_of_handle = [&](const std::string& h) -> const AutoRigPart* {
+    for (const AutoRigPart& p : a.parts)
+      if (p.handle == h) return &p;
+    return nullptr;
+  };
+  o << "\n# ---- handles: what a control or a pen moves ----\n";
+  for (const RigHandle& h : r.handles) {
+    const AutoRigPart* p = part_of_handle(h.name);
+    if (p) {
+      const std::string& id = ch.shapes[size_t(p->shape)].id;
+      o << "\n# " << id << ": " << p->why << (p->kind == AutoRigPart::Limb ? "; the handle at its free end" : "") << ".\n";
+    }
+    o << "[[handle]]\nname = \"" << h.name << "\"\nrest = " << point_toml(h.rest) << "\n";
+  }
+  if (!r.joints.empty()) o << "\n# ---- hinges, where each limb goes into its parent (the drawn joint) ----\n";
+  for (const RigJoint& j : r.joints) {
+    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [\"" << j.part_a << "\", \"" << j.part_b << "\"]\nkind = \"hinge\"\n";
+  }
+  if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
+  for (size_t k = 0; k < r.sewing.size(); ++k) {
+    const RigSewing& e = r.sewing[k];
+    if (k < a.notes_sewing.size()) o << "# " << a.notes_sewing[k] << "\n";
+    o << "[[sewing]]\naction = \"" << (e.action == RigSewing::Add ? "add" : "delete") << "\"\nfrom = " << point_toml(e.from) << "\nto = " << point_toml(e.to)
+      << "\n";
+  }
+  if (!r.swaps.empty() || !r.triggers.empty()) o << "\n# ---- swap sets and triggers, from the shapes' names ----\n";
+  for (const RigSwap& s : r.swaps) {
+    o << "\n[[swap]]\nname = \"" << s.name << "\"\nmembers = [";
+    for (size_t k = 0; k < s.members.size(); ++k) o << (k ? ", " : "") << "\"" << s.members[k] << "\"";
+    o << "]\ndefault = \"" << s.members[size_t(s.default_member)] << "\"\n";
+  }
+  for (const RigTrigger& t : r.triggers) {
+    o << "\n[[trigger]]\nname = \"" << t.name << "\"\nshapes = [";
+    for (size_t k = 0; k < t.shapes.size(); ++k) o << (k ? ", " : "") << "\"" << t.shapes[k] << "\"";
+    o << "]\n";
+  }
+  // The parts with no handle, for the record.
+  std::ostringstream rest;
+  for (const AutoRigPart& p : a.parts)
+    if (p.handle.empty() && p.kind != AutoRigPart::Limb) rest << "#   " << ch.shapes[size_t(p.shape)].id << ": " << p.why << "\n";
+  if (!rest.str().empty()) o << "\n# Parts without a handle of their own:\n" << rest.str();
+  return o.str();
+}
+
+}  // namespace mar
