@@ -1,5 +1,6 @@
 // The automatic rig as commented TOML (write_auto_rig).
 #include "rig/auto_rig.h"
+#include "rig/rig_text.h"
 
 #include <cstdio>
 #include <sstream>
@@ -7,13 +8,8 @@
 namespace mar {
 namespace {
 
-std::string fmt(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-
-std::string point_toml(const Vec2& p) { return "[" + fmt(p.x()) + ", " + fmt(p.y()) + "]"; }
+std::string point_toml(const Vec2& p) { return toml_point(p.x(), p.y()); }
+std::string q(const std::string& s) { return toml_string(s); }
 
 }  // namespace
 
@@ -23,8 +19,8 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   o << "# Automatic rig (marionette rig) for " << r.character << ".\n"
     << "# Every handle, hinge, swap set and trigger below says why it is there; edit freely.\n";
   for (const std::string& n : a.notes) o << "# Note: " << n << "\n";
-  o << "character = \"" << r.character << "\"\n";
-  if (!r.mask.empty()) o << "mask = \"" << r.mask << "\"\n";
+  o << "character = " << q(r.character) << "\n";
+  if (!r.mask.empty()) o << "mask = " << q(r.mask) << "\n";
   o << "iterations = " << r.iterations << "\n";
   auto part_of_handle = [&](const std::string& h) -> const AutoRigPart* {
     for (const AutoRigPart& p : a.parts)
@@ -38,11 +34,11 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
       const std::string& id = ch.shapes[size_t(p->shape)].id;
       o << "\n# " << id << ": " << p->why << (p->kind == AutoRigPart::Limb ? "; the handle at its free end" : "") << ".\n";
     }
-    o << "[[handle]]\nname = \"" << h.name << "\"\nrest = " << point_toml(h.rest) << "\n";
+    o << "[[handle]]\nname = " << q(h.name) << "\nrest = " << point_toml(h.rest) << "\n";
   }
   if (!r.joints.empty()) o << "\n# ---- hinges, where each limb goes into its parent (the drawn joint) ----\n";
   for (const RigJoint& j : r.joints) {
-    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [\"" << j.part_a << "\", \"" << j.part_b << "\"]\nkind = \"hinge\"\n";
+    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [" << q(j.part_a) << ", " << q(j.part_b) << "]\nkind = \"hinge\"\n";
   }
   if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
   for (size_t k = 0; k < r.sewing.size(); ++k) {
@@ -53,13 +49,13 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   }
   if (!r.swaps.empty() || !r.triggers.empty()) o << "\n# ---- swap sets and triggers, from the shapes' names ----\n";
   for (const RigSwap& s : r.swaps) {
-    o << "\n[[swap]]\nname = \"" << s.name << "\"\nmembers = [";
-    for (size_t k = 0; k < s.members.size(); ++k) o << (k ? ", " : "") << "\"" << s.members[k] << "\"";
-    o << "]\ndefault = \"" << s.members[size_t(s.default_member)] << "\"\n";
+    o << "\n[[swap]]\nname = " << q(s.name) << "\nmembers = [";
+    for (size_t k = 0; k < s.members.size(); ++k) o << (k ? ", " : "") << q(s.members[k]);
+    o << "]\ndefault = " << q(s.members[size_t(s.default_member)]) << "\n";
   }
   for (const RigTrigger& t : r.triggers) {
-    o << "\n[[trigger]]\nname = \"" << t.name << "\"\nshapes = [";
-    for (size_t k = 0; k < t.shapes.size(); ++k) o << (k ? ", " : "") << "\"" << t.shapes[k] << "\"";
+    o << "\n[[trigger]]\nname = " << q(t.name) << "\nshapes = [";
+    for (size_t k = 0; k < t.shapes.size(); ++k) o << (k ? ", " : "") << q(t.shapes[k]);
     o << "]\n";
   }
   // The parts with no handle, for the record.
