@@ -163,13 +163,13 @@ int cmd_inspect(const InspectArgs& a) {
   return kExitOk;
 }
 
-namespace {
-
 bool display_available() {
   const char* x = std::getenv("DISPLAY");
   const char* wl = std::getenv("WAYLAND_DISPLAY");
   return (x && *x) || (wl && *wl);
 }
+
+namespace {
 
 // Both targets draw through this: characters side by side on white, 8 px margins
 // (scaled by `k` when supersampling offscreen).

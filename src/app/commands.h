@@ -104,9 +104,15 @@ int cmd_run(const RunArgs& a);
 struct RigArgs {
   std::string input;   ///< the character
   std::string mask;
-  std::string output;  ///< the rig to write ("": print it)
+  std::string output;  ///< the rig to write ("-": print it; "": open the rig studio)
   std::string show;    ///< a starter show to write beside it (needs `output`)
   std::string device = "nanokontrol2";  ///< the starter show's device
+  // The rig studio (no `output`):
+  std::string rig;         ///< the rig to edit and save (default: <character stem>.toml here)
+  std::string size;        ///< the canvas, "WxH" (default 960x720)
+  double seconds = 0;      ///< close after this long (0: when the performer quits)
+  bool software = false;   ///< SDL's software renderer
+  std::string screenshot;  ///< save the first frame's window here
 };
 /// `rig`: the automatic rig of a character (rig/auto_rig.h).
 int cmd_rig(const RigArgs& a);
@@ -124,6 +130,8 @@ void print_inspect_text(const Character& ch);
 
 /// Parses "WxH" (both 1..8192).
 std::optional<std::pair<int, int>> parse_size(const std::string& s);
+/// Whether a window can open (DISPLAY or WAYLAND_DISPLAY is set).
+bool display_available();
 /// Parses "RRGGBB", "#RRGGBB" or "transparent".
 std::optional<Rgba> parse_background(const std::string& s);
 

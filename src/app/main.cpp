@@ -105,10 +105,15 @@ int main(int argc, char** argv) {
   mar::RigArgs rigargs;
   CLI::App* rig_cmd = app.add_subcommand("rig", "The automatic rig of a character: hinges at its drawn joints, handles, swap sets and triggers");
   rig_cmd->add_option("character", rigargs.input, "Character file (.svg or .png)")->required();
-  rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write (default: print it)");
+  rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write ('-': print it); without -o the rig studio opens");
   rig_cmd->add_option("--mask", rigargs.mask, "Mask PNG for a PNG character (non-black = figure)");
   rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o)");
   rig_cmd->add_option("--device", rigargs.device, "The starter show's device: nanokontrol2 (default), gamepad, pen_tablet, knob_box");
+  rig_cmd->add_option("--rig", rigargs.rig, "Studio: the rig to edit and save (default: <character>.toml in this folder; the automatic rig if it does not exist)");
+  rig_cmd->add_option("--size", rigargs.size, "Studio: canvas size WxH (default 960x720)");
+  rig_cmd->add_option("--seconds", rigargs.seconds, "Studio: close after this many seconds");
+  rig_cmd->add_flag("--software", rigargs.software, "Studio: SDL's software renderer");
+  rig_cmd->add_option("--screenshot", rigargs.screenshot, "Studio: save the first frame's window as a PNG");
 
   mar::RunArgs replay;
   CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");

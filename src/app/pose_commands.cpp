@@ -38,13 +38,7 @@ int write_picture(Puppet& p, const std::string& path, int w, int h, const Rgba& 
   DrawList list;
   const Affine2 view = fit_view(p.character.width, p.character.height, w * ss, h * ss);
   build_draw_list(p.character, p.mesh, p.shapes, view, 0.2 * ss, list, p.shown);
-  if (overlay) {
-    if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
-    if (const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get()))
-      append_mesh_overlay(arap->vertices(), arap->triangles(), handle_points, view, list);
-    if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get()))
-      append_grid_overlay(grid->nodes(), grid->grid_nodes(), grid->grid_edges(), grid->junction_triangles(), handle_points, view, list);
-  }
+  if (overlay) append_solver_overlay(p, handle_points, view, list);
   if (std::string err = c.draw(list); !err.empty()) {
     std::cerr << "error: " << err << "\n";
     return kExitRuntime;

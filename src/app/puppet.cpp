@@ -2,6 +2,9 @@
 #include "rig/auto_rig.h"
 
 #include "character/load.h"
+#include "render/overlay.h"
+#include "solve/arap.h"
+#include "solve/rigid_grid.h"
 
 #include <algorithm>
 #include <chrono>
@@ -22,6 +25,14 @@ SolverWeights Puppet::weights() const {
   w.position = rig.w_position;
   w.anderson = rig.anderson;
   return w;
+}
+
+void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points, const Affine2& view, DrawList& list) {
+  if (const FeatureFrameMethod* ff = p.feature_frame()) append_frame_overlay(ff->frame(), ff->core().vertices(), handle_points, view, list);
+  if (const auto* arap = dynamic_cast<const OutlineArap*>(p.solver.get()))
+    append_mesh_overlay(arap->vertices(), arap->triangles(), handle_points, view, list);
+  if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get()))
+    append_grid_overlay(grid->nodes(), grid->grid_nodes(), grid->grid_edges(), grid->junction_triangles(), handle_points, view, list);
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,

@@ -38,6 +38,10 @@ struct Puppet {
   FeatureFrameMethod* feature_frame() { return dynamic_cast<FeatureFrameMethod*>(solver.get()); }
 };
 
+/// Appends the solver's structure over the character (the feature frame, the ARAP mesh or the
+/// rigid grid) with handles at `handle_points`, mapped by `view`.
+void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points, const Affine2& view, DrawList& list);
+
 /// Loads the rig, then the character (`character_path`, or the rig's own when empty).
 /// Errors are bad input (file:line).
 /// `mask_path`: a PNG character's mask (non-black = figure); empty: the rig's `mask` when the

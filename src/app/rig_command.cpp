@@ -1,10 +1,14 @@
 // `marionette rig`: the automatic rig of a character, written as a commented rig file.
 #include "app/commands.h"
 #include "app/puppet.h"
+#include "app/studio/studio_window.h"
 #include "character/load.h"
 #include "rig/auto_rig.h"
 #include "rig/edit.h"
 #include "rig/starter_show.h"
+#include "render/image.h"
+
+#include <SDL2/SDL_timer.h>
 
 #include <filesystem>
 #include <fstream>
@@ -14,8 +18,75 @@ namespace mar {
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// The rig studio (studio_window.h) until the performer quits.
+int run_studio(const RigArgs& a) {
+  int w = 960, h = 720;
+  if (!a.size.empty()) {
+    auto sz = parse_size(a.size);
+    if (!sz) {
+      std::cerr << "error: --size must be WxH\n";
+      return kExitBadInput;
+    }
+    std::tie(w, h) = *sz;
+  }
+  if (!display_available()) {
+    std::cerr << "error: the rig studio needs a display (DISPLAY or WAYLAND_DISPLAY is unset); -o RIG.toml writes the automatic "
+                 "rig without one (-o - prints it)\n";
+    return kExitBadInput;
+  }
+  const std::string rig = a.rig.empty() ? fs::path(a.input).stem().string() + ".toml" : a.rig;
+  auto studio = Studio::open(a.input, rig, a.mask);
+  if (!studio.ok()) {
+    std::cerr << "error: " << studio.error << "\n";
+    return kExitBadInput;
+  }
+  print_warnings((*studio.value)->puppet().character);
+  WindowOptions wo;
+  wo.title = "marionette rig studio - " + rig;
+  wo.software = a.software;
+  std::string note;
+  auto win = StudioWindow::open(**studio.value, wo, w, h, &note);
+  if (!win.ok()) {
+    std::cerr << "error: " << win.error << "\n";
+    return kExitRuntime;
+  }
+  if (!note.empty()) std::cerr << "note: " << note << "\n";
+  StudioWindow& sw = **win.value;
+  std::cout << ((*studio.value)->on_disk() ? "editing " + rig : "the automatic rig of " + a.input + "; S saves it as " + rig)
+            << ": drag handles and hinges, click to add a handle, S saves, Esc quits" << std::endl;
+  const Uint64 start = SDL_GetTicks64();
+  bool first = true;
+  while (sw.frame()) {
+    if (first && !a.screenshot.empty()) {
+      const std::vector<std::uint8_t> px = sw.canvas().read_window();
+      if (std::string err = write_png(a.screenshot, downsample_premultiplied(px.data(), sw.canvas().window_width(), sw.canvas().window_height(), 1));
+          !err.empty()) {
+        std::cerr << "error: " << err << "\n";
+        return kExitRuntime;
+      }
+    }
+    first = false;
+    sw.present();
+    if (a.seconds > 0 && double(SDL_GetTicks64() - start) >= a.seconds * 1000) break;
+    SDL_Delay(8);
+  }
+  if ((*studio.value)->dirty()) std::cout << "closed with unsaved changes (" << rig << " is as it was)\n";
+  return kExitOk;
+}
+
+}  // namespace
+
 int cmd_rig(const RigArgs& a) {
-  if (!a.show.empty() && a.output.empty()) {
+  if (a.output.empty()) {
+    if (!a.show.empty()) {
+      std::cerr << "error: --show needs -o RIG.toml (the show names the rig file)\n";
+      return kExitBadInput;
+    }
+    return run_studio(a);
+  }
+  if (!a.show.empty() && a.output == "-") {
     std::cerr << "error: --show needs -o RIG.toml (the show names the rig file)\n";
     return kExitBadInput;
   }
@@ -28,7 +99,8 @@ int cmd_rig(const RigArgs& a) {
   }
   print_warnings(*ch.value);
   // Paths in the rig are relative to the rig's folder (printed: to the current one).
-  const fs::path dir = a.output.empty() ? fs::current_path() : fs::absolute(a.output).parent_path();
+  const bool print = a.output == "-";
+  const fs::path dir = print ? fs::current_path() : fs::absolute(a.output).parent_path();
   auto relative = [&](const std::string& p) {
     if (p.empty()) return p;
     std::error_code ec;
@@ -38,7 +110,7 @@ int cmd_rig(const RigArgs& a) {
   const AutoRig ar = auto_rig(*ch.value, relative(a.input), relative(a.mask));
   const std::string text = write_auto_rig(ar, *ch.value);
   // What it wrote must load as a show would load it.
-  auto parsed = parse_rig(text, a.output.empty() ? "(printed rig)" : a.output);
+  auto parsed = parse_rig(text, print ? "(printed rig)" : a.output);
   if (!parsed.ok()) {
     std::cerr << "error: the automatic rig does not load (" << parsed.error << "); please report this with the character\n";
     return kExitRuntime;
@@ -55,7 +127,7 @@ int cmd_rig(const RigArgs& a) {
     }
     show_text = *show.value;
   }
-  if (a.output.empty()) {
+  if (print) {
     std::cout << text;
   } else {
     for (const auto& [file, body] : {std::pair{a.output, text}, std::pair{a.show, show_text}}) {
@@ -68,10 +140,10 @@ int cmd_rig(const RigArgs& a) {
   }
   size_t limbs = 0;
   for (const AutoRigPart& p : ar.parts) limbs += p.kind == AutoRigPart::Limb;
-  std::ostream& say = a.output.empty() ? std::cerr : std::cout;
+  std::ostream& say = print ? std::cerr : std::cout;
   if (!a.show.empty()) say << "starter show for a " << a.device << " -> " << a.show << " (marionette run " << a.show << ")\n";
   say << "rigged " << a.input << ": " << ar.rig.handles.size() << " handles, " << ar.rig.joints.size() << " hinges (" << limbs << " limbs), "
-      << ar.rig.swaps.size() << " swap sets, " << ar.rig.triggers.size() << " triggers" << (a.output.empty() ? "" : " -> " + a.output) << "\n";
+      << ar.rig.swaps.size() << " swap sets, " << ar.rig.triggers.size() << " triggers" << (print ? "" : " -> " + a.output) << "\n";
   for (const std::string& n : ar.notes) say << "note: " << n << "\n";
   return kExitOk;
 }

@@ -97,6 +97,7 @@ class Canvas {
   /// Shows the frame (window) — no-op offscreen.
   void present();
   SDL_Renderer* window_renderer() { return wrenderer_; }
+  SDL_Window* sdl_window() { return window_; }
   /// The window's drawable size, and where the canvas shows in it.
   int window_width() const { return ww_; }
   int window_height() const { return wh_; }

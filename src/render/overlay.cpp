@@ -66,6 +66,27 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
   close_batch(out, first);
 }
 
+void append_markers(std::span<const Vec2> handles, std::span<const Vec2> hinges, int selected, const Affine2& view, DrawList& out) {
+  const int first = static_cast<int>(out.indices.size());
+  StrokeStyle hinge, ring, big;
+  hinge.half_width = 5.0;
+  ring.half_width = 6.0;
+  big.half_width = 8.0;
+  hinge.cap = ring.cap = big.cap = LineCap::Round;
+  const SDL_Color joint{140, 40, 200, 230}, handle{0, 170, 80, 220}, chosen{0, 110, 50, 240};
+  Vec2 seg[2];
+  for (const Vec2& h : hinges) {
+    seg[0] = seg[1] = view.apply(h);
+    stroke_polyline(seg, false, hinge, joint, out);
+  }
+  for (size_t i = 0; i < handles.size(); ++i) {
+    seg[0] = seg[1] = view.apply(handles[i]);
+    const bool sel = static_cast<int>(i) == selected;
+    stroke_polyline(seg, false, sel ? big : ring, sel ? chosen : handle, out);
+  }
+  close_batch(out, first);
+}
+
 void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,
                          std::span<const Vec2> handles, const Affine2& view, DrawList& out) {
   const int first = static_cast<int>(out.indices.size());

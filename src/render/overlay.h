@@ -14,6 +14,10 @@ namespace mar {
 void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, std::span<const Vec2> handles,
                           const Affine2& view, DrawList& out);
 
+/// Appends the rig's markers alone (no frame): hinges as purple discs, handles as green ones
+/// (`selected`, when >= 0, larger and darker), mapped by `view`.
+void append_markers(std::span<const Vec2> handles, std::span<const Vec2> hinges, int selected, const Affine2& view, DrawList& out);
+
 /// Appends a triangle mesh (a solver's: edges grey, vertices black) and handle positions
 /// (green rings), mapped by `view`.
 void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,
