@@ -542,5 +542,48 @@ TEST(StudioWindow, KNamesAKeyFTogglesTheFrameAndSSaves) {
   EXPECT_FALSE(w.window->frame()) << "saved: Esc quits";
 }
 
+// The real program under Xvfb, driven by real X input (xdotool's XTEST events, as a mouse and
+// a keyboard give them): a click adds a handle, a drag swings the tail, K names the pose, S
+// saves, Esc quits; the file on disk has it all and every line the person wrote.
+TEST(StudioCli, RealInputEditsAndSavesTheRig) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run and xdotool (Debian packages xvfb, xdotool) drive the real window";
+  const fs::path dir = cat_folder("cli");
+  const fs::path rig = dir / "rigs" / "cat.toml";
+  const std::string original = read_all(rig);
+  auto model = open_cat(dir);
+  ASSERT_TRUE(model);
+  const size_t tail = size_t(handle_named(*model, "tail"));
+  const Vec2 to = swing(*model, tail, 20);
+  // The window is the canvas (960 x 720, no letterbox): a point shows where fit_view puts it.
+  const Character& ch = model->puppet().character;
+  const Affine2 view = fit_view(ch.width, ch.height, 960, 720, 24);
+  auto px = [&](const Vec2& p) {
+    const Vec2 w = view.apply(p);
+    return std::to_string(std::lround(w.x())) + " " + std::to_string(std::lround(w.y()));
+  };
+  const Vec2 body_spot(250, 185);
+  const std::string script = "set -e\n'" + std::string(MARIONETTE_BINARY) + "' rig '" + (dir / "characters" / "cat.svg").string() +
+                             "' --rig '" + rig.string() + "' > '" + (dir / "out.txt").string() + "' 2>&1 &\npid=$!\n" +
+                             "wid=$(timeout 60 xdotool search --sync --name 'marionette rig studio')\n" +
+                             "xdotool mousemove --window $wid " + px(body_spot) + " click 1\n" +
+                             "xdotool mousemove --window $wid " + px(model->handle_point(tail)) + " mousedown 1 mousemove --window $wid " +
+                             px((model->handle_point(tail) + to) / 2) + " mousemove --window $wid " + px(to) + " mouseup 1\n" +
+                             "xdotool key k\nxdotool type wave\nxdotool key Return s Escape\n" + "timeout 60 tail --pid=$pid -f /dev/null\nwait $pid\n";
+  const std::string sh = test::write_temp("studio_cli.sh", script);
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' bash '" + sh + "' 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << read_all(dir / "out.txt");
+  const std::string saved = read_all(rig);
+  EXPECT_TRUE(lines_kept(original, saved)) << saved;
+  auto r = load_rig(rig.string());
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.value->handles.size(), model->puppet().rig.handles.size() + 1) << "the click added a handle";
+  ASSERT_EQ(r.value->keys.size(), 1u) << saved;
+  EXPECT_EQ(r.value->keys[0].name, "wave");
+  ASSERT_EQ(r.value->keys[0].targets.size(), 1u);
+  EXPECT_EQ(r.value->keys[0].targets[0].first, "tail");
+  EXPECT_LT((r.value->keys[0].targets[0].second - to).norm(), 1.0) << "where the drag ended, to a pixel";
+}
+
 }  // namespace
 }  // namespace mar

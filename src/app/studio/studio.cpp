@@ -273,7 +273,9 @@ std::string Studio::add_handle(const Vec2& p) {
   RigText t = text_;
   t.append("handle", "name = " + toml_string(name) + "\nrest = " + toml_point(rest.x(), rest.y()) + "\n");
   State s = state();
-  s.targets.push_back({name, p});
+  bool posed = false;
+  for (size_t h = 0; h < targets_.size(); ++h) posed = posed || targets_[h] != puppet_->rig.handles[h].rest;
+  if (posed) s.targets.push_back({name, p});  // it holds the part where it is (at rest: its rest, as written)
   if (std::string err = edit(t, s.targets); !err.empty()) return err;
   return "";
 }
