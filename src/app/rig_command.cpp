@@ -54,8 +54,6 @@ int run_studio(const RigArgs& a) {
   }
   if (!note.empty()) std::cerr << "note: " << note << "\n";
   StudioWindow& sw = **win.value;
-  std::cout << ((*studio.value)->on_disk() ? "editing " + rig : "the automatic rig of " + a.input + "; S saves it as " + rig)
-            << ": drag handles and hinges, click to add a handle, S saves, Esc quits" << std::endl;
   const Uint64 start = SDL_GetTicks64();
   bool first = true;
   while (sw.frame()) {
@@ -67,8 +65,11 @@ int run_studio(const RigArgs& a) {
         return kExitRuntime;
       }
     }
-    first = false;
     sw.present();
+    if (first)  // once the window shows its first frame
+      std::cout << ((*studio.value)->on_disk() ? "editing " + rig : "the automatic rig of " + a.input + "; S saves it as " + rig)
+                << ": drag handles and hinges, click to add a handle, S saves, Esc quits" << std::endl;
+    first = false;
     if (a.seconds > 0 && double(SDL_GetTicks64() - start) >= a.seconds * 1000) break;
     SDL_Delay(8);
   }

@@ -14,6 +14,7 @@ namespace {
 constexpr double kPickPx = 12;   // how near (window pixels) a press must be to pick a handle or hinge
 constexpr double kClickPx = 5;   // a press that moves less than this is a click
 constexpr double kNotch = 1.25;  // stiffness per scroll notch
+constexpr int kPanel = 64;       // canvas pixels kept clear of the character at the top, for the status lines
 
 }  // namespace
 
@@ -33,10 +34,11 @@ Result<std::unique_ptr<StudioWindow>> StudioWindow::open(Studio& studio, const W
   return R::success(std::move(w));
 }
 
-Affine2 StudioWindow::view() const {
-  const Character& ch = studio_.puppet().character;
-  return fit_view(ch.width, ch.height, canvas_->width(), canvas_->height(), 24);
+Affine2 StudioWindow::character_view(const Character& ch, int width, int height) {
+  return Affine2::translate(0, kPanel) * fit_view(ch.width, ch.height, width, std::max(1, height - kPanel), 24);
 }
+
+Affine2 StudioWindow::view() const { return character_view(studio_.puppet().character, canvas_->width(), canvas_->height()); }
 
 // Window event coordinates <-> the canvas's pixels: the canvas shows letterboxed in the
 // window's drawable, which a HiDPI screen makes larger than the window's coordinates.

@@ -39,6 +39,8 @@ class StudioWindow {
   /// One event, as frame() handles it (tests may call it with events of their own).
   void handle(const SDL_Event& e);
 
+  /// Where the character shows on a canvas of width x height: fitted below the status lines.
+  static Affine2 character_view(const Character& ch, int width, int height);
   /// Where a point of the posed character shows, in the window's event coordinates.
   Vec2 window_point(const Vec2& p) const;
   /// The character point under a window point.

@@ -555,9 +555,9 @@ TEST(StudioCli, RealInputEditsAndSavesTheRig) {
   ASSERT_TRUE(model);
   const size_t tail = size_t(handle_named(*model, "tail"));
   const Vec2 to = swing(*model, tail, 20);
-  // The window is the canvas (960 x 720, no letterbox): a point shows where fit_view puts it.
+  // The window is the canvas (960 x 720, no letterbox): a point shows where the view puts it.
   const Character& ch = model->puppet().character;
-  const Affine2 view = fit_view(ch.width, ch.height, 960, 720, 24);
+  const Affine2 view = StudioWindow::character_view(ch, 960, 720);
   auto px = [&](const Vec2& p) {
     const Vec2 w = view.apply(p);
     return std::to_string(std::lround(w.x())) + " " + std::to_string(std::lround(w.y()));
@@ -565,7 +565,8 @@ TEST(StudioCli, RealInputEditsAndSavesTheRig) {
   const Vec2 body_spot(250, 185);
   const std::string script = "set -e\n'" + std::string(MARIONETTE_BINARY) + "' rig '" + (dir / "characters" / "cat.svg").string() +
                              "' --rig '" + rig.string() + "' > '" + (dir / "out.txt").string() + "' 2>&1 &\npid=$!\n" +
-                             "wid=$(timeout 60 xdotool search --sync --name 'marionette rig studio')\n" +
+                             "wid=$(timeout 60 xdotool search --sync --onlyvisible --name 'marionette rig studio')\n" +
+                             "timeout 60 sh -c \"until grep -q 'S saves' '" + (dir / "out.txt").string() + "'; do sleep 0.1; done\"\n" +
                              "xdotool mousemove --window $wid " + px(body_spot) + " click 1\n" +
                              "xdotool mousemove --window $wid " + px(model->handle_point(tail)) + " mousedown 1 mousemove --window $wid " +
                              px((model->handle_point(tail) + to) / 2) + " mousemove --window $wid " + px(to) + " mouseup 1\n" +
@@ -575,6 +576,7 @@ TEST(StudioCli, RealInputEditsAndSavesTheRig) {
   ASSERT_EQ(std::system(cmd.c_str()), 0) << read_all(dir / "out.txt");
   const std::string saved = read_all(rig);
   EXPECT_TRUE(lines_kept(original, saved)) << saved;
+  SCOPED_TRACE("the program said: " + read_all(dir / "out.txt"));
   auto r = load_rig(rig.string());
   ASSERT_TRUE(r.ok()) << r.error;
   EXPECT_EQ(r.value->handles.size(), model->puppet().rig.handles.size() + 1) << "the click added a handle";
