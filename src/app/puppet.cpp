@@ -105,7 +105,7 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
 }
 
 void Puppet::show(std::span<const int> members, std::span<const char> triggers_on) {
-  std::fill(shown.begin(), shown.end(), 1);
+  for (size_t k = 0; k < shown.size(); ++k) shown[k] = !character.shapes[k].hidden;  // alternatives the file hides
   for (size_t i = 0; i < swap_shapes.size() && i < members.size(); ++i)
     for (size_t m = 0; m < swap_shapes[i].size(); ++m) shown[size_t(swap_shapes[i][m])] = int(m) == members[i];
   for (size_t t = 0; t < trigger_shapes.size(); ++t)  // a trigger that is off hides its shapes

@@ -66,6 +66,9 @@ struct SubShape {
   /// (-1: none).
   std::string group;
   int group_key = -1;
+  /// An alternative the file hides (display: none inside a group with a visible child): drawn
+  /// only when a swap set or trigger shows it; it deforms with the rest.
+  bool hidden = false;
   std::string element;  ///< source element name (path, rect, ..., or "region")
   int line = 0;         ///< source line, 0 if not from a text file
   int layer = 0;        ///< index into Character::layers

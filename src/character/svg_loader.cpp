@@ -58,6 +58,7 @@ struct Ctx {
   std::string id_prefix;
   std::string group;  // the enclosing groups' names (label, else id), outermost first, '/' between
   int group_key = -1; // offset of the innermost <g>, -1 = none
+  bool hidden = false; // inside an alternative hidden with display: none (see alternative())
   int depth = 0;
 };
 
@@ -345,6 +346,18 @@ class SvgLoader {
     return s;
   }
 
+  // A hidden child of a group of alternatives: an element with display: none whose parent is a
+  // group (not a layer) with a child that shows (a hand's poses, one visible). It is kept,
+  // hidden until a swap set shows it; other hidden content (a hidden layer, a sketch) is not.
+  bool alternative(const pugi::xml_node& n) {
+    const pugi::xml_node g = n.parent();
+    if (local_name(g) != "g" || std::string_view(g.attribute("inkscape:groupmode").value()) == "layer") return false;
+    if (std::string_view(n.attribute("inkscape:groupmode").value()) == "layer") return false;
+    for (pugi::xml_node c : g.children())
+      if (c != n && c.type() == pugi::node_element && local_name(c).find(':') == std::string_view::npos && visible_element(c)) return true;
+    return false;
+  }
+
   bool visible_element(const pugi::xml_node& n) {
     const Decls d = declarations(n);
     if (auto v = prop(d, "display"); v && trim(*v) == "none") return false;
@@ -461,9 +474,14 @@ class SvgLoader {
         "stop"};
     if (kSilent.count(name)) return;
     if (name.find(':') != std::string_view::npos) return;  // foreign namespace (sodipodi, ...)
-    if (!visible_element(n)) return;
+    bool hidden = parent.hidden;
+    if (!visible_element(n)) {
+      if (!alternative(n)) return;
+      hidden = true;
+    }
 
     Ctx ctx = parent;
+    ctx.hidden = hidden;
     ctx.depth = parent.depth + 1;
     current_vp_ = parent.vp;
     ctx.style = compute_style(n, parent.style);
@@ -711,6 +729,7 @@ class SvgLoader {
     s.label = n.attribute("inkscape:label").value();
     s.group = ctx.group;
     s.group_key = ctx.group_key;
+    s.hidden = ctx.hidden;
     for (const svg::FlatContour& fc : flat) {
       Points pts = fc.points;
       for (Vec2& p : pts) {

@@ -499,7 +499,8 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      DrawList& out, std::span<const char> shown) {
   const double scale = std::sqrt(std::abs(view.det()));
   for (size_t i = 0; i < ch.shapes.size(); ++i) {
-    if (i < shown.size() && !shown[i]) continue;  // a swap member not showing, a trigger that is off
+    // A swap member not showing, a trigger that is off; with no `shown`, an alternative the file hides.
+    if (i < shown.size() ? !shown[i] : ch.shapes[i].hidden) continue;
     const SubShape& s = ch.shapes[i];
     const Points& pts = positions.empty() ? s.points : positions[i];
     if (pts.size() != s.points.size()) continue;

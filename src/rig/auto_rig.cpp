@@ -143,6 +143,33 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
           if ((shut || has_word(w, {"open"})) && std::find(list.begin(), list.end(), s) == list.end()) list.push_back(s);
         }
     }
+    // Any other group of alternatives: shapes of one group, one showing and the others hidden
+    // by the file (display: none). The hidden ones follow the parts they lie on.
+    std::set<std::string> names;
+    for (const auto& [key, kids] : children) {
+      size_t hidden = 0;
+      for (int k : kids) hidden += ch.shapes[size_t(k)].hidden;
+      if (kids.size() < 2 || hidden == 0 || hidden == kids.size()) continue;
+      if (kids == mouths || std::find(open_eyes.begin(), open_eyes.end(), kids[0]) != open_eyes.end() ||
+          std::find(shut_eyes.begin(), shut_eyes.end(), kids[0]) != shut_eyes.end())
+        continue;
+      RigSwap sw;
+      for (const std::string& w : group_words[key]) sw.name += (sw.name.empty() ? "" : "-") + w;
+      if (sw.name.empty()) sw.name = "swap";
+      const std::string base = sw.name;
+      for (int n = 2; names.count(sw.name) || sw.name == "mouth" || sw.name == "eyes"; ++n) sw.name = base + "-" + std::to_string(n);
+      names.insert(sw.name);
+      for (int k : kids) {
+        sw.members.push_back(ch.shapes[size_t(k)].id);
+        if (ch.shapes[size_t(k)].hidden) members.insert(k);
+      }
+      for (size_t m = 0; m < kids.size(); ++m)
+        if (!ch.shapes[size_t(kids[m])].hidden) {
+          sw.default_member = int(m);
+          break;
+        }
+      rig.swaps.push_back(sw);
+    }
     if (mouths.size() >= 2) {
       RigSwap sw;
       sw.name = "mouth";

@@ -10,7 +10,9 @@
 //
 // Names are hints, never requirements (Character Animator's way, case-insensitive, from ids and
 // Inkscape labels): head/face, body/torso, arm, hand, leg, foot, tail, ear, hair, left/right
-// name and classify parts; `mouth-*` shapes make a swap set `mouth`, eyes with open and closed
+// name and classify parts; `mouth-*` shapes make a swap set `mouth`, any other group whose
+// children are alternatives (one showing, the others display: none) a swap set after the group,
+// eyes with open and closed
 // (or shut) shapes a swap set `eyes` and a trigger `blink`.
 #pragma once
 

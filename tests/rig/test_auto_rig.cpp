@@ -3,6 +3,7 @@
 // the hand rigs put their joints, and a drawing with no names at all still gets its limbs.
 #include "app/puppet.h"
 #include "character/load.h"
+#include "render/canvas.h"
 #include "render/image.h"
 #include "geom/polygon.h"
 #include "rig/auto_rig.h"
@@ -168,6 +169,63 @@ TEST(AutoRig, GroupsOfVisemesAndEyesBecomeSwapSetsAndABlink) {
   EXPECT_EQ(r.ar.rig.triggers[0].shapes, std::vector<std::string>{"rect42"});
   EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"rect10"});
   loads(r, "grouped");
+}
+
+// Any other group of alternatives (one showing, the others hidden by the file, as editors hide
+// them: display: none) becomes a swap set named after the group, the visible one its default.
+// The hidden ones are loaded, drawn only when swapped in, and are not parts with handles.
+TEST(AutoRig, AGroupOfAlternativesOneVisibleBecomesASwapSet) {
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" xmlns:inkscape="http://www.inkscape.org/namespaces/inkscape"
+      width="300" height="300" viewBox="0 0 300 300">
+  <rect id="torso" x="100" y="80" width="80" height="140" fill="#48c"/>
+  <rect id="arm" x="170" y="100" width="90" height="24" fill="#fc9"/>
+  <g inkscape:label="Hand Right">
+    <circle id="hand-open" cx="262" cy="112" r="16" fill="#fc9"/>
+    <circle id="hand-fist" cx="262" cy="112" r="11" fill="#c96" style="display:none"/>
+    <rect id="hand-point" x="255" y="100" width="30" height="8" fill="#c96" display="none"/>
+  </g>
+  <g inkscape:label="Sketch" style="display:none"><rect id="sketch" x="0" y="0" width="30" height="30" fill="#000"/></g>
+  <g><rect id="lonely" x="0" y="250" width="30" height="30" fill="#000" style="display:none"/></g>
+</svg>)";
+  const std::string path = test::write_temp("alternatives.svg", svg);
+  const Rigged r = rig_of(path);
+  std::set<std::string> ids;
+  for (const SubShape& sh : r.ch.shapes) {
+    ids.insert(sh.id);
+    EXPECT_EQ(sh.hidden, sh.id == "hand-fist" || sh.id == "hand-point") << sh.id;
+  }
+  EXPECT_FALSE(ids.count("sketch")) << "a hidden group with nothing beside it showing is not an alternative";
+  EXPECT_FALSE(ids.count("lonely"));
+  ASSERT_EQ(r.ar.rig.swaps.size(), 1u);
+  const RigSwap& sw = r.ar.rig.swaps[0];
+  EXPECT_EQ(sw.name, "hand-right");
+  EXPECT_EQ(sw.members, (std::vector<std::string>{"hand-open", "hand-fist", "hand-point"}));
+  EXPECT_EQ(sw.members[size_t(sw.default_member)], "hand-open");
+  for (const AutoRigPart& p : r.ar.parts) EXPECT_FALSE(r.ch.shapes[size_t(p.shape)].hidden) << "a hidden alternative is no part";
+  loads(r, "alternatives");
+  // Drawn: the hidden ones only when swapped in.
+  auto puppet = load_puppet(path, r.ar.rig);
+  ASSERT_TRUE(puppet.ok()) << puppet.error;
+  Puppet& p = **puppet.value;
+  auto index = [&](const std::string& id) {
+    for (size_t k = 0; k < p.character.shapes.size(); ++k)
+      if (p.character.shapes[k].id == id) return k;
+    return size_t(0);
+  };
+  // `render` leaves it out: the pixel inside the pointing hand only is clear.
+  RenderOptions ro;
+  auto img = render_character(r.ch, prepare_mesh(r.ch), ro);
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_EQ(img.value->rgba[(size_t(104) * size_t(img.value->width) + 282) * 4 + 3], 0) << "a hidden alternative is not drawn";
+  EXPECT_GT(img.value->rgba[(size_t(112) * size_t(img.value->width) + 262) * 4 + 3], 200) << "the shown one is";
+  EXPECT_TRUE(p.shown[index("hand-open")]);
+  EXPECT_FALSE(p.shown[index("hand-fist")]);
+  EXPECT_FALSE(p.shown[index("hand-point")]);
+  const std::vector<int> fist{1};
+  p.show(fist, {});
+  EXPECT_FALSE(p.shown[index("hand-open")]);
+  EXPECT_TRUE(p.shown[index("hand-fist")]);
+  EXPECT_FALSE(p.shown[index("hand-point")]);
 }
 
 // Hinges at the drawn joints: where the boy's and the candle's hand rigs state their joints
