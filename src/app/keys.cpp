@@ -46,7 +46,15 @@ Result<std::vector<Points>> solve_keys(Puppet& p) {
     for (const auto& [name, at] : k.targets) t[size_t(p.rig.find_handle(name))] = at;
     p.solver->reset_to_rest();
     p.solver->initial_guess(t);
-    p.solver->solve(t, 300);
+    if (p.chains.empty()) {
+      p.solver->solve(t, 300);
+    } else {  // a chain's ends follow where the pose takes them: they pull nothing
+      for (int round = 0; round < 10; ++round) {
+        p.solver->solve(t, 30);
+        for (size_t h = 0; h < t.size(); ++h)
+          if (p.rig.handles[h].physics) t[h] = p.solver->handle_point(h);
+      }
+    }
     const auto v = ff->core().vertices();
     out.emplace_back(v.begin(), v.end());
   }

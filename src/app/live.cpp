@@ -62,6 +62,9 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
     for (const RigKey& k : p.rig.keys) rig.settings.push_back({"blend." + k.name, std::pair<double, double>(0, 1)});
     for (const RigKey& k : p.rig.keys) rig.keys.push_back(k.name);
   }
+  // Secondary motion: physics.NAME.strength|mix, physics.wind|gravity|reset.
+  for (const PhysicsStage::SettingInfo& si : PhysicsStage::setting_names(p))
+    rig.settings.push_back({si.name, std::pair<double, double>(si.lo, si.hi)});
   for (const RigSwap& sw : p.rig.swaps) rig.swaps.push_back({sw.name, sw.members});
   for (const RigTrigger& tr : p.rig.triggers) rig.triggers.push_back(tr.name);
   return rig;
@@ -72,7 +75,7 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
 std::string LiveShow::validate(const std::string& path) {
   std::unique_ptr<Puppet> puppet;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto p = load_puppet(header.character, header.rig);
+    auto p = load_puppet(header.character, header.rig, "", true);
     if (!p.ok()) return Result<ShowRig>::failure(p.error);
     puppet = std::move(*p.value);
     return Result<ShowRig>::success(show_rig(*puppet, header));
@@ -93,7 +96,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   // against the loaded puppet: its handles and the settings a binding may drive.
   std::vector<SolverParameter> params;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto puppet = load_puppet(header.character, header.rig);
+    auto puppet = load_puppet(header.character, header.rig, "", true);
     if (!puppet.ok()) return Result<ShowRig>::failure(puppet.error);
     s->puppet_ = std::move(*puppet.value);
     const Puppet& p = *s->puppet_;
@@ -133,6 +136,10 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
         if (a != b) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), a, b});
     for (int k = 0; k < K; ++k) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), -2, k});
   }
+  // Then secondary motion's ([[physics]] chains; app/loop/physics.h).
+  s->physics_.prepare(p, sh.physics);
+  s->setting_physics_ = int(m.setting_count());
+  for (const PhysicsStage::SettingInfo& si : s->physics_.settings()) m.add_setting({si.value, si.lo, si.hi, false});
   // Only the settings a binding drives count (an unbound morph.A.B would hold key A at t = 0).
   std::erase_if(s->key_settings_, [&](const KeySetting& k) {
     for (const Binding& b : sh.bindings)
@@ -414,6 +421,7 @@ void LiveShow::poses() {
     recall_seconds_ = r.seconds;
     recall_ease_ = r.ease;
     recall_on_ = true;
+    if (r.seconds <= 0) physics_.reset();  // a jump: the chains start again at rest
   }
   if (recall_on_) {
     recall_t_ += dt_;
@@ -431,6 +439,12 @@ void LiveShow::poses() {
       base_offset_[h] = eval_param(ff.bindings()[h], base_frame_) - puppet_->rig.handles[h].rest;
   }
   for (size_t h = 0; h < base_offset_.size() && h < n_targets_; ++h) targets_[h] += base_offset_[h];
+}
+
+void LiveShow::motion() {
+  if (physics_.empty()) return;
+  for (size_t k = 0, n = physics_.setting_count(); k < n; ++k) physics_.set(k, mapping_.setting(setting_physics_ + int(k)));
+  physics_.step(dt_, *puppet_, std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()));
 }
 
 void LiveShow::solve() {

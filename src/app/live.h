@@ -11,6 +11,7 @@
 #include "app/loop/hud.h"
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
+#include "app/loop/physics.h"
 #include "app/loop/recording.h"
 #include "app/loop/service.h"
 #include "app/loop/run_stats.h"
@@ -102,7 +103,7 @@ class LiveShow {
   void inputs(int64_t t_ns);
   void map(int64_t t_ns);
   void poses();     ///< key poses: the handles follow the interpolated base pose (morph/blend settings, recalls)
-  void motion() {}  ///< secondary motion (later): springs and dangle at a fixed sub-step
+  void motion();    ///< secondary motion: the rig's chains at a fixed step (loop/physics.h)
   void solve();
   void render();
   void present();
@@ -158,6 +159,8 @@ class LiveShow {
   // swap sets and triggers (what shows)
   std::vector<int> swap_counts_, swap_members_;
   std::vector<char> triggers_on_;
+  PhysicsStage physics_;                           ///< motion: the rig's [[physics]] chains
+  int setting_physics_ = 0;                        ///< first of its settings
   Governor governor_{8, 2};
   Grab grab_;
   std::vector<Vec2> targets_;                      ///< handles, then the grab handle's target

@@ -36,13 +36,13 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path) {
+                                            const std::string& mask_path, bool physics) {
   Result<Rig> rig = load_rig(rig_path);
   if (!rig.ok()) return Result<std::unique_ptr<Puppet>>::failure(rig.error);
-  return load_puppet(character_path, std::move(*rig.value), mask_path);
+  return load_puppet(character_path, std::move(*rig.value), mask_path, physics);
 }
 
-Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path) {
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path, bool physics) {
   using R = Result<std::unique_ptr<Puppet>>;
   auto p = std::make_unique<Puppet>();
   p->rig = std::move(rig);
@@ -66,6 +66,26 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   // A plain rig's limbs turn at their drawn joints (rig/auto_rig.h), not about the middle of
   // where they overlap their parent: hinges the rig does not state come from the drawing.
   if (p->rig.solver == "feature_frame" && p->rig.auto_joints) add_drawn_joints(p->character, p->rig);
+  // A show's chains: each link end is a handle after the rig's own.
+  if (physics)
+    for (const RigPhysics& ph : p->rig.physics) {
+      auto geo = chain_geometry(p->character, p->rig, ph);
+      if (!geo.ok()) return R::failure(geo.error);
+      PuppetChain c;
+      c.spec = &ph;
+      c.geo = std::move(*geo.value);
+      c.first_handle = p->rig.handles.size();
+      const size_t links = c.geo.shapes.size();
+      for (size_t i = 0; i < links; ++i) {
+        RigHandle h;
+        h.name = "physics." + ph.name + (i + 1 < links ? "." + std::to_string(i + 1) : "");
+        if (p->rig.find_handle(h.name) >= 0) return R::failure(p->rig.path + ": a handle is named '" + h.name + "', the name of a chain's end");
+        h.rest = c.geo.rest[i + 1];
+        h.physics = true;
+        p->rig.handles.push_back(h);
+      }
+      p->chains.push_back(std::move(c));
+    }
   // Swap members and trigger shapes are sub-shapes of the character.
   std::string bad;
   auto shape_indices = [&](const std::vector<std::string>& ids, int line, const std::string& what) {
@@ -98,6 +118,14 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   if (!ok) {
     for (const std::string& w : p->character.warnings) err += "; " + w;  // e.g. a mask with no figure
     return R::failure(path + ": " + err);
+  }
+  // Each chain's parent is followed by two of its points (after prepare: it may add points).
+  for (PuppetChain& c : p->chains) {
+    const Points& pts = p->character.shapes[size_t(c.geo.parent)].points;
+    for (size_t k = 0; k < pts.size(); ++k)
+      if ((pts[k] - c.geo.rest[0]).squaredNorm() < (pts[size_t(c.ref0)] - c.geo.rest[0]).squaredNorm()) c.ref0 = int(k);
+    for (size_t k = 0; k < pts.size(); ++k)
+      if ((pts[k] - pts[size_t(c.ref0)]).squaredNorm() > (pts[size_t(c.ref1)] - pts[size_t(c.ref0)]).squaredNorm()) c.ref1 = int(k);
   }
   p->mesh = prepare_mesh(p->character);
   for (const SubShape& s : p->character.shapes) p->shapes.push_back(s.points);

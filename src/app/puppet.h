@@ -5,6 +5,7 @@
 
 #include "character/rig.h"
 #include "render/tessellate.h"
+#include "rig/chains.h"
 #include "solve/solver.h"
 
 #include <memory>
@@ -12,6 +13,15 @@
 #include <string>
 
 namespace mar {
+
+/// A [[physics]] chain of a show's puppet: its links on the drawing and its handles.
+struct PuppetChain {
+  const RigPhysics* spec = nullptr;  ///< in Puppet::rig
+  ChainGeometry geo;
+  size_t first_handle = 0;  ///< its link ends' handles, in order: first_handle + link
+  /// Two points of the parent shape that give where it is and how it is turned.
+  int ref0 = 0, ref1 = 0;
+};
 
 struct Puppet {
   Character character;
@@ -24,6 +34,9 @@ struct Puppet {
   std::vector<char> shown;
   std::vector<std::vector<int>> swap_shapes;     ///< per rig swap set: its members' shape indices
   std::vector<std::vector<int>> trigger_shapes;  ///< per rig trigger: its shape indices
+  /// A show's secondary motion: the rig's [[physics]] chains, each link end a handle after the
+  /// rig's own (load_puppet with `physics`; empty otherwise).
+  std::vector<PuppetChain> chains;
   /// Sets `shown` from each swap set's member and each trigger's state (one per rig swap set
   /// and trigger). No allocation.
   void show(std::span<const int> members, std::span<const char> triggers_on);
@@ -46,9 +59,11 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
 /// Errors are bad input (file:line).
 /// `mask_path`: a PNG character's mask (non-black = figure); empty: the rig's `mask` when the
 /// character is the rig's own file, else the PNG's alpha.
+/// `physics`: the rig's [[physics]] chains get their handles (a show's motion stage drives them).
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path = "");
+                                            const std::string& mask_path = "", bool physics = false);
 /// The same with a rig already read (a bench or tool that changes its solver first).
-Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path = "");
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path = "",
+                                            bool physics = false);
 
 }  // namespace mar

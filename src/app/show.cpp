@@ -30,7 +30,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose"}, "the show file");
+  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -237,7 +237,9 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
   if (t.rfind("solver.", 0) == 0) {
     std::string names;
     for (size_t i = 0; i < rig.settings.size(); ++i) {
-      if (rig.settings[i].name.rfind("morph.", 0) == 0 || rig.settings[i].name.rfind("blend.", 0) == 0) continue;
+      if (rig.settings[i].name.rfind("morph.", 0) == 0 || rig.settings[i].name.rfind("blend.", 0) == 0 ||
+          rig.settings[i].name.rfind("physics.", 0) == 0)
+        continue;
       if ("solver." + rig.settings[i].name == t) {
         kind = TargetKind::Setting;
         index = int(i);
@@ -246,6 +248,20 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
       names += (i ? ", solver." : "solver.") + rig.settings[i].name;
     }
     return R::failure("unknown setting '" + t + "' (this rig's solver offers " + names + ")");
+  }
+  if (t.rfind("physics.", 0) == 0) {  // secondary motion (the rig's [[physics]] chains)
+    std::string names;
+    for (size_t i = 0; i < rig.settings.size(); ++i) {
+      if (rig.settings[i].name.rfind("physics.", 0) != 0) continue;
+      if (rig.settings[i].name == t) {
+        kind = TargetKind::Setting;
+        index = int(i);
+        return R::success(true);
+      }
+      names += (names.empty() ? "" : ", ") + rig.settings[i].name;
+    }
+    if (names.empty()) return R::failure("'" + t + "': the rig has no [[physics]] chains");
+    return R::failure("unknown physics setting '" + t + "' (" + names + ")");
   }
   const auto dot = t.find('.');
   const std::string head = t.substr(0, dot), rest = dot == std::string::npos ? "" : t.substr(dot + 1);
@@ -312,7 +328,7 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
   }
   return R::failure("unknown target '" + t +
                     "' (handle.NAME[.x|.y], rotate.GROUP, pose.NAME, grab, solver.SETTING, morph.A.B, blend.KEY, swap.SET.MEMBER, "
-                    "trigger.NAME)");
+                    "trigger.NAME, physics.NAME.strength|mix, physics.wind|gravity|reset)");
 }
 
 Result<bool> parse_chord(const std::string& text, int32_t& key, uint16_t& mod) {
@@ -414,6 +430,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
       }
     }
     read_attract(path, root, s);  // show_devices.cpp
+    read_physics(path, root, s);  // loop/physics.cpp
     auto handle_of = [&](const toml::node& n) {
       const std::string h = text(path, n, "handle");
       for (size_t i = 0; i < handles.size(); ++i)

@@ -41,6 +41,13 @@ struct AttractConfig {
 };
 
 /// A parsed, validated show file. Every default lives in default_show().
+/// [physics]: what every chain of the rig feels (motion/chain.h), and the fixed step's rate.
+struct ShowPhysics {
+  double rate = 120;          ///< steps per second, 30..240
+  Vec2 gravity{0, 980};       ///< character units / s², down
+  Vec2 wind{0, 0};
+};
+
 struct ShowConfig {
   std::string path;             ///< the show file
   std::string character, rig;   ///< resolved paths (character empty: the rig's own)
@@ -72,6 +79,7 @@ struct ShowConfig {
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;
+  ShowPhysics physics;
 };
 
 /// The defaults of every show key (rate 60 Hz, 8 iterations, floor 2, 800x600, HUD on...).

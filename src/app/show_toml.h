@@ -60,4 +60,6 @@ void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d)
 struct ShowConfig;
 /// [attract] (after the devices: a script names the device whose simulator speaks it).
 void read_attract(const std::string& path, const toml::table& root, ShowConfig& s);
+/// [physics] (app/loop/physics.cpp).
+void read_physics(const std::string& path, const toml::table& root, ShowConfig& s);
 }  // namespace mar

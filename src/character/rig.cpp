@@ -33,6 +33,9 @@ int Rig::find_handle(const std::string& name) const {
 using namespace cfg;
 using RigError = ConfigError;
 
+// [[physics]] (rig_physics.cpp).
+void parse_rig_physics(const std::string& path, const toml::node& n, Rig& r);
+
 Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   toml::table root;
   try {
@@ -45,7 +48,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part", "grid", "stiffness", "key", "swap", "trigger"},
+                            "part", "grid", "stiffness", "key", "swap", "trigger", "physics"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -373,6 +376,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
         r.triggers.push_back(tr);
       }
     }
+    if (const toml::node* pn = root.get("physics")) parse_rig_physics(path, *pn, r);
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
     return Result<Rig>::failure(e.message);

@@ -15,6 +15,9 @@
 //   [[part]]    id = "torso"   stiffness = 4.0
 //   [[swap]]    name = "mouth"   members = ["mouth-a", "mouth-o"]   default = "mouth-a"
 //   [[trigger]] name = "blink"   shapes = ["eyes-shut"]
+//   [[physics]] name = "hair"   parts = ["hair-1", "hair-2"]   from = "head"   model = "pendulum" | "spring"
+//               frequency = 1.5   damping = 0.15   inertia = 1   mass = 1   gravity = [0, 980]   wind = [0, 0]
+//               gust = 0   mix = 1   limit = 0   length = 0   (secondary motion: motion/chain.h)
 #pragma once
 
 #include "character/character.h"
@@ -27,6 +30,7 @@ namespace mar {
 struct RigHandle {
   std::string name;
   Vec2 rest = Vec2::Zero();
+  bool physics = false;  ///< a [[physics]] chain's link end (added for a show, not in the file)
 };
 
 struct RigSewing {
@@ -85,6 +89,25 @@ struct RigTrigger {
   int line = 0;
 };
 
+/// A chain of dangling parts (`[[physics]]`, motion/chain.h): the parts hang from `from` (a
+/// part, or a handle: the part under it), each from the one before; their ends follow a
+/// pendulum or spring simulation in a show.
+struct RigPhysics {
+  std::string name;
+  std::vector<std::string> parts;  ///< sub-shape ids, the one nearest `from` first
+  std::string from;                ///< a sub-shape id or a handle name
+  bool spring = false;             ///< model = "spring" (the length springs too)
+  double frequency = -1;           ///< Hz (< 0: the model's default: pendulum 0, spring 2)
+  double damping = 0.15, inertia = 1, mass = 1;
+  bool has_gravity = false;        ///< gravity given: it replaces the show's
+  Vec2 gravity = Vec2::Zero();
+  Vec2 wind = Vec2::Zero();        ///< added to the show's
+  double gust = 0;                 ///< wind noise amplitude (smooth, deterministic)
+  double mix = 1, limit = 0;
+  double length = 0;               ///< the last link's length (0: from the drawing)
+  int line = 0;
+};
+
 struct Rig {
   std::string path;       ///< the rig file (for messages and relative paths)
   std::string character;  ///< as written in the file
@@ -116,6 +139,7 @@ struct Rig {
   std::vector<RigKey> keys;
   std::vector<RigSwap> swaps;
   std::vector<RigTrigger> triggers;
+  std::vector<RigPhysics> physics;
 
   /// The character path resolved against the rig file's folder.
   std::string character_path() const;

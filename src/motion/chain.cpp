@@ -75,7 +75,10 @@ void Chain::step(double h, const Vec2& anchor, double rotation, double spin, con
     const double r = p_.model == ChainParams::Spring ? l.r : L;
     const Vec2 u = dir(l.theta);
     // The drawn direction turned with what it hangs from: the parent, or the link before.
-    const double rest = i == 0 ? rest_angle_[0] + rotation : rest_angle_[i] - rest_angle_[i - 1] + state_[i - 1].theta;
+    double rest = i == 0 ? rest_angle_[0] + rotation : rest_angle_[i] - rest_angle_[i - 1] + state_[i - 1].theta;
+    // With a spring, the drawing is where it settles under this gravity (the parent as drawn):
+    // the spring's own rest leans against gravity's pull on the drawn link.
+    if (w0 > 0) rest -= std::asin(std::clamp(cross(dir(rest_angle_[i]), g) / (L * w0 * w0), -1.0, 1.0));
     const double turn = i == 0 ? spin : state_[i - 1].omega;
     const double wn = std::sqrt(w0 * w0 + g.norm() / L);
     const double alpha = cross(u, F) / r - w0 * w0 * std::sin(l.theta - rest) - 2 * p_.damping * wn * (l.omega - turn);

@@ -10,7 +10,9 @@
 //     r''  = −ω₀² (r − L) − 2ζ·ω₀·r' + u · F + r ω²                     (spring model only)
 // with u = (cos θ, sin θ), θ_rest the drawn direction turned with the parent (ρ: its rotation),
 // ω₀ = 2π · frequency (0: no spring; the pendulum hangs by gravity alone), ωn the undamped
-// natural frequency √(ω₀² + |g|/L) and ζ the damping ratio.
+// natural frequency √(ω₀² + |g|/L) and ζ the damping ratio. With a spring, θ_rest leans
+// against gravity's pull on the drawn link (asin((u_drawn × g) / (L ω₀²))), so the drawing is
+// where the chain settles while its parent is as drawn; turn the parent and gravity pulls anew.
 //
 // Steps are fixed (1/rate s, semi-implicit Euler) with an accumulator: each frame adds its
 // time, steps while a whole step is left, and outputs the state interpolated between the last

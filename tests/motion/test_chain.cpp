@@ -153,6 +153,23 @@ TEST(Chain, TheSameMotionAtThirtySixtyAndHundredFortyFourAndTwoFortyHz) {
   }
 }
 
+// A spring chain drawn sideways rests as drawn under gravity while its parent is as drawn; the
+// parent turned upside down, gravity pulls it the other way (it does not just turn with it).
+TEST(Chain, ASpringChainSettlesAsDrawnAndGravityPullsWhenTheParentTurns) {
+  ChainParams p;
+  p.frequency = 2;
+  p.damping = 0.3;
+  const Vec2 rest[] = {{0, 0}, {60, 0}, {120, 10}};
+  Chain c(rest, p);
+  MotionWorld w;
+  w.gravity = {0, 980};
+  for (int f = 0; f < 600; ++f) c.advance(1.0 / 60, kH, {0, 0}, 0, w);
+  EXPECT_LT((c.ends()[1] - Vec2(120, 10)).norm(), 0.05) << "still where it was drawn";
+  for (int f = 0; f < 600; ++f) c.advance(1.0 / 60, kH, {0, 0}, M_PI, w);
+  // Rigidly turned, the end would be at (-120, -10); gravity pulls it down from there.
+  EXPECT_GT(c.ends()[1].y(), -10 + 20) << "it sags toward the ground";
+}
+
 TEST(Chain, AStallOrAResetPutsItAtRestStill) {
   ChainParams p;
   p.frequency = 1;

@@ -1,0 +1,136 @@
+#include "app/loop/physics.h"
+
+#include "app/show_toml.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mar {
+
+void read_physics(const std::string& path, const toml::table& root, ShowConfig& s) {
+  using namespace showtoml;
+  const toml::node* n = root.get("physics");
+  if (!n) return;
+  const toml::table* t = n->as_table();
+  if (!t) throw ShowError{at(path, *n) + ": [physics] must be a table"};
+  check_keys(path, *t, {"rate", "gravity", "wind"}, "[physics]");
+  if (const toml::node* r = t->get("rate")) {
+    s.physics.rate = number(path, *r, "rate");
+    if (s.physics.rate < 30 || s.physics.rate > 240) throw ShowError{at(path, *r) + ": rate must be 30..240 (steps per second)"};
+  }
+  if (const toml::node* g = t->get("gravity")) s.physics.gravity = point(path, *g, "gravity");
+  if (const toml::node* w = t->get("wind")) s.physics.wind = point(path, *w, "wind");
+}
+
+void PhysicsStage::prepare(const Puppet& p, const ShowPhysics& world) {
+  world_ = world;
+  h_ = 1.0 / std::clamp(world.rate, 30.0, 240.0);
+  chains_.clear();
+  for (const PuppetChain& pc : p.chains) {
+    const RigPhysics& ph = *pc.spec;
+    ChainParams cp;
+    cp.model = ph.spring ? ChainParams::Spring : ChainParams::Pendulum;
+    cp.frequency = ph.frequency >= 0 ? ph.frequency : (ph.spring ? 2.0 : 0.0);
+    cp.damping = ph.damping;
+    cp.inertia = ph.inertia;
+    cp.mass = ph.mass;
+    cp.mix = ph.mix;
+    cp.limit = ph.limit;
+    Item it{ph.name, Chain(pc.geo.rest, cp), cp, ph.has_gravity, ph.gravity, ph.wind, ph.gust, 0};
+    chains_.push_back(std::move(it));
+  }
+  t_ = 0;
+  gravity_scale_ = 1;
+  reset_ = true;
+}
+
+std::vector<PhysicsStage::SettingInfo> PhysicsStage::setting_names(const Puppet& p) {
+  std::vector<SettingInfo> out;
+  if (p.chains.empty()) return out;
+  for (const PuppetChain& c : p.chains) {
+    out.push_back({"physics." + c.spec->name + ".strength", 1, 0, 2});
+    out.push_back({"physics." + c.spec->name + ".mix", c.spec->mix, 0, 1});
+  }
+  out.push_back({"physics.wind", 0, -2000, 2000});
+  out.push_back({"physics.gravity", 1, 0, 2});
+  out.push_back({"physics.reset", 0, 0, 1});
+  return out;
+}
+
+std::vector<PhysicsStage::SettingInfo> PhysicsStage::settings() const {
+  std::vector<SettingInfo> out;
+  if (chains_.empty()) return out;
+  for (const Item& it : chains_) {
+    out.push_back({"physics." + it.name + ".strength", 1, 0, 2});
+    out.push_back({"physics." + it.name + ".mix", it.base.mix, 0, 1});
+  }
+  out.push_back({"physics.wind", world_.wind.x(), -2000, 2000});
+  out.push_back({"physics.gravity", 1, 0, 2});
+  out.push_back({"physics.reset", 0, 0, 1});
+  return out;
+}
+
+void PhysicsStage::set(size_t k, double v) {
+  const size_t per = 2 * chains_.size();
+  if (k < per) {
+    Item& it = chains_[k / 2];
+    if (k % 2 == 0) it.chain.params().inertia = it.base.inertia * std::clamp(v, 0.0, 2.0);
+    else it.chain.params().mix = std::clamp(v, 0.0, 1.0);
+  } else if (k == per) {
+    world_.wind.x() = v;
+  } else if (k == per + 1) {
+    gravity_scale_ = std::clamp(v, 0.0, 2.0);
+  } else if (k == per + 2) {
+    if (v >= 0.5 && reset_level_ < 0.5) reset_ = true;  // on the press
+    reset_level_ = v;
+  }
+}
+
+void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
+  t_ += std::max(0.0, dt);
+  for (size_t c = 0; c < chains_.size(); ++c) {
+    Item& it = chains_[c];
+    const PuppetChain& pc = p.chains[c];
+    // Where the parent is and how it is turned: two of its points, now and on the drawing.
+    const Points& now = p.shapes[size_t(pc.geo.parent)];
+    const Points& drawn = p.character.shapes[size_t(pc.geo.parent)].points;
+    const Vec2 d0 = drawn[size_t(pc.ref1)] - drawn[size_t(pc.ref0)], d1 = now[size_t(pc.ref1)] - now[size_t(pc.ref0)];
+    double rot = std::atan2(d1.y(), d1.x()) - std::atan2(d0.y(), d0.x());
+    rot = it.rotation + std::remainder(rot - it.rotation, 2 * M_PI);  // unwrapped: no jump at +-pi
+    it.rotation = rot;
+    const double c0 = std::cos(rot), s0 = std::sin(rot);
+    const Vec2 off = pc.geo.rest[0] - drawn[size_t(pc.ref0)];
+    const Vec2 anchor = now[size_t(pc.ref0)] + Vec2(c0 * off.x() - s0 * off.y(), s0 * off.x() + c0 * off.y());
+    MotionWorld w;
+    w.gravity = (it.own_gravity ? it.gravity : world_.gravity) * gravity_scale_;
+    Vec2 wind = world_.wind + it.wind;
+    if (it.gust > 0) {  // gusts along the wind (across when there is none), smooth and the same each run
+      const Vec2 along = wind.norm() > 1e-9 ? Vec2(wind.normalized()) : Vec2(1, 0);
+      wind += along * (it.gust * smooth_noise(1.3 * t_, double(c) + 1));
+    }
+    w.wind = wind;
+    if (reset_) it.chain.reset(anchor, rot);
+    else it.chain.advance(dt, h_, anchor, rot, w);
+    const auto ends = it.chain.ends();
+    for (size_t i = 0; i < ends.size() && pc.first_handle + i < targets.size(); ++i) targets[pc.first_handle + i] = ends[i];
+  }
+  reset_ = false;
+}
+
+long PhysicsStage::steps() const {
+  long n = 0;
+  for (const Item& it : chains_) n += it.chain.steps();
+  return n;
+}
+long PhysicsStage::resets() const {
+  long n = 0;
+  for (const Item& it : chains_) n += it.chain.resets();
+  return n;
+}
+long PhysicsStage::reverts() const {
+  long n = 0;
+  for (const Item& it : chains_) n += it.chain.reverts();
+  return n;
+}
+
+}  // namespace mar
