@@ -84,6 +84,8 @@ std::string LiveShow::stats_json() const {
                    {"worst_part_distortion", {{"p50", stats_.quality.quantile(0.5) / 1000},
                                               {"p99", stats_.quality.quantile(0.99) / 1000},
                                               {"max", stats_.quality.max() / 1000}}}}},
+      {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
+                   {"reverted_steps", physics_.reverts()}}},
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
       {"window_present_allocations_after_warmup", present_allocs_},

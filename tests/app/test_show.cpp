@@ -85,6 +85,54 @@ target = "solver.half_width"
   EXPECT_NE(s.error.find("solver.iterations, solver.rigidity"), std::string::npos) << s.error;
 }
 
+// Secondary motion: physics.NAME.strength|mix and physics.wind|gravity|reset name settings
+// with their default ranges; [physics] sets the world; a wrong name lists the right ones.
+TEST(Show, PhysicsTargetsAndThePhysicsTable) {
+  auto rig = [] {
+    ShowRig r = two_handles();
+    for (const char* n : {"physics.hair.strength", "physics.hair.mix", "physics.wind", "physics.gravity", "physics.reset"})
+      r.settings.push_back({n, std::pair<double, double>(0, std::string(n) == "physics.wind" ? 2000 : 1)});
+    return Result<ShowRig>::success(r);
+  };
+  const std::string head = R"([show]
+rig = "r.toml"
+[physics]
+rate = 60
+gravity = [0, 500]
+wind = [30, 0]
+[[device]]
+name = "k"
+sim = "nanokontrol2"
+[[binding]]
+device = "k"
+control = "cc 16"
+)";
+  auto s = load_show(test::write_temp("physics.toml", head + "target = \"physics.hair.mix\"\n"), [&](const ShowConfig&) { return rig(); });
+  ASSERT_TRUE(s.ok()) << s.error;
+  EXPECT_EQ(s.value->physics.rate, 60);
+  EXPECT_EQ(s.value->physics.gravity, Vec2(0, 500));
+  EXPECT_EQ(s.value->physics.wind, Vec2(30, 0));
+  EXPECT_EQ(s.value->bindings[0].target, TargetKind::Setting);
+  EXPECT_EQ(s.value->bindings[0].index, 3);
+  auto w = load_show(test::write_temp("physics-wind.toml", head + "target = \"physics.wind\"\n"), [&](const ShowConfig&) { return rig(); });
+  ASSERT_TRUE(w.ok()) << w.error;
+  EXPECT_EQ(w.value->bindings[0].tf.hi, 2000) << "the setting's default range";
+  const std::string bad_path = test::write_temp("physics-bad.toml", head + "target = \"physics.hare.mix\"\n");
+  auto bad = load_show(bad_path, [&](const ShowConfig&) { return rig(); });
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error.find(bad_path + ":13: unknown physics setting 'physics.hare.mix' (physics.hair.strength, physics.hair.mix"),
+            std::string::npos)
+      << bad.error;
+  auto none = load_show(test::write_temp("physics-none.toml", head + "target = \"physics.wind\"\n"),
+                        [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  ASSERT_FALSE(none.ok());
+  EXPECT_NE(none.error.find("the rig has no [[physics]] chains"), std::string::npos) << none.error;
+  auto rate = load_show(test::write_temp("physics-rate.toml", "[show]\nrig = \"r.toml\"\n[physics]\nrate = 500\n"),
+                        [&](const ShowConfig&) { return rig(); });
+  ASSERT_FALSE(rate.ok());
+  EXPECT_NE(rate.error.find(":4: rate must be 30..240"), std::string::npos) << rate.error;
+}
+
 TEST(Show, TheRigLoadersErrorIsReturnedAndASyntaxErrorNeverLoadsTheRig) {
   const std::string good = test::write_temp("rig-error.toml", "[show]\nrig = \"r.toml\"\n");
   auto s = load_show(good, [](const ShowConfig&) { return Result<ShowRig>::failure("r.toml:3: broken rig"); });

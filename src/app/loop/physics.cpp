@@ -100,7 +100,15 @@ void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
     it.rotation = rot;
     const double c0 = std::cos(rot), s0 = std::sin(rot);
     const Vec2 off = pc.geo.rest[0] - drawn[size_t(pc.ref0)];
-    const Vec2 anchor = now[size_t(pc.ref0)] + Vec2(c0 * off.x() - s0 * off.y(), s0 * off.x() + c0 * off.y());
+    const Vec2 seen = now[size_t(pc.ref0)] + Vec2(c0 * off.x() - s0 * off.y(), s0 * off.x() + c0 * off.y());
+    // The pose read is the last frame's: where the parent is now, it goes on as it went (this
+    // frame's solve moves it once more), so the chain does not trail it by a frame.
+    const bool going = !reset_ && it.seen_before;
+    const Vec2 anchor = going ? Vec2(2 * seen - it.last_seen) : seen;
+    const double turned = going ? 2 * rot - it.last_rotation : rot;
+    it.last_seen = seen;
+    it.last_rotation = rot;
+    it.seen_before = true;
     MotionWorld w;
     w.gravity = (it.own_gravity ? it.gravity : world_.gravity) * gravity_scale_;
     Vec2 wind = world_.wind + it.wind;
@@ -109,8 +117,8 @@ void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
       wind += along * (it.gust * smooth_noise(1.3 * t_, double(c) + 1));
     }
     w.wind = wind;
-    if (reset_) it.chain.reset(anchor, rot);
-    else it.chain.advance(dt, h_, anchor, rot, w);
+    if (reset_) it.chain.reset(anchor, turned);
+    else it.chain.advance(dt, h_, anchor, turned, w);
     const auto ends = it.chain.ends();
     for (size_t i = 0; i < ends.size() && pc.first_handle + i < targets.size(); ++i) targets[pc.first_handle + i] = ends[i];
   }

@@ -56,6 +56,9 @@ class PhysicsStage {
     Vec2 gravity = Vec2::Zero(), wind = Vec2::Zero();
     double gust = 0;
     double rotation = 0;  ///< the parent's, unwrapped
+    Vec2 last_seen = Vec2::Zero();  ///< where the parent held the chain in the pose before
+    double last_rotation = 0;
+    bool seen_before = false;
   };
   std::vector<Item> chains_;
   ShowPhysics world_;
