@@ -49,8 +49,8 @@ Result<std::vector<Points>> solve_keys(Puppet& p) {
     if (p.chains.empty()) {
       p.solver->solve(t, 300);
     } else {  // a chain's ends follow where the pose takes them: they pull nothing
-      for (int round = 0; round < 10; ++round) {
-        p.solver->solve(t, 30);
+      for (int round = 0; round < 60; ++round) {
+        p.solver->solve(t, 5);
         for (size_t h = 0; h < t.size(); ++h)
           if (p.rig.handles[h].physics) t[h] = p.solver->handle_point(h);
       }

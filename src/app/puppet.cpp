@@ -24,6 +24,12 @@ SolverWeights Puppet::weights() const {
   w.coupling = rig.w_coupling;
   w.position = rig.w_position;
   w.anderson = rig.anderson;
+  // A show's chain ends are soft targets (RigPhysics::weight).
+  for (const PuppetChain& c : chains)
+    for (size_t h : c.handles) {
+      if (w.handle_weights.size() <= h) w.handle_weights.resize(rig.handles.size(), 1.0);
+      w.handle_weights[h] = c.spec->weight;
+    }
   return w;
 }
 
@@ -66,7 +72,8 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   // A plain rig's limbs turn at their drawn joints (rig/auto_rig.h), not about the middle of
   // where they overlap their parent: hinges the rig does not state come from the drawing.
   if (p->rig.solver == "feature_frame" && p->rig.auto_joints) add_drawn_joints(p->character, p->rig);
-  // A show's chains: each link end is a handle after the rig's own.
+  // A show's chains: each link end is a handle after the rig's own — but a handle the rig has
+  // on the last part (the one farthest from where the chain hangs) is its end and is driven.
   if (physics)
     for (const RigPhysics& ph : p->rig.physics) {
       auto geo = chain_geometry(p->character, p->rig, ph);
@@ -74,14 +81,39 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
       PuppetChain c;
       c.spec = &ph;
       c.geo = std::move(*geo.value);
-      c.first_handle = p->rig.handles.size();
+      const SubShape& last = p->character.shapes[size_t(c.geo.shapes.back())];
+      const Bounds lb = last.bounds();
+      const double near = 0.02 * (lb.empty() ? 1.0 : (lb.hi - lb.lo).norm() + 1.0);
+      const Vec2 hang = c.geo.rest[c.geo.rest.size() - 2];
+      int own = ph.handle.empty() ? -1 : p->rig.find_handle(ph.handle);
+      for (size_t h = 0; h < p->rig.handles.size() && ph.handle.empty(); ++h) {
+        const RigHandle& rh = p->rig.handles[h];
+        if (rh.physics) continue;
+        bool on = last.closed() && last.contains(rh.rest);
+        for (const Vec2& q : last.points) on = on || (q - rh.rest).norm() <= near;
+        if (on && (own < 0 || (rh.rest - hang).norm() > (p->rig.handles[size_t(own)].rest - hang).norm())) own = int(h);
+      }
+      for (const PuppetChain& o : p->chains)
+        if (own >= 0 && std::find(o.handles.begin(), o.handles.end(), size_t(own)) != o.handles.end()) {
+          if (!ph.handle.empty())
+            return R::failure(p->rig.path + ":" + std::to_string(ph.line) + ": physics chain '" + ph.name + "': handle '" + ph.handle +
+                              "' is the end of chain '" + o.spec->name + "' already");
+          own = -1;  // taken: this chain gets its own
+        }
+      if (own >= 0 && (p->rig.handles[size_t(own)].rest - hang).norm() > 1e-6) c.geo.rest.back() = p->rig.handles[size_t(own)].rest;
+      else own = -1;
       const size_t links = c.geo.shapes.size();
       for (size_t i = 0; i < links; ++i) {
+        if (i + 1 == links && own >= 0) {
+          c.handles.push_back(size_t(own));
+          continue;
+        }
         RigHandle h;
         h.name = "physics." + ph.name + (i + 1 < links ? "." + std::to_string(i + 1) : "");
         if (p->rig.find_handle(h.name) >= 0) return R::failure(p->rig.path + ": a handle is named '" + h.name + "', the name of a chain's end");
         h.rest = c.geo.rest[i + 1];
         h.physics = true;
+        c.handles.push_back(p->rig.handles.size());
         p->rig.handles.push_back(h);
       }
       p->chains.push_back(std::move(c));
@@ -119,13 +151,9 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
     for (const std::string& w : p->character.warnings) err += "; " + w;  // e.g. a mask with no figure
     return R::failure(path + ": " + err);
   }
-  // Each chain's parent is followed by two of its points (after prepare: it may add points).
   for (PuppetChain& c : p->chains) {
-    const Points& pts = p->character.shapes[size_t(c.geo.parent)].points;
-    for (size_t k = 0; k < pts.size(); ++k)
-      if ((pts[k] - c.geo.rest[0]).squaredNorm() < (pts[size_t(c.ref0)] - c.geo.rest[0]).squaredNorm()) c.ref0 = int(k);
-    for (size_t k = 0; k < pts.size(); ++k)
-      if ((pts[k] - pts[size_t(c.ref0)]).squaredNorm() > (pts[size_t(c.ref1)] - pts[size_t(c.ref0)]).squaredNorm()) c.ref1 = int(k);
+    const Bounds pb = p->character.shapes[size_t(c.geo.parent)].bounds();
+    c.reach = pb.empty() ? 1.0 : std::max(1e-6, (pb.hi - pb.lo).norm() / 3);
   }
   p->mesh = prepare_mesh(p->character);
   for (const SubShape& s : p->character.shapes) p->shapes.push_back(s.points);

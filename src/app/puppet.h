@@ -18,9 +18,12 @@ namespace mar {
 struct PuppetChain {
   const RigPhysics* spec = nullptr;  ///< in Puppet::rig
   ChainGeometry geo;
-  size_t first_handle = 0;  ///< its link ends' handles, in order: first_handle + link
-  /// Two points of the parent shape that give where it is and how it is turned.
-  int ref0 = 0, ref1 = 0;
+  /// Per link end, its handle: a new one (`physics.NAME[.k]`), or for the last end a handle of
+  /// the rig's on the last part, which the chain then drives in a show.
+  std::vector<size_t> handles;
+  /// How far around where it hangs the parent's points count for its motion (their weight
+  /// halves at this distance): a third of the parent's size.
+  double reach = 1;
 };
 
 struct Puppet {

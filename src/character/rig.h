@@ -17,7 +17,8 @@
 //   [[trigger]] name = "blink"   shapes = ["eyes-shut"]
 //   [[physics]] name = "hair"   parts = ["hair-1", "hair-2"]   from = "head"   model = "pendulum" | "spring"
 //               frequency = 1.5   damping = 0.15   inertia = 1   mass = 1   gravity = [0, 980]   wind = [0, 0]
-//               gust = 0   mix = 1   limit = 0   length = 0   (secondary motion: motion/chain.h)
+//               gust = 0   mix = 1   limit = 0   weight = 0.2   length = 0   handle = "tail-top"
+//               (secondary motion: motion/chain.h)
 #pragma once
 
 #include "character/character.h"
@@ -104,7 +105,13 @@ struct RigPhysics {
   Vec2 wind = Vec2::Zero();        ///< added to the show's
   double gust = 0;                 ///< wind noise amplitude (smooth, deterministic)
   double mix = 1, limit = 0;
+  /// How hard its ends pull, a fraction of the rig's position weight (soft targets: the parts
+  /// it moves keep their shape, and what it hangs from is barely dragged).
+  double weight = 0.2;
   double length = 0;               ///< the last link's length (0: from the drawing)
+  /// A rig handle the chain's end drives in a show (empty: a handle of the rig's on the last
+  /// part, if any, else a new one).
+  std::string handle;
   int line = 0;
 };
 

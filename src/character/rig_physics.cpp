@@ -15,7 +15,8 @@ void parse_rig_physics(const std::string& path, const toml::node& n, Rig& r) {
     const toml::table* t = node.as_table();
     if (!t) throw ConfigError{at(path, node) + ": a physics chain must be a table"};
     check_keys(path, *t,
-               {"name", "parts", "from", "model", "length", "frequency", "damping", "inertia", "mass", "gravity", "wind", "gust", "mix", "limit"},
+               {"name", "parts", "from", "model", "length", "frequency", "damping", "inertia", "mass", "gravity", "wind", "gust", "mix", "limit",
+                "handle", "weight"},
                "[[physics]]");
     RigPhysics ph;
     ph.line = int(node.source().begin.line);
@@ -59,11 +60,16 @@ void parse_rig_physics(const std::string& path, const toml::node& n, Rig& r) {
     in("gust", 0, 1e6, ph.gust);
     in("mix", 0, 1, ph.mix);
     in("limit", 0, 1e7, ph.limit);
+    in("weight", 0.001, 1, ph.weight);
     if (const toml::node* g = t->get("gravity")) {
       ph.gravity = point(path, *g, "gravity");
       ph.has_gravity = true;
     }
     if (const toml::node* w = t->get("wind")) ph.wind = point(path, *w, "wind");
+    if (const toml::node* h = t->get("handle")) {
+      ph.handle = text(path, *h, "handle");
+      if (r.find_handle(ph.handle) < 0) throw ConfigError{at(path, *h) + ": the rig has no handle '" + ph.handle + "' (its [[handle]] tables come first)"};
+    }
     r.physics.push_back(std::move(ph));
   }
 }

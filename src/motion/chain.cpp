@@ -87,7 +87,9 @@ void Chain::step(double h, const Vec2& anchor, double rotation, double spin, con
     l.omega += h * alpha;
     if (p_.model == ChainParams::Spring) {
       const double k = w0 > 0 ? w0 : wn;
-      const double rdd = -k * k * (l.r - L) - 2 * p_.damping * k * l.rdot + u.dot(F) + l.r * l.omega * l.omega;
+      // Its rest length leans against gravity along the drawn link: the drawing is where it settles.
+      const double rest_length = L - dir(rest_angle_[i]).dot(g) / (k * k);
+      const double rdd = -k * k * (l.r - rest_length) - 2 * p_.damping * k * l.rdot + u.dot(F) + l.r * l.omega * l.omega;
       l.rdot += h * rdd;
     }
     const double r1 = p_.model == ChainParams::Spring ? std::clamp(l.r + h * l.rdot, 0.25 * L, 4 * L) : L;

@@ -134,8 +134,9 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
     add_block_diag(l.a, l.b, -c);
     add_block_diag(l.b, l.a, -c);
   }
-  for (const ShapeParam& h : handles_) {
-    const HandleCoeff k = coeff(h);
+  for (size_t hi = 0; hi < handles_.size(); ++hi) {
+    const HandleCoeff k = coeff(handles_[hi]);
+    const double wp = w.position * w.handle_weight(hi);
     // |M(alpha_a) v_a + M(alpha_b) v_b - c|^2 ; M(x)^T M(y) = M(conj(x) y)
     const int idx[2] = {k.a, k.b};
     const double re[2] = {k.ar, k.br}, im[2] = {k.ai, k.bi};
@@ -145,10 +146,10 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
         const double pr = re[r] * re[c] + im[r] * im[c];
         const double pi = re[r] * im[c] - im[r] * re[c];
         const int I = idx[r], J = idx[c];
-        t.emplace_back(2 * I, 2 * J, w.position * pr);
-        t.emplace_back(2 * I, 2 * J + 1, -w.position * pi);
-        t.emplace_back(2 * I + 1, 2 * J, w.position * pi);
-        t.emplace_back(2 * I + 1, 2 * J + 1, w.position * pr);
+        t.emplace_back(2 * I, 2 * J, wp * pr);
+        t.emplace_back(2 * I, 2 * J + 1, -wp * pi);
+        t.emplace_back(2 * I + 1, 2 * J, wp * pi);
+        t.emplace_back(2 * I + 1, 2 * J + 1, wp * pr);
       }
     }
   }
@@ -254,7 +255,7 @@ double FeatureFrameSolver::energy_with_rotations(std::span<const Vec2> v, std::s
     }
   }
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
-    e_pos += (eval_param(handles_[h], v) - targets[h]).squaredNorm();
+    e_pos += w_.handle_weight(h) * (eval_param(handles_[h], v) - targets[h]).squaredNorm();
   }
   if (extra_active_ && targets.size() > handles_.size()) e_pos += (eval_param(extra_, v) - targets[handles_.size()]).squaredNorm();
   for (size_t i = 0; i < v.size(); ++i) {
@@ -355,11 +356,12 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
     const HandleCoeff k = coeff(handles_[h]);
     const Vec2 t = targets[h] - k.offset;
+    const double wp = w_.position * w_.handle_weight(h);
     // M(alpha)^T t = conj(alpha) * t
-    y[perm[2 * k.a]] += w_.position * (k.ar * t.x() + k.ai * t.y());
-    y[perm[2 * k.a + 1]] += w_.position * (k.ar * t.y() - k.ai * t.x());
-    y[perm[2 * k.b]] += w_.position * (k.br * t.x() + k.bi * t.y());
-    y[perm[2 * k.b + 1]] += w_.position * (k.br * t.y() - k.bi * t.x());
+    y[perm[2 * k.a]] += wp * (k.ar * t.x() + k.ai * t.y());
+    y[perm[2 * k.a + 1]] += wp * (k.ar * t.y() - k.ai * t.x());
+    y[perm[2 * k.b]] += wp * (k.br * t.x() + k.bi * t.y());
+    y[perm[2 * k.b + 1]] += wp * (k.br * t.y() - k.bi * t.x());
   }
   if (extra_active_ && handles_.size() < targets.size()) {
     const HandleCoeff k = coeff(extra_);
@@ -501,7 +503,7 @@ void FeatureFrameSolver::move_rigidly(double c, double sn, const Vec2& from, con
 double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
   double e = e_lines_ + e_spokes_;
   for (size_t h = 0; h < handles_.size() && h < targets.size(); ++h) {
-    e += w_.position * (eval_param(handles_[h], v_) - targets[h]).squaredNorm();
+    e += w_.position * w_.handle_weight(h) * (eval_param(handles_[h], v_) - targets[h]).squaredNorm();
   }
   if (extra_active_ && targets.size() > handles_.size()) {
     e += w_.position * (eval_param(extra_, v_) - targets[handles_.size()]).squaredNorm();

@@ -21,6 +21,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <span>
+#include <vector>
 #include <string>
 
 namespace mar {
@@ -42,6 +43,10 @@ struct SolverWeights {
   /// A target that moved more than this fraction of the frame's diagonal since the last
   /// solve (a pose recall, a jump) makes solve() start from initial_guess(). <= 0: never.
   double jump = 0.08;
+  /// Per handle, a scale of w_p (empty, or past its end: 1): a soft target, such as a chain's
+  /// end in secondary motion (app/loop/physics.h), pulls its part without dragging the rest.
+  std::vector<double> handle_weights;
+  double handle_weight(size_t h) const { return h < handle_weights.size() ? handle_weights[h] : 1.0; }
 };
 
 class FeatureFrameSolver {

@@ -582,7 +582,7 @@ TEST(Live, DemoRunHashIsPinned) {
                          (dir / "s.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   std::ifstream f(dir / "s.json");
-  EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "c504eca3edda959b");
+  EXPECT_EQ(nlohmann::json::parse(f)["run_hash"], "86964d8619bf79a4");
 }
 
 nlohmann::json run_demo(const std::string& name, const std::string& extra = "--frames 400") {
@@ -822,8 +822,25 @@ TEST(Live, SingerShowSwapsTriggersAndRecallsPosesSmoothly) {
   const Vec2 face_moved = centroid(sway.shapes[face]) - centroid(sp.character.shapes[face].points);
   const Vec2 mouth_moved = centroid(sway.shapes[mo]) - centroid(sp.character.shapes[mo].points);
   EXPECT_GT(face_moved.norm(), 5.0);
-  EXPECT_LT((mouth_moved - face_moved).norm(), 0.25 * face_moved.norm()) << mouth_moved.transpose() << " vs face "
-                                                                        << face_moved.transpose();
+  // Where the face's best rigid motion (its points' 2D Procrustes fit: the head turns as well
+  // as moves) carries the mouth: the hidden mouth is there, to a small part of the face's travel.
+  const Points& fr = sp.character.shapes[face].points;
+  const Points& fp = sway.shapes[face];
+  const Vec2 cr = centroid(fr), cp = centroid(fp);
+  double sxx = 0, sxy = 0;
+  for (size_t i = 0; i < fr.size(); ++i) {
+    const Vec2 a = fr[i] - cr, b = fp[i] - cp;
+    sxx += a.dot(b);
+    sxy += a.x() * b.y() - a.y() * b.x();
+  }
+  const double ang = std::atan2(sxy, sxx);
+  const Vec2 m0 = centroid(sp.character.shapes[mo].points) - cr;
+  const Vec2 carried = cp + Vec2(std::cos(ang) * m0.x() - std::sin(ang) * m0.y(), std::sin(ang) * m0.x() + std::cos(ang) * m0.y());
+  const Vec2 mouth_at = centroid(sway.shapes[mo]);
+  std::cout << "the hidden mouth is " << (mouth_at - carried).norm() << " units from where the face carries it (the face moved " << face_moved.norm() << ")" << std::endl;
+  EXPECT_LT((mouth_at - carried).norm(), 0.1 * face_moved.norm()) << mouth_at.transpose() << " vs carried by the face "
+                                                                  << carried.transpose() << " (mouth moved " << mouth_moved.transpose()
+                                                                  << ")";
   // R 1 at 5.6 s recalls wave over 0.5 s: on the way at 5.75 s, there by 6.2 s; R 2 at 7.4 s: rest by 8.3 s.
   const Vec2 rest_hand = sp.rig.handles[hand].rest;
   const double way = (wave_hand - rest_hand).norm();

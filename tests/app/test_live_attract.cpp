@@ -5,6 +5,8 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -48,8 +50,14 @@ std::vector<Frame> run_frames(const std::string& path) {
   for (int f = 0; f < kFrames; ++f) {
     show.frame(int64_t(f * 1e9 / 60));
     Frame fr;
+    // The performer's targets: a [[physics]] chain's ends are the motion stage's, which carries
+    // on swinging from whatever moved it (a trace of motion, not of the attract's mapping).
     const auto t = show.targets();
-    fr.targets.assign(t.begin(), t.end());
+    for (size_t h = 0; h < t.size(); ++h) {
+      bool chain = false;
+      for (const PuppetChain& c : show.puppet().chains) chain = chain || std::find(c.handles.begin(), c.handles.end(), h) != c.handles.end();
+      if (!chain) fr.targets.push_back(t[h]);
+    }
     const auto live = show.mapping().targets();
     fr.live.assign(live.begin(), live.end());
     if (const Attract* a = show.attract()) {

@@ -104,7 +104,10 @@ TEST(FeatureFrameSolver, EnergyNeverIncreases) {
 // weighted by its parts' stiffness).
 TEST(FeatureFrameSolver, ClosedFormEnergyMatchesQuadrature) {
   Rig r = make_rig("butterfly", {{200, 135}, {60, 100}, {340, 280}});
-  SolverWeights w{1.3, 0.7, 100};
+  SolverWeights w;
+  w.rigidity = 1.3;
+  w.coupling = 0.7;
+  w.position = 100;
   FeatureFrameSolver s;
   ASSERT_TRUE(s.prepare(r.frame, r.handles, w));
   std::mt19937 rng(3);

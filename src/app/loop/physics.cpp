@@ -22,6 +22,37 @@ void read_physics(const std::string& path, const toml::table& root, ShowConfig& 
   if (const toml::node* w = t->get("wind")) s.physics.wind = point(path, *w, "wind");
 }
 
+void chain_parent_pose(const Puppet& p, const PuppetChain& pc, Vec2& anchor, double& rotation) {
+  // The best rigid motion of the parent's points from the drawing (2D Procrustes), weighted
+  // toward where the chain hangs.
+  const Points& now = p.shapes[size_t(pc.geo.parent)];
+  const Points& drawn = p.character.shapes[size_t(pc.geo.parent)].points;
+  const Vec2 a0 = pc.geo.rest[0];
+  const double s2 = pc.reach * pc.reach;
+  const size_t n = std::min(drawn.size(), now.size());
+  double wsum = 0;
+  Vec2 cd = Vec2::Zero(), cn = Vec2::Zero();
+  for (size_t k = 0; k < n; ++k) {
+    const double wk = 1.0 / (1.0 + (drawn[k] - a0).squaredNorm() / s2);
+    wsum += wk;
+    cd += wk * drawn[k];
+    cn += wk * now[k];
+  }
+  cd /= std::max(wsum, 1e-300);
+  cn /= std::max(wsum, 1e-300);
+  double sxx = 0, sxy = 0;
+  for (size_t k = 0; k < n; ++k) {
+    const double wk = 1.0 / (1.0 + (drawn[k] - a0).squaredNorm() / s2);
+    const Vec2 d = drawn[k] - cd, m = now[k] - cn;
+    sxx += wk * d.dot(m);
+    sxy += wk * (d.x() * m.y() - d.y() * m.x());
+  }
+  rotation = std::atan2(sxy, sxx);
+  const double c = std::cos(rotation), s = std::sin(rotation);
+  const Vec2 off = a0 - cd;
+  anchor = cn + Vec2(c * off.x() - s * off.y(), s * off.x() + c * off.y());
+}
+
 void PhysicsStage::prepare(const Puppet& p, const ShowPhysics& world) {
   world_ = world;
   h_ = 1.0 / std::clamp(world.rate, 30.0, 240.0);
@@ -91,16 +122,11 @@ void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
   for (size_t c = 0; c < chains_.size(); ++c) {
     Item& it = chains_[c];
     const PuppetChain& pc = p.chains[c];
-    // Where the parent is and how it is turned: two of its points, now and on the drawing.
-    const Points& now = p.shapes[size_t(pc.geo.parent)];
-    const Points& drawn = p.character.shapes[size_t(pc.geo.parent)].points;
-    const Vec2 d0 = drawn[size_t(pc.ref1)] - drawn[size_t(pc.ref0)], d1 = now[size_t(pc.ref1)] - now[size_t(pc.ref0)];
-    double rot = std::atan2(d1.y(), d1.x()) - std::atan2(d0.y(), d0.x());
+    Vec2 seen;
+    double rot = 0;
+    chain_parent_pose(p, pc, seen, rot);
     rot = it.rotation + std::remainder(rot - it.rotation, 2 * M_PI);  // unwrapped: no jump at +-pi
     it.rotation = rot;
-    const double c0 = std::cos(rot), s0 = std::sin(rot);
-    const Vec2 off = pc.geo.rest[0] - drawn[size_t(pc.ref0)];
-    const Vec2 seen = now[size_t(pc.ref0)] + Vec2(c0 * off.x() - s0 * off.y(), s0 * off.x() + c0 * off.y());
     // The pose read is the last frame's: where the parent is now, it goes on as it went (this
     // frame's solve moves it once more), so the chain does not trail it by a frame.
     const bool going = !reset_ && it.seen_before;
@@ -120,7 +146,8 @@ void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
     if (reset_) it.chain.reset(anchor, turned);
     else it.chain.advance(dt, h_, anchor, turned, w);
     const auto ends = it.chain.ends();
-    for (size_t i = 0; i < ends.size() && pc.first_handle + i < targets.size(); ++i) targets[pc.first_handle + i] = ends[i];
+    for (size_t i = 0; i < ends.size() && i < pc.handles.size(); ++i)
+      if (pc.handles[i] < targets.size()) targets[pc.handles[i]] = ends[i];
   }
   reset_ = false;
 }

@@ -1,7 +1,8 @@
 // The frame's motion stage: the rig's [[physics]] chains (motion/chain.h) follow the parts they
-// hang from and write their link ends as the targets of their handles (Puppet::chains), so the
-// solver keeps the dangling parts' shape and their joints attached. Each chain's parent is read
-// from the puppet's last pose (two of its points give where it is and how it is turned).
+// hang from and write their link ends as the targets of their handles (Puppet::chains): soft
+// targets (RigPhysics::weight), so the solver keeps the dangling parts' shape and their joints
+// attached. Each chain's parent is read from the puppet's last pose (chain_parent_pose), carried
+// on as it went for this frame.
 //
 // Live settings (a show's bindings): physics.NAME.strength (0..2, how much it feels the
 // parent's motion), physics.NAME.mix (0..1, the simulation against following rigidly),
@@ -18,6 +19,11 @@
 #include <vector>
 
 namespace mar {
+
+/// Where chain `c`'s parent holds it in `p`'s current shapes: the point it hangs from, and the
+/// parent's rotation from the drawing (the best rigid motion of the parent's points, weighted
+/// toward that point). No allocation.
+void chain_parent_pose(const Puppet& p, const PuppetChain& c, Vec2& anchor, double& rotation);
 
 class PhysicsStage {
  public:
