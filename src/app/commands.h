@@ -90,6 +90,7 @@ struct RunArgs {
   long frames = -1;
   double rate = 0;
   std::string stats, record, dump_frames, learn, replay;
+  std::string dump_poses;  ///< every frame's shapes as JSON lines
   int every = 1;
   bool simulate = false;
   bool kiosk = false;

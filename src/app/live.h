@@ -20,6 +20,7 @@
 #include "app/show.h"
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
+#include "output/pose_dump.h"
 #include "render/canvas.h"
 
 #include <atomic>
@@ -35,6 +36,7 @@ struct RunOptions {
   long frames = -1;          ///< -1: until the scripts end (headless) or the window closes
   double rate = 0;           ///< Hz; 0 = the show's rate
   std::string stats_path, record_path, dump_dir, learn, replay_path;
+  std::string dump_poses;    ///< every frame's shapes as JSON lines (output/pose_dump.h)
   bool simulate = false;     ///< present hardware devices' simulators at the kernel interface (umockdev)
   int every = 1;
   bool quiet = false;
@@ -132,6 +134,7 @@ class LiveShow {
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0, dropped_records_ = 0;
   std::unique_ptr<Recorder> recorder_;
+  std::unique_ptr<PoseDump> pose_dump_;            ///< --dump-poses
   std::unique_ptr<Playback> playback_;
   std::vector<WireRecord> replay_wires_;
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording

@@ -86,6 +86,7 @@ int main(int argc, char** argv) {
   run_cmd->add_option("--record", run.record, "Record the raw wire data with timestamps");
   run_cmd->add_option("--dump-frames", run.dump_frames, "Write frames as PNG into this folder");
   run_cmd->add_option("--every", run.every, "With --dump-frames: every Kth frame");
+  run_cmd->add_option("--dump-poses", run.dump_poses, "Write every frame's shapes as JSON lines to this file (t, subshapes: id, points)");
   run_cmd->add_option("--learn", run.learn, "Bind the next control that moves to TARGET and write it into the show");
   run_cmd->add_flag("--simulate", run.simulate,
                     "Present the hardware devices' simulators at the kernel interface (umockdev): no hardware needed");
@@ -122,6 +123,7 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--stats", replay.stats, "Write frame statistics as JSON");
   replay_cmd->add_option("--dump-frames", replay.dump_frames, "Write frames as PNG into this folder");
   replay_cmd->add_option("--every", replay.every, "With --dump-frames: every Kth frame");
+  replay_cmd->add_option("--dump-poses", replay.dump_poses, "Write every frame's shapes as JSON lines to this file (t, subshapes: id, points)");
   replay.headless = true;
 
   try {

@@ -86,6 +86,8 @@ std::string LiveShow::stats_json() const {
                                               {"max", stats_.quality.max() / 1000}}}}},
       {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
                    {"reverted_steps", physics_.reverts()}}},
+      {"pose_dump", pose_dump_ ? json{{"written", pose_dump_->written()}, {"dropped", pose_dump_->dropped()}, {"waits", pose_dump_->waits()}}
+                               : json(nullptr)},
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
       {"window_present_allocations_after_warmup", present_allocs_},
@@ -123,6 +125,7 @@ int cmd_run(const RunArgs& a) {
   o.stats_path = a.stats;
   o.record_path = a.record;
   o.dump_dir = a.dump_frames;
+  o.dump_poses = a.dump_poses;
   o.every = a.every;
   o.learn = a.learn;
   o.replay_path = a.replay;
