@@ -767,6 +767,24 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       out.parts.push_back(p);
     }
   }
+  // Secondary motion (motion/chain.h): a limb or a stroke named hair, ear, tail or antenna
+  // swings in a show, hanging from its parent, its handle the chain's end.
+  for (const AutoRigPart& p : out.parts) {
+    if (p.kind != AutoRigPart::Limb || p.parent < 0 || p.handle.empty()) continue;
+    const SubShape& sh = ch.shapes[size_t(p.shape)];
+    const auto w = name_words(sh.label.empty() ? sh.id : sh.label);
+    if (!has_word(w, {"hair", "ear", "ears", "tail", "antenna", "antennae", "ponytail", "pigtail", "braid", "curl", "tuft"})) continue;
+    const int from = out.parts[size_t(p.parent)].shape;
+    if (from < 0 || from == p.shape) continue;
+    RigPhysics ph;
+    ph.name = p.handle;
+    ph.parts = {sh.id};
+    ph.from = ch.shapes[size_t(from)].id;
+    ph.handle = p.handle;
+    ph.frequency = 2;
+    ph.damping = 0.15;
+    rig.physics.push_back(ph);
+  }
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;
 }

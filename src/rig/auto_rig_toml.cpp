@@ -58,6 +58,17 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
     for (size_t k = 0; k < t.shapes.size(); ++k) o << (k ? ", " : "") << q(t.shapes[k]);
     o << "]\n";
   }
+  if (!r.physics.empty())
+    o << "\n# Secondary motion in a show (docs/motion.md): parts named hair, ear, tail or antenna swing and\n"
+         "# settle when what they hang from moves; their handles are the chains' ends (a show's controls\n"
+         "# drive them through physics.NAME.mix and .strength). Delete a table to hold a part still.\n";
+  for (const RigPhysics& ph : r.physics) {
+    o << "[[physics]]\nname = " << q(ph.name) << "\nparts = [";
+    for (size_t k = 0; k < ph.parts.size(); ++k) o << (k ? ", " : "") << q(ph.parts[k]);
+    o << "]\nfrom = " << q(ph.from) << "\n";
+    if (!ph.handle.empty()) o << "handle = " << q(ph.handle) << "\n";
+    o << "frequency = " << toml_number(ph.frequency) << "\ndamping = " << toml_number(ph.damping) << "\n\n";
+  }
   // The parts with no handle, for the record.
   std::ostringstream rest;
   for (const AutoRigPart& p : a.parts)

@@ -28,6 +28,8 @@ std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
   std::vector<Chain> out;
   for (const AutoRigPart& p : a.parts) {
     if (p.kind != AutoRigPart::Limb || p.handle.empty()) continue;
+    // (a chain's end swings on its own: secondary motion drives it)
+    if (std::any_of(a.rig.physics.begin(), a.rig.physics.end(), [&](const RigPhysics& ph) { return ph.handle == p.handle; })) continue;
     const AutoRigPart* root = &p;
     while (root->parent >= 0 && a.parts[size_t(root->parent)].kind == AutoRigPart::Limb) root = &a.parts[size_t(root->parent)];
     Chain c{p.handle, ch.shapes[size_t(root->shape)].id, root->joint, 1, !ch.shapes[size_t(p.shape)].fill.enabled};

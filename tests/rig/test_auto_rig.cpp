@@ -7,11 +7,13 @@
 #include "render/image.h"
 #include "geom/polygon.h"
 #include "rig/auto_rig.h"
+#include "rig/starter_show.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <map>
 #include <set>
 
 namespace mar {
@@ -226,6 +228,42 @@ TEST(AutoRig, AGroupOfAlternativesOneVisibleBecomesASwapSet) {
   EXPECT_FALSE(p.shown[index("hand-open")]);
   EXPECT_TRUE(p.shown[index("hand-fist")]);
   EXPECT_FALSE(p.shown[index("hand-point")]);
+}
+
+// Secondary motion from names: hair, ears, tails and antennae become [[physics]] chains hanging
+// from their parents, their handles the chains' ends; the written rig loads for a show with its
+// chains, and a starter show leaves their handles to the motion.
+TEST(AutoRig, HairEarsTailsAndAntennaeBecomeChains) {
+  struct Want {
+    const char* name;
+    std::map<std::string, std::string> chains;  ///< chain -> from
+  } wants[] = {
+      {"figure", {{"hair-curl-1", "hair-cap"}, {"hair-curl-2", "hair-cap"}, {"hair-tuft", "hair-cap"}}},
+      {"koi", {{"tail", "body"}}},
+      {"butterfly", {{"antenna-left", "head"}, {"antenna-right", "head"}}},
+  };
+  for (const Want& w : wants) {
+    const std::string file = (test::characters_dir() / (std::string(w.name) + ".svg")).string();
+    const Rigged r = rig_of(file);
+    std::map<std::string, std::string> got;
+    for (const RigPhysics& ph : r.ar.rig.physics) {
+      got[ph.name] = ph.from;
+      EXPECT_EQ(ph.handle, ph.name) << w.name << ": the chain's end is the part's handle";
+      EXPECT_GE(r.ar.rig.find_handle(ph.handle), 0);
+    }
+    EXPECT_EQ(got, w.chains) << w.name;
+    const std::string text = write_auto_rig(r.ar, r.ch);
+    auto rig = parse_rig(text, test::write_temp(std::string("auto-physics-") + w.name + ".toml", text));
+    ASSERT_TRUE(rig.ok()) << rig.error;
+    EXPECT_EQ(rig.value->physics.size(), w.chains.size());
+    auto show = load_puppet(file, *rig.value, "", true);
+    ASSERT_TRUE(show.ok()) << show.error;
+    EXPECT_EQ((*show.value)->chains.size(), w.chains.size()) << w.name;
+    auto starter = starter_show(r.ar, r.ch, "rig.toml", "nanokontrol2");
+    ASSERT_TRUE(starter.ok()) << starter.error;
+    for (const auto& [chain, from] : w.chains)
+      EXPECT_EQ(starter.value->find("\"handle." + chain), std::string::npos) << w.name << ": " << chain << " is bound";
+  }
 }
 
 // Hinges at the drawn joints: where the boy's and the candle's hand rigs state their joints
