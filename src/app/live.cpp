@@ -144,6 +144,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   std::erase_if(s->key_settings_, [&](const KeySetting& k) {
     for (const Binding& b : sh.bindings)
       if (b.target == TargetKind::Setting && b.index == k.setting) return false;
+    for (const ShowBehavior& b : sh.behaviors)  // (a key an idle behaviour breathes counts too)
+      if (b.target == TargetKind::Setting && b.index == k.setting) return false;
     return true;
   });
   bool recalls = false;
@@ -181,6 +183,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     }
     m.add_binding(b);
   }
+  s->idle_.prepare(sh, m);  // after the bindings: each behaviour pauses while one on its target moves
 
   for (size_t i = 0; i < sh.devices.size(); ++i) {
     ShowDevice& d = sh.devices[i];
@@ -397,12 +400,14 @@ void LiveShow::poses() {
   // Key poses: the morph and blend settings give weights over the keys (a morph from A to B at t
   // puts 1 − t on A and t on B; blends add), the interpolated frame is the base pose, and every
   // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
+  idle_.step(dt_, mapping_);  // idle behaviours: their keys' weights are read below
   if (!interp_) return;
   std::fill(key_weights_.begin(), key_weights_.end(), 0.0);
   const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;  // the crossfade
   for (const KeySetting& k : key_settings_) {
     double v = mapping_.setting(k.setting);
     if (w > 0) v += w * (attract_->mapping().setting(k.setting) - v);
+    v += idle_.setting_offset(k.setting);
     if (k.from == -2) {
       key_weights_[size_t(k.to)] += v;
       continue;
@@ -442,8 +447,18 @@ void LiveShow::poses() {
 }
 
 void LiveShow::motion() {
+  if (!idle_.empty()) {  // breathing and looking move targets; blinks show over the swaps and triggers
+    idle_.apply_targets(std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()), show_.groups);
+    if (idle_.has_blinks()) {
+      idle_.shown(swap_members_, triggers_on_);
+      puppet_->show(idle_.members(), idle_.triggers());
+    }
+  }
   if (physics_.empty()) return;
-  for (size_t k = 0, n = physics_.setting_count(); k < n; ++k) physics_.set(k, mapping_.setting(setting_physics_ + int(k)));
+  for (size_t k = 0, n = physics_.setting_count(); k < n; ++k) {
+    const int i = setting_physics_ + int(k);
+    physics_.set(k, mapping_.setting(i) + idle_.setting_offset(i));
+  }
   physics_.step(dt_, *puppet_, std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()));
 }
 

@@ -11,6 +11,7 @@
 #include "app/loop/hud.h"
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
+#include "app/loop/idle.h"
 #include "app/loop/physics.h"
 #include "app/loop/recording.h"
 #include "app/loop/service.h"
@@ -162,6 +163,7 @@ class LiveShow {
   // swap sets and triggers (what shows)
   std::vector<int> swap_counts_, swap_members_;
   std::vector<char> triggers_on_;
+  IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
   PhysicsStage physics_;                           ///< motion: the rig's [[physics]] chains
   int setting_physics_ = 0;                        ///< first of its settings
   Governor governor_{8, 2};

@@ -84,6 +84,12 @@ std::string LiveShow::stats_json() const {
                    {"worst_part_distortion", {{"p50", stats_.quality.quantile(0.5) / 1000},
                                               {"p99", stats_.quality.quantile(0.99) / 1000},
                                               {"max", stats_.quality.max() / 1000}}}}},
+      {"behaviors", [&] {
+         json a = json::array();
+         for (size_t i = 0; i < idle_.size(); ++i)
+           a.push_back({{"name", show_.behaviors[i].name}, {"target", show_.behaviors[i].target_text}, {"blinks", idle_.behavior(i).blinks()}});
+         return a;
+       }()},
       {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
                    {"reverted_steps", physics_.reverts()}}},
       {"pose_dump", pose_dump_ ? json{{"written", pose_dump_->written()}, {"dropped", pose_dump_->dropped()}, {"waits", pose_dump_->waits()}}

@@ -30,7 +30,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics"}, "the show file");
+  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -603,6 +603,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         s.bindings.push_back(std::move(b));
       }
     }
+    read_behaviors(path, root, s, rig);  // loop/idle.cpp
     return Result<ShowConfig>::success(std::move(s));
   } catch (const ShowError& e) {
     return Result<ShowConfig>::failure(e.message);

@@ -5,6 +5,7 @@
 #include "devices/device.h"
 #include "devices/discover.h"
 #include "input/mapping.h"
+#include "motion/behavior.h"
 #include "input/decoder.h"
 
 #include <functional>
@@ -48,6 +49,16 @@ struct ShowPhysics {
   Vec2 wind{0, 0};
 };
 
+/// [[behavior]]: an idle behaviour (motion/behavior.h) and the target it drives.
+struct ShowBehavior {
+  std::string name;
+  BehaviorSpec spec;
+  std::string target_text;
+  TargetKind target = TargetKind::Trigger;
+  int index = 0, member = 0;
+  int line = 0;
+};
+
 struct ShowConfig {
   std::string path;             ///< the show file
   std::string character, rig;   ///< resolved paths (character empty: the rig's own)
@@ -80,6 +91,7 @@ struct ShowConfig {
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;
   ShowPhysics physics;
+  std::vector<ShowBehavior> behaviors;
 };
 
 /// The defaults of every show key (rate 60 Hz, 8 iterations, floor 2, 800x600, HUD on...).

@@ -62,4 +62,7 @@ struct ShowConfig;
 void read_attract(const std::string& path, const toml::table& root, ShowConfig& s);
 /// [physics] (app/loop/physics.cpp).
 void read_physics(const std::string& path, const toml::table& root, ShowConfig& s);
+struct ShowRig;
+/// [[behavior]] (app/loop/idle.cpp), after the bindings: targets resolve the same way.
+void read_behaviors(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
 }  // namespace mar

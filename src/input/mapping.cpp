@@ -188,6 +188,7 @@ bool Mapping::apply(const Event& e) {
     if (hit) {
       used = true;
       ++stats_.matched;
+      ++b.hits;
     }
   }
   return used;

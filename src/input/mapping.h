@@ -92,6 +92,7 @@ struct Binding {
   int nrpn_hi = 0, nrpn_param = -1;  ///< NRPN parameter selected by CC 99/98
   double px = 0.5, py = 0.5; ///< pointer position (normalised)
   bool tip = false;
+  uint64_t hits = 0;         ///< events it has used (an idle behaviour on its target pauses)
 };
 
 struct RotationGroup {
