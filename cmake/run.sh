@@ -17,7 +17,7 @@ PACKAGES=(cmake g++ pkg-config
   libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libx11-dev librsvg2-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
   libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
-  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool
+  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool espeak-ng
   clang libclang-rt-14-dev python3)
 
 install_deps() {
