@@ -1,6 +1,9 @@
 #include "firmware_sim/hid_device.h"
 #include "firmware_sim/knob_box.h"
+#include "firmware_sim/microphone.h"
 #include "firmware_sim/midi_controller.h"
+
+#include <filesystem>
 
 namespace mar {
 namespace {
@@ -23,6 +26,11 @@ Result<std::unique_ptr<SimDevice>> make_sim_device(const std::string& kind, cons
   using R = Result<std::unique_ptr<SimDevice>>;
   if (kind == "nanokontrol2") return R::success(std::make_unique<MidiControllerSim>());
   if (kind == "knob_box") return R::success(std::make_unique<KnobBoxSim>(bounce_ms, seed));
+  if (kind == "microphone") {  // `descriptor`: the WAV it plays (the show resolves it)
+    auto m = MicrophoneSim::make(descriptor, descriptor.empty() ? "" : std::filesystem::path(descriptor).parent_path().string());
+    if (!m.ok()) return R::failure(m.error);
+    return R::success(std::move(*m.value));
+  }
   std::unique_ptr<HidDeviceSim> hid;
   std::span<const uint8_t> builtin;
   if (kind == "pen_tablet") {
@@ -32,7 +40,7 @@ Result<std::unique_ptr<SimDevice>> make_sim_device(const std::string& kind, cons
     hid = std::make_unique<GamepadSim>();
     builtin = kBuiltinGamepad;
   } else {
-    return R::failure("unknown simulated device '" + kind + "' (nanokontrol2, knob_box, pen_tablet, gamepad)");
+    return R::failure("unknown simulated device '" + kind + "' (nanokontrol2, knob_box, pen_tablet, gamepad, microphone)");
   }
   std::vector<uint8_t> bytes(builtin.begin(), builtin.end());
   if (!descriptor.empty()) {

@@ -12,6 +12,7 @@
 #include "geom/result.h"
 #include "input/decoder.h"
 
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,6 +33,9 @@ class SimDevice {
     c.kind = wire();
     return c;
   }
+
+  /// A voice's calibration for the decoder (a microphone: F1, F2 of a, i, u, e, o; others ignore it).
+  virtual void set_voice(const std::array<std::array<double, 2>, 5>&) {}
 
   /// Runs a timeline script (one action per line, times in seconds from start; see
   /// README). Errors are "line N: ..." and leave the device unchanged.

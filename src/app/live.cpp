@@ -200,6 +200,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     }
     auto dev = make_sim_device(d.sim, d.descriptor, d.bounce_ms, d.seed);
     if (!dev.ok()) return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "': " + dev.error);
+    (*dev.value)->set_voice(d.voice);
     if (auto ok = (*dev.value)->load_script(d.script); !ok.ok())
       return R::failure(sh.path + ":" + std::to_string(d.line) + ": device '" + d.name + "' script " + ok.error);
     s->sims_.resize(sh.devices.size());

@@ -406,11 +406,12 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         read_hardware(path, t, d);  // type, identity, profile (show_devices.cpp)
         if (const toml::node* sim = t.get("sim")) {
           d.sim = text(path, *sim, "sim");
-          if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad")
+          if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad" && d.sim != "microphone")
             throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
         } else if (d.type == "sim") {
-          throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad"};
+          throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad|microphone"};
         }
+        if (d.sim == "microphone") read_voice(path, t, d);  // show_devices.cpp: file, calibrate, control names
         if (auto* n = t.get("descriptor")) {
           const std::string desc = text(path, *n, "descriptor");
           d.descriptor = resolve(path, desc);

@@ -8,6 +8,7 @@
 #include "motion/behavior.h"
 #include "input/decoder.h"
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -18,11 +19,13 @@ namespace mar {
 struct ShowDevice {
   std::string name;
   std::string type = "sim";     ///< "sim" (in-process firmware_sim device) or a hardware backend
-  std::string sim;              ///< nanokontrol2 | knob_box | pen_tablet | gamepad (hardware: what --simulate presents)
+  std::string sim;              ///< nanokontrol2 | knob_box | pen_tablet | gamepad | microphone (hardware: what --simulate presents)
   DeviceSpec hw;                ///< hardware devices: what to look for (type, IDs, lines, port...)
   /// Control names of the device's profile (config/devices/NAME.toml): name -> control text.
   std::vector<std::pair<std::string, std::string>> controls;
-  std::string descriptor;       ///< HID report descriptor file (resolved), empty = built-in
+  std::string descriptor;       ///< HID report descriptor file (resolved), empty = built-in; a microphone's WAV `file`
+  /// A voice's calibration (`calibrate = { a = [F1, F2], ... }`): F1, F2 for a, i, u, e, o (0: default).
+  std::array<std::array<double, 2>, 5> voice{};
   bool descriptor_in_corpus = false;  ///< named with "corpus:" (optional: the corpus may be absent)
   std::string script;           ///< timeline script text
   double bounce_ms = 0, debounce_ms = 0;

@@ -80,11 +80,40 @@ std::string find_profile(const std::string& show_path, const std::string& name) 
   return {};
 }
 
+void read_voice(const std::string& path, const toml::table& t, ShowDevice& d) {
+  using namespace showtoml;
+  if (const toml::node* f = t.get("file")) d.descriptor = resolve(path, text(path, *f, "file"));
+  if (const toml::node* c = t.get("calibrate")) {
+    const toml::table* ct = c->as_table();
+    if (!ct) throw ShowError{at(path, *c) + ": calibrate must be a table: { a = [F1, F2], i = [...], u = [...], e = [...], o = [...] }"};
+    static const char* kNames[] = {"a", "i", "u", "e", "o"};
+    for (const auto& [k, v] : *ct) {
+      int idx = -1;
+      for (int i = 0; i < 5; ++i)
+        if (k.str() == kNames[i]) idx = i;
+      if (idx < 0) throw ShowError{at(path, v) + ": calibrate names a vowel: a, i, u, e or o (not '" + std::string(k.str()) + "')"};
+      const Vec2 f = point(path, v, "a vowel's formants");
+      if (!(f.x() >= 100 && f.x() <= 2000 && f.y() > f.x() && f.y() <= 5000))
+        throw ShowError{at(path, v) + ": a vowel's formants are [F1, F2] in Hz, 100 <= F1 < F2 <= 5000"};
+      d.voice[size_t(idx)] = {f.x(), f.y()};
+    }
+  }
+  char buf[32];
+  auto usage_text = [&](uint32_t u) {
+    std::snprintf(buf, sizeof buf, "usage 0x%08x", unsigned(u));
+    return std::string(buf);
+  };
+  d.controls.push_back({"level", usage_text(voice_usage::kLevel)});
+  d.controls.push_back({"onset", usage_text(voice_usage::kOnset)});
+  for (Viseme v : {Viseme::Closed, Viseme::A, Viseme::I, Viseme::U, Viseme::E, Viseme::O})
+    d.controls.push_back({std::string("viseme ") + viseme_name(v), usage_text(voice_usage::viseme(v))});
+}
+
 void check_device_keys(const std::string& path, const toml::table& t) {
   check_keys(path, t,
              {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed", "profile",
               "vid", "pid", "serial", "product", "usage_page", "usage", "chip", "encoders", "buttons",
-              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver"},
+              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver", "file", "calibrate"},
              "[[device]]");
 }
 

@@ -55,6 +55,9 @@ namespace mar {
 struct ShowDevice;
 /// [[device]] keys (sim and hardware).
 void check_device_keys(const std::string& path, const toml::table& t);
+/// A voice's keys (a microphone: `file`, `calibrate`) and its control names (level, onset,
+/// viseme closed|a|i|u|e|o).
+void read_voice(const std::string& path, const toml::table& t, ShowDevice& d);
 /// Reads a hardware device's keys (and its profile) into `d.hw` / `d.controls`.
 void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d);
 struct ShowConfig;

@@ -13,6 +13,7 @@ const char* wire_kind_name(WireKind k) {
     case WireKind::EvdevEvent: return "evdev-event";
     case WireKind::OscMessage: return "osc-message";
     case WireKind::SdlControl: return "sdl-control";
+    case WireKind::AudioPcm: return "audio-pcm";
   }
   return "?";
 }
@@ -96,6 +97,13 @@ std::vector<uint8_t> DecoderConfig::serialize() const {
       w.put(uint16_t(osc_patterns.size()));
       for (const auto& p : osc_patterns) w.bytes({reinterpret_cast<const uint8_t*>(p.data()), p.size()});
       break;
+    case WireKind::AudioPcm:
+      w.put(audio_rate);
+      for (const auto& f : voice) {
+        w.put(f[0]);
+        w.put(f[1]);
+      }
+      break;
     default: break;
   }
   return std::move(w.out);
@@ -152,6 +160,16 @@ Result<DecoderConfig> DecoderConfig::parse(std::span<const uint8_t> bytes) {
       if (n > 1024) r.ok = false;
       break;
     }
+    case WireKind::AudioPcm: {
+      c.audio_rate = r.get<int32_t>();
+      for (auto& f : c.voice) {
+        f[0] = r.get<double>();
+        f[1] = r.get<double>();
+        if (!(f[0] >= 0 && f[0] < 1e5 && f[1] >= 0 && f[1] < 1e5)) r.ok = false;
+      }
+      if (c.audio_rate < 4000 || c.audio_rate > 192000) r.ok = false;
+      break;
+    }
     default: return R::failure("device description: unknown wire kind " + std::to_string(int(c.kind)));
   }
   if (!r.ok || r.at != bytes.size()) return R::failure("device description: truncated or malformed");
@@ -174,6 +192,7 @@ std::unique_ptr<Decoder> make_decoder(const DecoderConfig& c, uint16_t source, s
     case WireKind::EvdevEvent: return make_evdev_decoder(c.axes, source);
     case WireKind::OscMessage: return make_osc_decoder(c.osc_patterns, source);
     case WireKind::SdlControl: return make_sdl_decoder(source);
+    case WireKind::AudioPcm: return make_audio_decoder(c, source);
   }
   if (error) *error = "no decoder for wire kind " + std::to_string(int(c.kind));
   return nullptr;

@@ -8,8 +8,10 @@
 
 #include "geom/result.h"
 #include "input/hid.h"
+#include "input/voice.h"
 #include "input/wire.h"
 
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -46,6 +48,9 @@ struct DecoderConfig {
   GpioLayout gpio;                       ///< GpioEdge: line roles and debounce
   std::vector<EvdevAxis> axes;           ///< EvdevEvent: absolute axis ranges
   std::vector<std::string> osc_patterns; ///< OscMessage: bound address patterns (number = 0xFF000000 | index)
+  int32_t audio_rate = 0;                ///< AudioPcm: samples per second
+  /// AudioPcm: a voice's F1, F2 for a, i, u, e, o (Hz; 0: the default templates), input/voice.h.
+  std::array<std::array<double, 2>, 5> voice{};
 
   /// A compact binary form (what recordings store); parse() reads it back.
   std::vector<uint8_t> serialize() const;
@@ -119,9 +124,20 @@ std::unique_ptr<Decoder> make_gpio_decoder(GpioLayout layout, uint16_t source);
 std::unique_ptr<Decoder> make_evdev_decoder(std::vector<EvdevAxis> axes, uint16_t source);
 std::unique_ptr<Decoder> make_osc_decoder(std::vector<std::string> patterns, uint16_t source);
 std::unique_ptr<Decoder> make_sdl_decoder(uint16_t source);
+/// AudioPcm: nullptr for a sample rate outside 4..192 kHz.
+std::unique_ptr<Decoder> make_audio_decoder(const DecoderConfig& c, uint16_t source);
+
+/// The usages of a voice's controls (audio_decoder.cpp): level 0..1000 over -60..0 dBFS, a
+/// button per viseme (closed, a, i, u, e, o) held while it shows, an onset press.
+namespace voice_usage {
+constexpr uint32_t kLevel = 0xFFA00001u, kOnset = 0xFFA00002u, kViseme = 0xFFA00010u;
+constexpr uint32_t viseme(Viseme v) { return kViseme + uint32_t(v); }
+}  // namespace voice_usage
 
 // Records as the backends write them (and tests build them).
 WireRecord sdl_record(int64_t t, SdlWhat what, uint8_t index, int32_t value, int32_t lo, int32_t hi, uint16_t source);
 WireRecord evdev_record(int64_t t, uint16_t type, uint16_t code, int32_t value, uint16_t source);
+/// Up to 48 samples of mono 16-bit PCM as one record.
+WireRecord audio_record(int64_t t, std::span<const int16_t> pcm, uint16_t source);
 
 }  // namespace mar

@@ -22,6 +22,7 @@ enum class WireKind : uint8_t {
   EvdevEvent = 6, ///< one input_event: u16 type, u16 code, i32 value (little-endian host order)
   OscMessage = 7, ///< one OSC message (bundles are split into their messages)
   SdlControl = 8, ///< an SDL control that changed: u8 what (SdlWhat), u8 index, i32 value, lo, hi
+  AudioPcm = 9,   ///< a block of mono 16-bit PCM (little-endian, up to 48 samples), oldest first
 };
 
 /// What an SdlControl record reports.

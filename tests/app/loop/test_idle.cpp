@@ -171,3 +171,28 @@ TEST(IdleShow, TheSingerIsAliveTheSameOnEveryRun) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// The voice show: a simulated microphone speaks (espeak-ng, at load) and its visemes pick the
+// singer's mouth; the recording holds the PCM blocks, and a replay decodes them again to the
+// same poses.
+TEST(VoiceShow, TheSingerLipSyncsAndAReplayDecodesTheSameVoice) {
+  if (std::system("command -v espeak-ng >/dev/null 2>&1") != 0) GTEST_SKIP() << "espeak-ng is not installed (Debian package espeak-ng)";
+  const std::string show = (test::source_dir() / "config/shows/voice.toml").string();
+  const auto dir = test::temp_dir("voice_show");
+  auto live = test::run_cli("run " + show + " --headless --record " + (dir / "v.rec").string() + " --stats " + (dir / "live.json").string());
+  ASSERT_EQ(live.exit_code, 0) << live.err;
+  auto rep = test::run_cli("replay " + (dir / "v.rec").string() + " --show " + show + " --stats " + (dir / "replay.json").string());
+  ASSERT_EQ(rep.exit_code, 0) << rep.err;
+  std::ifstream a(dir / "live.json"), b(dir / "replay.json");
+  const auto ja = nlohmann::json::parse(a), jb = nlohmann::json::parse(b);
+  EXPECT_EQ(ja["run_hash"], jb["run_hash"]);
+  EXPECT_GE(ja["events"]["mapped"].get<int>(), 20) << "the visemes pick mouths";
+  EXPECT_EQ(ja["devices"][0]["malformed"], 0);
+  EXPECT_EQ(ja["heap_allocations_after_warmup"], 0);
+}
+
+}  // namespace
+}  // namespace mar
