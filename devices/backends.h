@@ -15,6 +15,7 @@ std::unique_ptr<Backend> make_hid_backend(const DeviceSpec& s, uint16_t source);
 std::unique_ptr<Backend> make_gpio_backend(const DeviceSpec& s, uint16_t source);
 std::unique_ptr<Backend> make_tablet_backend(const DeviceSpec& s, uint16_t source);
 std::unique_ptr<Backend> make_alsa_backend(const DeviceSpec& s, uint16_t source);
+std::unique_ptr<Backend> make_audio_backend(const DeviceSpec& s, uint16_t source);  ///< ALSA capture
 std::unique_ptr<Backend> make_osc_backend(const DeviceSpec& s, uint16_t source);
 std::unique_ptr<Backend> make_sdl_backend(const DeviceSpec& s, uint16_t source);
 

@@ -14,6 +14,7 @@
 #include "input/event.h"
 #include "input/decoder.h"
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -62,6 +63,9 @@ struct DeviceSpec {
   // SDL
   std::string sdl = "gamepad";  ///< mouse | touch | gamepad
   bool feedback = false;        ///< echo note/CC input back to the device (LEDs)
+  // audio (ALSA capture)
+  std::string pcm = "default";  ///< the capture device ("hw:1,0", a plugin)
+  std::array<std::array<double, 2>, 5> voice{};  ///< a voice's calibration (input/voice.h; 0: default)
   bool detach_kernel_driver = true;
 };
 

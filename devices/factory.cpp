@@ -60,6 +60,7 @@ class NotBuiltBackend final : public Backend {
 #endif
 #if !MARIONETTE_WITH_ALSA
 #define make_alsa_backend nullptr
+#define make_audio_backend nullptr
 #define discover_alsa nullptr
 #endif
 #if !MARIONETTE_WITH_OSC
@@ -76,6 +77,7 @@ const BackendInfo kBackends[] = {
     MAR_BACKEND("gpio", GPIO, make_gpio_backend, discover_gpio, ""),
     MAR_BACKEND("tablet", TABLET, make_tablet_backend, discover_tablet, ""),
     MAR_BACKEND("alsa", ALSA, make_alsa_backend, discover_alsa, ""),
+    MAR_BACKEND("audio", ALSA, make_audio_backend, nullptr, "ok (captures from an ALSA PCM: pcm = \"default\" or \"hw:1,0\")"),
     MAR_BACKEND("sdl", SDL, make_sdl_backend, discover_sdl, ""),
     MAR_BACKEND("osc", OSC, make_osc_backend, nullptr, "ok (listens on 127.0.0.1 when a show binds OSC addresses)"),
 };
@@ -93,7 +95,7 @@ std::unique_ptr<Backend> make_backend(const DeviceSpec& s, uint16_t source, std:
                                                                            " backend: " + not_built_text(b));
     return b.make(s, source);
   }
-  if (error) *error = "unknown device type '" + s.type + "' (sim, usb_midi, hid, gpio, tablet, alsa, osc, sdl)";
+  if (error) *error = "unknown device type '" + s.type + "' (sim, usb_midi, hid, gpio, tablet, alsa, audio, osc, sdl)";
   return nullptr;
 }
 

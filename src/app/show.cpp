@@ -411,7 +411,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         } else if (d.type == "sim") {
           throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad|microphone"};
         }
-        if (d.sim == "microphone") read_voice(path, t, d);  // show_devices.cpp: file, calibrate, control names
+        if (d.sim == "microphone" || d.type == "audio") read_voice(path, t, d);  // show_devices.cpp: file, pcm, calibrate, names
         if (auto* n = t.get("descriptor")) {
           const std::string desc = text(path, *n, "descriptor");
           d.descriptor = resolve(path, desc);

@@ -12,7 +12,7 @@ using namespace showtoml;
 
 namespace {
 
-constexpr const char* kTypes[] = {"sim", "usb_midi", "hid", "gpio", "tablet", "alsa", "osc", "sdl"};
+constexpr const char* kTypes[] = {"sim", "usb_midi", "hid", "gpio", "tablet", "alsa", "audio", "osc", "sdl"};
 
 
 // vid/pid/usage: an integer, or pid a list of them.
@@ -83,6 +83,7 @@ std::string find_profile(const std::string& show_path, const std::string& name) 
 void read_voice(const std::string& path, const toml::table& t, ShowDevice& d) {
   using namespace showtoml;
   if (const toml::node* f = t.get("file")) d.descriptor = resolve(path, text(path, *f, "file"));
+  if (const toml::node* p = t.get("pcm")) d.hw.pcm = text(path, *p, "pcm");
   if (const toml::node* c = t.get("calibrate")) {
     const toml::table* ct = c->as_table();
     if (!ct) throw ShowError{at(path, *c) + ": calibrate must be a table: { a = [F1, F2], i = [...], u = [...], e = [...], o = [...] }"};
@@ -98,6 +99,7 @@ void read_voice(const std::string& path, const toml::table& t, ShowDevice& d) {
       d.voice[size_t(idx)] = {f.x(), f.y()};
     }
   }
+  d.hw.voice = d.voice;
   char buf[32];
   auto usage_text = [&](uint32_t u) {
     std::snprintf(buf, sizeof buf, "usage 0x%08x", unsigned(u));
@@ -113,7 +115,7 @@ void check_device_keys(const std::string& path, const toml::table& t) {
   check_keys(path, t,
              {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed", "profile",
               "vid", "pid", "serial", "product", "usage_page", "usage", "chip", "encoders", "buttons",
-              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver", "file", "calibrate"},
+              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver", "file", "calibrate", "pcm"},
              "[[device]]");
 }
 

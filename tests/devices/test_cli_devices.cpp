@@ -44,7 +44,7 @@ TEST(DevicesCommand, NothingConnectedIsSaidPlainly) {
   EXPECT_EQ(r.err.find("ALSA lib"), std::string::npos) << r.err;  // no library noise
   const auto j = nlohmann::json::parse(test::run_cli("devices --json").out);
   EXPECT_EQ(j["devices_found"], 0);
-  EXPECT_EQ(j["backends"].size(), 7u);
+  EXPECT_EQ(j["backends"].size(), 8u);  // usb_midi, hid, gpio, tablet, alsa, audio, sdl, osc
 }
 
 TEST(DevicesCommand, ListsWhatEachBackendFindsWithProfileAndPermission) {
