@@ -2,13 +2,31 @@
 
 #include "geom/polygon.h"
 
+#include <cmath>
+
 namespace mar {
 
-bool SubShape::contains(const Vec2& q) const {
+bool SubShape::contains(const Vec2& q, std::span<const Vec2> at) const {
   bool in = false;
   for (const Contour& c : contours)
-    if (c.closed && c.count >= 3 && winding_number(std::span(points).subspan(size_t(c.begin), size_t(c.count)), q) % 2 != 0) in = !in;
+    if (c.closed && c.count >= 3 && size_t(c.begin + c.count) <= at.size() &&
+        winding_number(at.subspan(size_t(c.begin), size_t(c.count)), q) % 2 != 0)
+      in = !in;
   return in;
+}
+
+Points SubShape::largest_ring() const {
+  Points best;
+  double area = -1;
+  for (const Contour& c : contours) {
+    if (!c.closed || c.count < 3) continue;
+    const std::span<const Vec2> r(points.data() + c.begin, size_t(c.count));
+    if (const double a = std::abs(signed_area(r)); a > area) {
+      area = a;
+      best.assign(r.begin(), r.end());
+    }
+  }
+  return best;
 }
 
 bool SubShape::closed() const {

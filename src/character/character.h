@@ -81,7 +81,11 @@ struct SubShape {
   /// added, do not count).
   bool closed() const;
   /// Inside by the even-odd rule over the closed contours (an outline and its holes).
-  bool contains(const Vec2& q) const;
+  bool contains(const Vec2& q) const { return contains(q, points); }
+  /// The same with the shape's points at `at` instead (a posed shape: one per point).
+  bool contains(const Vec2& q, std::span<const Vec2> at) const;
+  /// Its largest closed contour (the outer outline); empty when none is closed.
+  Points largest_ring() const;
   Bounds bounds() const;
   std::vector<Ring> rings() const;
 };

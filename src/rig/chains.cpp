@@ -12,18 +12,9 @@ namespace {
 
 // A shape's outline: its largest closed contour, else all its points (a stroke).
 std::vector<Vec2> outline(const SubShape& s) {
-  std::vector<Vec2> best;
-  double area = -1;
-  for (const Contour& c : s.contours) {
-    if (!c.closed || c.count < 3) continue;
-    const std::span<const Vec2> r(s.points.data() + c.begin, size_t(c.count));
-    if (const double a = std::abs(signed_area(r)); a > area) {
-      area = a;
-      best.assign(r.begin(), r.end());
-    }
-  }
-  if (best.empty()) best.assign(s.points.begin(), s.points.end());
-  return best;
+  Points r = s.largest_ring();
+  if (r.empty()) r.assign(s.points.begin(), s.points.end());
+  return r;
 }
 
 // Where `child` hangs from `parent`: a stated or drawn hinge between them, the middle of their

@@ -3,6 +3,7 @@
 // then heard at two other pitches and speeds. Goals: the right viseme on >= 85% of voiced
 // frames, closed on >= 99% of silent ones, the mouth open within 20 ms of the sound's onset.
 // The figures are printed for README. Without espeak-ng (Debian package espeak-ng) it skips.
+#include "firmware_sim/microphone.h"
 #include "input/voice.h"
 #include "test_util.h"
 
@@ -16,27 +17,6 @@
 namespace mar {
 namespace {
 
-// 16-bit mono PCM from a WAV file (what espeak-ng writes).
-std::vector<int16_t> read_wav(const std::string& path, int& rate) {
-  std::ifstream in(path, std::ios::binary);
-  std::vector<char> b((std::istreambuf_iterator<char>(in)), {});
-  std::vector<int16_t> out;
-  rate = 0;
-  if (b.size() < 44 || std::memcmp(b.data(), "RIFF", 4) != 0) return out;
-  for (size_t i = 12; i + 8 <= b.size();) {
-    uint32_t n = 0;
-    std::memcpy(&n, &b[i + 4], 4);
-    if (std::memcmp(&b[i], "fmt ", 4) == 0 && i + 16 <= b.size()) std::memcpy(&rate, &b[i + 12], 4);
-    if (std::memcmp(&b[i], "data", 4) == 0) {
-      out.resize(std::min<size_t>(n, b.size() - i - 8) / 2);
-      std::memcpy(out.data(), &b[i + 8], out.size() * 2);
-      break;
-    }
-    i += 8 + n + (n & 1);
-  }
-  return out;
-}
-
 bool have_espeak() { return std::system("command -v espeak-ng >/dev/null 2>&1") == 0; }
 
 std::vector<int16_t> speak(const std::string& voice, const std::string& phonemes, int pitch, int speed, int& rate) {
@@ -44,7 +24,8 @@ std::vector<int16_t> speak(const std::string& voice, const std::string& phonemes
   const std::string cmd = "espeak-ng -v '" + voice + "' -p " + std::to_string(pitch) + " -s " + std::to_string(speed) + " -w '" + wav +
                           "' '[[" + phonemes + "]]' 2>/dev/null";
   if (std::system(cmd.c_str()) != 0) return {};
-  return read_wav(wav, rate);
+  auto pcm = read_wav(wav, rate);  // the microphone simulator's reader (firmware_sim/microphone.h)
+  return pcm.ok() ? *pcm.value : std::vector<int16_t>{};
 }
 
 const std::pair<Viseme, const char*> kVowels[] = {

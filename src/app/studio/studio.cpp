@@ -1,7 +1,6 @@
 #include "app/studio/studio.h"
 
 #include "character/load.h"
-#include "geom/polygon.h"
 #include "geom/triangulate.h"
 #include "rig/auto_rig.h"
 #include "rig/edit.h"
@@ -21,13 +20,6 @@ namespace {
 
 // Iterations that bring a pose loaded again (an edit, an undo) back to where it was.
 constexpr int kSettle = 80;
-
-bool inside_shape(const SubShape& s, std::span<const Vec2> pts, const Vec2& p) {
-  bool in = false;
-  for (const Contour& c : s.contours)
-    if (c.closed && c.count >= 3 && winding_number(pts.subspan(size_t(c.begin), size_t(c.count)), p) % 2 != 0) in = !in;
-  return in;
-}
 
 // A handle name from a part's: its words joined by '-' ("Left Arm" -> "left-arm").
 std::string handle_base(const std::string& part) {
@@ -210,7 +202,7 @@ int Studio::hinge_at(const Vec2& p, double radius) const {
 int Studio::part_at(const Vec2& p) const {
   const Character& ch = puppet_->character;
   for (size_t k = ch.shapes.size(); k-- > 0;)
-    if (puppet_->shown[k] && ch.shapes[k].closed() && inside_shape(ch.shapes[k], puppet_->shapes[k], p)) return int(k);
+    if (puppet_->shown[k] && ch.shapes[k].closed() && ch.shapes[k].contains(p, puppet_->shapes[k])) return int(k);
   return -1;
 }
 
