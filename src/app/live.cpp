@@ -533,7 +533,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
     alloc_base_ += allocations() - before;
   }
   stats_.hash.add(puppet_->shapes);
-  if (pose_dump_) pose_dump_->push(double(t_ns) * 1e-9, puppet_->shapes);  // the writer's thread formats it
+  if (pose_dump_) pose_dump_->push(double(t_ns) * 1e-9, puppet_->shapes, puppet_->shown);  // the writer's thread formats it
   if (recorder_) recorder_->frame(t_ns, governor_.iterations());
   for (size_t i = 0; i < n_events_; ++i) stats_.latency.add(double(t_ns - events_[i].t_ns) * 1e-3 + compute_us);
   last_compute_ms_ = compute_us * 1e-3;

@@ -41,7 +41,10 @@ Result<std::unique_ptr<PoseDump>> PoseDump::open(const std::string& path, const 
     total += s.points.size();
   }
   d->slots_.resize(std::max<size_t>(2, slots));
-  for (Slot& s : d->slots_) s.points.resize(total);
+  for (Slot& s : d->slots_) {
+    s.points.resize(total);
+    s.shown.resize(ch.shapes.size(), 1);
+  }
   d->lossless_ = lossless;
   d->writer_ = std::thread([p = d.get()] { p->run(); });
   return R::success(std::move(d));
@@ -53,7 +56,7 @@ PoseDump::~PoseDump() {
   if (file_) std::fclose(file_);
 }
 
-void PoseDump::push(double t, std::span<const Points> shapes) {
+void PoseDump::push(double t, std::span<const Points> shapes, std::span<const char> shown) {
   const uint64_t h = head_.load(std::memory_order_relaxed);
   if (h - tail_.load(std::memory_order_acquire) >= slots_.size()) {
     if (!lossless_ || failed_) {
@@ -72,6 +75,7 @@ void PoseDump::push(double t, std::span<const Points> shapes) {
   size_t at = 0;
   for (size_t k = 0; k < counts_.size(); ++k)
     for (size_t i = 0; i < counts_[k]; ++i, ++at) s.points[at] = k < shapes.size() && i < shapes[k].size() ? shapes[k][i] : Vec2(NAN, NAN);
+  for (size_t k = 0; k < s.shown.size(); ++k) s.shown[k] = k < shown.size() ? shown[k] : 1;
   head_.store(h + 1, std::memory_order_release);
 }
 
@@ -106,7 +110,7 @@ void PoseDump::run() {
         else std::snprintf(num, sizeof num, "%s[null, null]", i ? ", " : "");
         ok = std::fputs(num, file_) >= 0;
       }
-      ok = ok && std::fputs("]}", file_) >= 0;
+      ok = ok && std::fputs(s.shown[k] ? "]}" : "], \"shown\": false}", file_) >= 0;
     }
     ok = ok && std::fputs("]}\n", file_) >= 0;
     if (!ok) {

@@ -1,6 +1,7 @@
 // `run --dump-poses FILE.jsonl`: every frame's deformed shapes, one JSON line a frame —
 //   {"t": seconds, "subshapes": [{"id": "...", "points": [[x, y], ...]}, ...]}
-// in the loader's order — for tests, benchmarks and other tools that read motion. The frame
+// in the loader's order; a shape not drawn that frame (a swap member not chosen, a trigger's
+// shape while it is off, a hidden alternative) carries "shown": false — for tests, benchmarks and other tools that read motion. The frame
 // thread copies the points into a slot of a ring made at open (no allocation, no lock) and a
 // writer thread of its own formats and writes them. On the wall clock a full ring drops the
 // frame (counted: the show never waits on a disk); on the virtual clock (headless, replays)
@@ -31,8 +32,9 @@ class PoseDump {
   PoseDump& operator=(const PoseDump&) = delete;
 
   /// Queues one frame at show time `t` seconds (shapes in the character's order, each the size
-  /// it had at open). No allocation, no lock.
-  void push(double t, std::span<const Points> shapes);
+  /// it had at open) and, when given, whether each shows (0: not drawn this frame). No
+  /// allocation, no lock.
+  void push(double t, std::span<const Points> shapes, std::span<const char> shown = {});
   /// Finishes writing what is queued (the writer keeps running).
   void flush();
   uint64_t written() const { return written_.load(); }
@@ -48,6 +50,7 @@ class PoseDump {
   struct Slot {
     double t = 0;
     std::vector<Vec2> points;  ///< every shape's, concatenated
+    std::vector<char> shown;   ///< per shape
   };
   std::string path_;
   std::FILE* file_ = nullptr;

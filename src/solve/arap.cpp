@@ -84,6 +84,7 @@ OutlineArap::Bary OutlineArap::locate(const Vec2& p) const {
 bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handle_rest, const SolverWeights& w,
                           std::string* error) {
   position_ = w.position;
+  handle_w_ = w.handle_weights;
   const Bounds cb = ch.bounds();
   add_interior_points(ch, std::hypot(cb.hi.x() - cb.lo.x(), cb.hi.y() - cb.lo.y()) / 48);
   Points pts;
@@ -188,7 +189,7 @@ bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handl
 
 bool OutlineArap::factorise(std::string* error) {
   const size_t n = rest_.size();
-  // K = 2 L (cotangent Laplacian) + w_p sum_h a_h a_h^T; a part no handle reaches gets a
+  // K = 2 L (cotangent Laplacian) + w_p sum_h s_h a_h a_h^T (s_h: the handle's scale); a part no handle reaches gets a
   // tiny pull toward where it is, so the system stays definite.
   std::vector<int> comp(n);
   std::iota(comp.begin(), comp.end(), 0);
@@ -211,9 +212,11 @@ bool OutlineArap::factorise(std::string* error) {
     if (!held[size_t(find(int(i)))]) pull_[i] = kFreePull * (1 + d);
     t.emplace_back(int(i), int(i), d + pull_[i]);
   }
-  for (const Bary& h : handles_)
+  for (size_t k = 0; k < handles_.size(); ++k) {
+    const Bary& h = handles_[k];
     for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) t.emplace_back(h.v[a], h.v[b], position_ * h.w[a] * h.w[b]);
+      for (int b = 0; b < 3; ++b) t.emplace_back(h.v[a], h.v[b], position_ * handle_w(k) * h.w[a] * h.w[b]);
+  }
   Eigen::SparseMatrix<double> K(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
   K.setFromTriplets(t.begin(), t.end());
   if (!factor_.compute(K)) {
@@ -282,7 +285,7 @@ void OutlineArap::global_step(std::span<const Vec2> targets) {
   // A target that is not a number (a broken control, a bad file) holds its handle where it is.
   auto target = [&](const Bary& b, const Vec2& t) { return t.allFinite() ? t : eval(b); };
   const size_t m = std::min(targets.size(), handles_.size());
-  for (size_t h = 0; h < m; ++h) add_handle(handles_[h], target(handles_[h], targets[h]), position_);
+  for (size_t h = 0; h < m; ++h) add_handle(handles_[h], target(handles_[h], targets[h]), position_ * handle_w(h));
   const bool grab = grab_active_ && targets.size() > handles_.size();
   if (grab) add_handle(grab_, target(grab_, targets[handles_.size()]), position_);
   factor_.solve_permuted(bx_.data(), by_.data());

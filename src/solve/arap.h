@@ -61,6 +61,9 @@ class OutlineArap final : public Solver {
   std::vector<Bary> handles_;
   Points handle_rest_;
   double position_ = 100;
+  /// Per handle, a scale of w_p (SolverWeights::handle_weights: a chain's end is a soft target).
+  std::vector<double> handle_w_;
+  double handle_w(size_t h) const { return h < handle_w_.size() ? handle_w_[h] : 1.0; }
   PrefactoredLdlt factor_;
   std::vector<double> bx_, by_;     ///< right-hand sides in the factor's order
   // Grab: one extra soft constraint by Sherman-Morrison (z = K^-1 a, in the factor's order).

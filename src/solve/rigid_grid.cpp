@@ -222,13 +222,13 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
   for (size_t i = 0; i < n; ++i)
     if (pull_[i] != 0) add(int(i), pull_[i] * x_[i]);
   const size_t m = std::min(targets.size(), handles_.size());
-  auto handle = [&](const Embed& h, const Vec2& t) {  // a target that is not a number holds its handle
+  auto handle = [&](const Embed& h, const Vec2& t, double w) {  // a target that is not a number holds its handle
     const Vec2 at = t.allFinite() ? t : eval(h);
-    for (int k = 0; k < h.n; ++k) add(h.v[k], w_p_ * h.w[k] * at);
+    for (int k = 0; k < h.n; ++k) add(h.v[k], w * h.w[k] * at);
   };
-  for (size_t h = 0; h < m; ++h) handle(handles_[h], targets[h]);
+  for (size_t h = 0; h < m; ++h) handle(handles_[h], targets[h], w_p_ * handle_w(h));
   const bool grab = grab_active_ && targets.size() > handles_.size();
-  if (grab) handle(grab_, targets[handles_.size()]);
+  if (grab) handle(grab_, targets[handles_.size()], w_p_);
   factor_.solve_permuted(bx_.data(), by_.data());
   if (grab) grab_update_.correct(factor_, bx_.data(), by_.data());
   for (size_t i = 0; i < n; ++i) {
@@ -296,7 +296,7 @@ double RigidGrid::energy(std::span<const Vec2> targets) const {
     e += w_s_ * s.squaredNorm();
   }
   for (size_t h = 0; h < std::min(targets.size(), handles_.size()); ++h)
-    e += w_p_ * (eval(handles_[h]) - targets[h]).squaredNorm();
+    e += w_p_ * handle_w(h) * (eval(handles_[h]) - targets[h]).squaredNorm();
   return e;
 }
 

@@ -166,6 +166,9 @@ class RigidGrid final : public Solver {
   int half_width_ = 3;
   int region_stride_ = 0;
   double w_r_ = 6, w_s_ = 1, w_p_ = 100;
+  /// Per handle, a scale of w_p (SolverWeights::handle_weights: a chain's end is a soft target).
+  std::vector<double> handle_w_;
+  double handle_w(size_t h) const { return h < handle_w_.size() ? handle_w_[h] : 1.0; }
   bool fast_ = true, plain_ = false, tri_mode_ = false;
   struct Stiff {
     std::string name;

@@ -138,6 +138,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   w_r_ = rig.grid_rigidity;
   w_s_ = rig.grid_junction;
   w_p_ = w.position;
+  handle_w_ = w.handle_weights;
   stiff_.clear();
   for (const RigStiffness& s : rig.stiffness) stiff_.push_back({s.name, s.center, s.radius, s.weight});
   mid_ = 0.5 * (bb.lo + bb.hi);
@@ -718,9 +719,11 @@ bool RigidGrid::factorise(std::string* error) {
     for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a)
       for (int b = mvc_start_[v]; b < mvc_start_[v + 1]; ++b)
         t.emplace_back(mvc_node_[size_t(a)], mvc_node_[size_t(b)], w_s_ * mvc_w_[size_t(a)] * mvc_w_[size_t(b)]);
-  for (const Embed& h : handles_)
+  for (size_t k = 0; k < handles_.size(); ++k) {
+    const Embed& h = handles_[k];
     for (int a = 0; a < h.n; ++a)
-      for (int b = 0; b < h.n; ++b) t.emplace_back(h.v[a], h.v[b], w_p_ * h.w[a] * h.w[b]);
+      for (int b = 0; b < h.n; ++b) t.emplace_back(h.v[a], h.v[b], w_p_ * handle_w(k) * h.w[a] * h.w[b]);
+  }
   // Parts no handle reaches (through regions, junction edges or rings) get a tiny pull to where
   // they are.
   std::vector<int> comp(n);

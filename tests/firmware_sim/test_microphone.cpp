@@ -3,7 +3,7 @@
 // into a voice's controls (level, visemes, onsets) as a capture device's would.
 #include "firmware_sim/microphone.h"
 #include "input/decoder.h"
-#include "test_util.h"
+#include "voice_util.h"
 
 #include <gtest/gtest.h>
 
@@ -16,7 +16,6 @@ namespace {
 
 // A WAV file: `bits` per sample, `format` (1: PCM), `channels`, `rate`, `samples` of a 220 Hz tone.
 std::string write_wav(const std::string& name, int rate, int samples, uint16_t format = 1, uint16_t bits = 16, uint16_t channels = 1) {
-  const std::string path = (test::temp_dir("wav") / name).string();
   std::vector<char> data;
   for (int i = 0; i < samples; ++i)
     for (int c = 0; c < channels; ++c) {
@@ -24,23 +23,7 @@ std::string write_wav(const std::string& name, int rate, int samples, uint16_t f
       data.push_back(char(s & 0xFF));
       data.push_back(char((s >> 8) & 0xFF));
     }
-  std::ofstream o(path, std::ios::binary);
-  auto u32 = [&](uint32_t v) { o.write(reinterpret_cast<const char*>(&v), 4); };
-  auto u16 = [&](uint16_t v) { o.write(reinterpret_cast<const char*>(&v), 2); };
-  o.write("RIFF", 4);
-  u32(uint32_t(36 + data.size()));
-  o.write("WAVEfmt ", 8);
-  u32(16);
-  u16(format);
-  u16(channels);
-  u32(uint32_t(rate));
-  u32(uint32_t(rate * channels * bits / 8));
-  u16(uint16_t(channels * bits / 8));
-  u16(bits);
-  o.write("data", 4);
-  u32(uint32_t(data.size()));
-  o.write(data.data(), long(data.size()));
-  return path;
+  return test::write_wav((test::temp_dir("wav") / name).string(), data, rate, format, bits, channels);
 }
 
 TEST(Microphone, AWavPlaysFromZeroAsBlocksThenSilence) {

@@ -3,9 +3,8 @@
 // then heard at two other pitches and speeds. Goals: the right viseme on >= 85% of voiced
 // frames, closed on >= 99% of silent ones, the mouth open within 20 ms of the sound's onset.
 // The figures are printed for README. Without espeak-ng (Debian package espeak-ng) it skips.
-#include "firmware_sim/microphone.h"
 #include "input/voice.h"
-#include "test_util.h"
+#include "voice_util.h"
 
 #include <gtest/gtest.h>
 
@@ -17,16 +16,8 @@
 namespace mar {
 namespace {
 
-bool have_espeak() { return std::system("command -v espeak-ng >/dev/null 2>&1") == 0; }
-
-std::vector<int16_t> speak(const std::string& voice, const std::string& phonemes, int pitch, int speed, int& rate) {
-  const std::string wav = (test::temp_dir("voice") / "v.wav").string();
-  const std::string cmd = "espeak-ng -v '" + voice + "' -p " + std::to_string(pitch) + " -s " + std::to_string(speed) + " -w '" + wav +
-                          "' '[[" + phonemes + "]]' 2>/dev/null";
-  if (std::system(cmd.c_str()) != 0) return {};
-  auto pcm = read_wav(wav, rate);  // the microphone simulator's reader (firmware_sim/microphone.h)
-  return pcm.ok() ? *pcm.value : std::vector<int16_t>{};
-}
+using test::have_espeak;
+using test::speak;
 
 const std::pair<Viseme, const char*> kVowels[] = {
     {Viseme::A, "a:"}, {Viseme::I, "i:"}, {Viseme::U, "u:"}, {Viseme::E, "e:"}, {Viseme::O, "o:"}};

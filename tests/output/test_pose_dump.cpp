@@ -34,10 +34,13 @@ TEST(PoseDump, WritesWhatIsPushedOneLineAFrame) {
   {
     auto d = PoseDump::open(path, ch, true, 4);  // a small ring: the frame thread waits for room
     ASSERT_TRUE(d.ok()) << d.error;
+    std::vector<char> shown = {1, 1};
     const long before = test::allocation_count();
     for (int f = 0; f < 500; ++f) {
       shapes[0][1] = Vec2(10 + f * 0.001, f);
-      (*d.value)->push(f / 60.0, shapes);
+      shown[1] = char(f % 3 != 0);  // the tail hidden every third frame (a swap member not chosen)
+      if (f < 250) (*d.value)->push(f / 60.0, shapes, shown);
+      else (*d.value)->push(f / 60.0, shapes);  // no mask: every shape shows
     }
     EXPECT_EQ(test::allocation_count() - before, 0) << "push allocates nothing";
     (*d.value)->flush();
@@ -56,6 +59,11 @@ TEST(PoseDump, WritesWhatIsPushedOneLineAFrame) {
     ASSERT_EQ(j["subshapes"][0]["points"].size(), 3u);
     EXPECT_NEAR(j["subshapes"][0]["points"][1][0].get<double>(), 10 + n * 0.001, 1e-3);
     EXPECT_NEAR(j["subshapes"][0]["points"][1][1].get<double>(), n, 1e-3);
+    EXPECT_FALSE(j["subshapes"][0].contains("shown"));
+    EXPECT_EQ(j["subshapes"][1].contains("shown"), n < 250 && n % 3 == 0) << n;
+    if (j["subshapes"][1].contains("shown")) {
+      EXPECT_EQ(j["subshapes"][1]["shown"], false);
+    }
     ++n;
   }
   EXPECT_EQ(n, 500);

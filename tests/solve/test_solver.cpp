@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+
 namespace mar {
 namespace {
 
@@ -82,6 +85,40 @@ TEST(Solver, ParametersAreNamedAndSettingThemKeepsThePose) {
   EXPECT_EQ(s->parameters()[0].value, 4.0);
   EXPECT_FALSE(s->set_parameters(std::vector<double>{1.0}, &err));
   EXPECT_NE(err.find("3 parameters"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// A soft target (SolverWeights::handle_weights, a chain's end in secondary motion) pulls its part
+// less than a full one and drags the rest less, in every method behind the seam.
+TEST(Solver, ASoftTargetPullsLessAndDragsTheRestLessInEveryMethod) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  const std::vector<Vec2> rest{{150, 190}, {150, 280}, {245, 250}};
+  for (const char* method : {"feature_frame", "arap", "rigid_grid"}) {
+    double miss[2] = {0, 0}, drag[2] = {0, 0};
+    for (int soft = 0; soft < 2; ++soft) {
+      Character c = *ch.value;
+      std::unique_ptr<Solver> s = make_solver(method);
+      SolverWeights w;
+      if (soft) w.handle_weights = {1.0, 1.0, 0.05};
+      std::string err;
+      ASSERT_TRUE(s->prepare(c, default_rig(), rest, w, &err)) << method << ": " << err;
+      std::vector<Vec2> targets = rest;
+      targets[2] += Vec2(90, -60);  // the hand pulled far past its reach
+      for (int f = 0; f < 30; ++f) s->solve(targets, 8);
+      miss[soft] = (s->handle_point(2) - targets[2]).norm();
+      drag[soft] = (s->handle_point(0) - rest[0]).norm() + (s->handle_point(1) - rest[1]).norm();
+      ASSERT_TRUE(std::isfinite(miss[soft]) && std::isfinite(drag[soft])) << method;
+    }
+    std::printf("%s: the hand misses by %.2f (full) / %.2f (soft); the body dragged %.2f / %.2f\n", method, miss[0], miss[1], drag[0], drag[1]);
+    EXPECT_GT(miss[1], miss[0] + 1.0) << method << ": the soft target gives way";
+    EXPECT_LE(drag[1], drag[0] + 1e-6) << method << ": and drags the body no more";
+  }
 }
 
 }  // namespace
