@@ -46,3 +46,7 @@ endif()
 if(MARIONETTE_BUILD_BENCH)
   find_package(benchmark REQUIRED)
 endif()
+# PipeWire video out ([output] pipewire = true: src/output/pipewire_out.h).
+if(MARIONETTE_WITH_PIPEWIRE)
+  pkg_check_modules(PIPEWIRE REQUIRED IMPORTED_TARGET libpipewire-0.3)
+endif()

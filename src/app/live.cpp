@@ -533,7 +533,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
     alloc_base_ += allocations() - before;
   }
   stats_.hash.add(puppet_->shapes);
-  if (pose_dump_) pose_dump_->push(double(t_ns) * 1e-9, puppet_->shapes, puppet_->shown);  // the writer's thread formats it
+  outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_);  // each on a thread of its own
   if (recorder_) recorder_->frame(t_ns, governor_.iterations());
   for (size_t i = 0; i < n_events_; ++i) stats_.latency.add(double(t_ns - events_[i].t_ns) * 1e-3 + compute_us);
   last_compute_ms_ = compute_us * 1e-3;
@@ -628,13 +628,13 @@ int LiveShow::run() {
               << " at " << std::lround(1.0 / period) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
               << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened
-  if (!opt_.dump_poses.empty() && !pose_dump_) {  // on the virtual clock nothing is dropped
-    auto d = PoseDump::open(opt_.dump_poses, puppet_->character, !realtime());
-    if (!d.ok()) {
-      std::cerr << "error: " << d.error << "\n";
-      return 1;
-    }
-    pose_dump_ = std::move(*d.value);
+  // On the virtual clock the pose dump drops nothing.
+  if (const std::string e = outputs_.open({opt_.dump_poses, !realtime(), show_.out_pipewire, show_.path, canvas_->width(), canvas_->height(),
+                                           int(std::lround(1.0 / period))},
+                                          puppet_->character);
+      !e.empty()) {
+    std::cerr << "error: " << e << "\n";
+    return 1;
   }
   install_quit_handler();
   pacer_.start();
@@ -661,10 +661,7 @@ int LiveShow::run() {
     if (!playback_) pacer_.wait_for(stats_.frames);  // frame pacing, outside the frame
   }
   if (recorder_) recorder_->flush();
-  if (pose_dump_) {
-    pose_dump_->flush();
-    if (const std::string e = pose_dump_->error(); !e.empty()) std::cerr << "error: " << e << "\n";
-  }
+  outputs_.finish(opt_.quiet);
   if (learn && !learned_) {
     std::cerr << "error: no control moved; nothing learned for " << opt_.learn << "\n";
     return 1;
@@ -674,10 +671,6 @@ int LiveShow::run() {
               << std::lround(stats_.frame.quantile(0.99)) << " us, overruns " << stats_.overruns << ", run_hash " << std::hex
               << run_hash() << std::dec << std::endl;
     if (!opt_.dump_dir.empty()) std::cout << "frames written to " << opt_.dump_dir << std::endl;
-    if (pose_dump_)
-      std::cout << pose_dump_->written() << " poses written to " << opt_.dump_poses
-                << (pose_dump_->dropped() ? " (" + std::to_string(pose_dump_->dropped()) + " dropped: the disk was slower than the show)" : "")
-                << std::endl;
   }
   if (!opt_.stats_path.empty()) {
     std::FILE* f = std::fopen(opt_.stats_path.c_str(), "w");

@@ -12,6 +12,7 @@
 #include "app/loop/grab.h"
 #include "app/loop/pacing.h"
 #include "app/loop/idle.h"
+#include "app/loop/outputs.h"
 #include "app/loop/physics.h"
 #include "app/loop/recording.h"
 #include "app/loop/service.h"
@@ -21,7 +22,6 @@
 #include "app/show.h"
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
-#include "output/pose_dump.h"
 #include "render/canvas.h"
 
 #include <atomic>
@@ -135,7 +135,7 @@ class LiveShow {
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0, dropped_records_ = 0;
   std::unique_ptr<Recorder> recorder_;
-  std::unique_ptr<PoseDump> pose_dump_;            ///< --dump-poses
+  FrameOutputs outputs_;                           ///< --dump-poses, [output] pipewire
   std::unique_ptr<Playback> playback_;
   std::vector<WireRecord> replay_wires_;
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording

@@ -92,8 +92,6 @@ std::string LiveShow::stats_json() const {
        }()},
       {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
                    {"reverted_steps", physics_.reverts()}}},
-      {"pose_dump", pose_dump_ ? json{{"written", pose_dump_->written()}, {"dropped", pose_dump_->dropped()}, {"waits", pose_dump_->waits()}}
-                               : json(nullptr)},
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
       {"window_present_allocations_after_warmup", present_allocs_},
@@ -108,6 +106,8 @@ std::string LiveShow::stats_json() const {
          return std::string(buf);
        }()},
   };
+  const json outputs = json::parse(outputs_.stats_json());  // pose_dump, pipewire
+  for (const auto& [k, v] : outputs.items()) j[k] = v;
   return j.dump(2) + "\n";
 }
 

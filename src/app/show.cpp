@@ -75,7 +75,8 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   if (const toml::node* on = root.get("output")) {
     const toml::table* o = on->as_table();
     if (!o) throw ShowError{at(path, *on) + ": [output] must be a table"};
-    check_keys(path, *o, {"width", "height"}, "[output]");
+    check_keys(path, *o, {"width", "height", "pipewire"}, "[output]");
+    if (auto* n = o->get("pipewire")) s.out_pipewire = boolean(path, *n, "pipewire");
     if (auto* n = o->get("width")) s.out_width = integer(path, *n, "width", 16, 8192);
     if (auto* n = o->get("height")) s.out_height = integer(path, *n, "height", 16, 8192);
     if ((s.out_width > 0) != (s.out_height > 0)) throw ShowError{at(path, *on) + ": [output] needs both width and height"};

@@ -77,6 +77,9 @@ struct ShowConfig {
   /// [output] width, height: the canvas every output draws (dumps, streams, files); 0: the
   /// window's size ([display] width, height). A window shows it scaled to fit, letterboxed.
   int out_width = 0, out_height = 0;
+  /// [output] pipewire: the canvas published as a PipeWire video source named after the show
+  /// (output/pipewire_out.h).
+  bool out_pipewire = false;
   /// [kiosk] (or `run --kiosk`): fullscreen on `display`, cursor hidden, no HUD, no quit keys
   /// (Escape, q and closing the window do nothing); only `exit_chord` (e.g. "ctrl+alt+shift+q",
   /// empty: none) or a signal ends the show.
