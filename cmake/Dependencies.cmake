@@ -37,11 +37,12 @@ find_package(Threads REQUIRED)
 set(CGAL_DO_NOT_WARN_ABOUT_CMAKE_BUILD_TYPE TRUE)
 find_package(CGAL REQUIRED)
 
+# liblo sends OSC out ([osc_out]: src/output/osc_out.h) and the OSC test messages (the OSC
+# backend parses OSC itself: liblo's parser allocates and its pattern matcher backtracks
+# exponentially).
+pkg_check_modules(LIBLO REQUIRED IMPORTED_TARGET liblo)
 if(MARIONETTE_BUILD_TESTS)
   find_package(GTest REQUIRED)
-  # liblo sends the OSC test messages (the backend parses OSC itself: liblo's parser
-  # allocates and its pattern matcher backtracks exponentially).
-  pkg_check_modules(LIBLO REQUIRED IMPORTED_TARGET liblo)
 endif()
 if(MARIONETTE_BUILD_BENCH)
   find_package(benchmark REQUIRED)
@@ -49,4 +50,8 @@ endif()
 # PipeWire video out ([output] pipewire = true: src/output/pipewire_out.h).
 if(MARIONETTE_WITH_PIPEWIRE)
   pkg_check_modules(PIPEWIRE REQUIRED IMPORTED_TARGET libpipewire-0.3)
+endif()
+# Video takes (run/replay --video: src/output/video_out.h).
+if(MARIONETTE_WITH_VIDEO)
+  pkg_check_modules(LIBAV REQUIRED IMPORTED_TARGET libavcodec libavformat libavutil libswscale)
 endif()

@@ -19,6 +19,7 @@ PACKAGES=(cmake g++ pkg-config
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
   libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool espeak-ng
   libpipewire-0.3-dev pipewire wireplumber dbus gstreamer1.0-pipewire gstreamer1.0-tools gstreamer1.0-plugins-good
+  libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg liblo-tools
   clang libclang-rt-14-dev python3)
 
 install_deps() {

@@ -98,6 +98,8 @@ struct RunArgs {
   std::string screenshot;
   int supersample = 1;
   bool aliased = false;
+  std::string video, codec = "ffv1";  ///< a video take (output/video_out.h)
+  std::string size;                   ///< WxH: the canvas (replay --size)
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

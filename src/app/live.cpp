@@ -240,7 +240,8 @@ bool LiveShow::open_output(std::string* err) {
   const ShowConfig& sh = show_;
   // The canvas: [output]'s size, else the window's; at N x with --supersample N (dumps are
   // box-filtered back down).
-  const int canvas_w = sh.out_width > 0 ? sh.out_width : sh.width, canvas_h = sh.out_height > 0 ? sh.out_height : sh.height;
+  const int canvas_w = opt_.width > 0 ? opt_.width : sh.out_width > 0 ? sh.out_width : sh.width,
+            canvas_h = opt_.height > 0 ? opt_.height : sh.out_height > 0 ? sh.out_height : sh.height;
   const int ss = std::clamp(opt_.supersample, 1, 8);
   if (!opt_.headless && display_present()) {
     WindowOptions wo;
@@ -520,20 +521,12 @@ void LiveShow::present() {
 }
 
 void LiveShow::finish(int64_t t_ns, double compute_us) {
-  if (!opt_.dump_dir.empty() && stats_.frames % std::max(1, opt_.every) == 0) {
-    // PNG export allocates and writes a file: it is left out of the frame's time and of
-    // the allocation count (a debugging aid, not part of the show).
-    const uint64_t before = allocations();
-    const auto px = canvas_->read_premultiplied();
-    char name[64];
-    std::snprintf(name, sizeof name, "frame_%06ld.png", stats_.frames);
-    const int ss = std::clamp(opt_.supersample, 1, 8);
-    write_png((std::filesystem::path(opt_.dump_dir) / name).string(),
-              downsample_premultiplied(px.data(), canvas_->width() / ss, canvas_->height() / ss, ss));
-    alloc_base_ += allocations() - before;
-  }
   stats_.hash.add(puppet_->shapes);
-  outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_);  // each on a thread of its own
+  double newest_us = -1;  // the newest input's age at frame-ready
+  for (size_t i = 0; i < n_events_; ++i) newest_us = newest_us < 0 ? double(t_ns - events_[i].t_ns) * 1e-3 : std::min(newest_us, double(t_ns - events_[i].t_ns) * 1e-3);
+  // Each output on a thread of its own; handing the canvas over is this frame's work.
+  compute_us += outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
+                               {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_us < 0 ? -1 : (newest_us + compute_us) * 1e-3});
   if (recorder_) recorder_->frame(t_ns, governor_.iterations());
   for (size_t i = 0; i < n_events_; ++i) stats_.latency.add(double(t_ns - events_[i].t_ns) * 1e-3 + compute_us);
   last_compute_ms_ = compute_us * 1e-3;
@@ -628,11 +621,22 @@ int LiveShow::run() {
               << " at " << std::lround(1.0 / period) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
               << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened
-  // On the virtual clock the pose dump drops nothing.
-  if (const std::string e = outputs_.open({opt_.dump_poses, !realtime(), show_.out_pipewire, show_.path, canvas_->width(), canvas_->height(),
-                                           int(std::lround(1.0 / period))},
-                                          puppet_->character);
-      !e.empty()) {
+  // On the virtual clock the files drop nothing.
+  OutputsSpec out;
+  out.dump_poses = opt_.dump_poses;
+  out.dump_dir = opt_.dump_dir;
+  out.every = opt_.every;
+  out.video = opt_.video;
+  out.codec = opt_.codec;
+  out.factor = std::clamp(opt_.supersample, 1, 8);
+  out.lossless = !realtime();
+  out.pipewire = show_.out_pipewire;
+  out.show_path = show_.path;
+  out.width = canvas_->width();
+  out.height = canvas_->height();
+  out.rate = int(std::lround(1.0 / period));
+  out.set_osc(show_, puppet_->rig);
+  if (const std::string e = outputs_.open(out, puppet_->character); !e.empty()) {
     std::cerr << "error: " << e << "\n";
     return 1;
   }
@@ -661,7 +665,7 @@ int LiveShow::run() {
     if (!playback_) pacer_.wait_for(stats_.frames);  // frame pacing, outside the frame
   }
   if (recorder_) recorder_->flush();
-  outputs_.finish(opt_.quiet);
+  const bool outputs_ok = outputs_.finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
   if (learn && !learned_) {
     std::cerr << "error: no control moved; nothing learned for " << opt_.learn << "\n";
     return 1;
@@ -670,7 +674,6 @@ int LiveShow::run() {
     std::cout << stats_.frames << " frames, frame p50 " << std::lround(stats_.frame.quantile(0.5)) << " us, p99 "
               << std::lround(stats_.frame.quantile(0.99)) << " us, overruns " << stats_.overruns << ", run_hash " << std::hex
               << run_hash() << std::dec << std::endl;
-    if (!opt_.dump_dir.empty()) std::cout << "frames written to " << opt_.dump_dir << std::endl;
   }
   if (!opt_.stats_path.empty()) {
     std::FILE* f = std::fopen(opt_.stats_path.c_str(), "w");
@@ -682,7 +685,7 @@ int LiveShow::run() {
     std::fwrite(j.data(), 1, j.size(), f);
     std::fclose(f);
   }
-  return 0;
+  return outputs_ok ? 0 : 1;
 }
 
 }  // namespace mar

@@ -46,6 +46,8 @@ struct RunOptions {
   std::string screenshot;    ///< a window's pixels at the last of `frames` frames, as PNG
   int supersample = 1;       ///< the canvas at N x, box-filtered for dumps (a reference path)
   bool aliased = false;      ///< SDL's aliased triangles (run --aliased, to compare)
+  std::string video, codec = "ffv1";  ///< a video take of the canvas (output/video_out.h)
+  int width = 0, height = 0; ///< the canvas, over the show's [output] (replay --size)
   int warmup = 30;           ///< frames before allocations are counted
 };
 

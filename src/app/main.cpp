@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
   run_cmd->add_flag("--aliased", run.aliased, "Draw with SDL's aliased triangles instead of anti-aliased (to compare)");
   run_cmd->add_option("--screenshot", run.screenshot,
                       "Window mode: save what the window shows (HUD included) at the last frame as PNG (needs --frames)");
+  run_cmd->add_option("--video", run.video, "Record the canvas into a video file (.mkv, .mov, .mp4) as the show plays, encoded on its own thread");
+  run_cmd->add_option("--codec", run.codec, "With --video: ffv1 (lossless, alpha; the default), prores4444 (alpha) or h264");
   run_cmd->add_flag("--realtime", run.realtime,
                     "Headless on the wall clock (frame times, the budget governor, --simulate's players as they come): "
                     "not reproducible; the default headless clock is virtual and every run gives the same run_hash");
@@ -124,6 +126,9 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--dump-frames", replay.dump_frames, "Write frames as PNG into this folder");
   replay_cmd->add_option("--every", replay.every, "With --dump-frames: every Kth frame");
   replay_cmd->add_option("--dump-poses", replay.dump_poses, "Write every frame's shapes as JSON lines to this file (t, subshapes: id, points)");
+  replay_cmd->add_option("--video", replay.video, "Render the take into a video file (.mkv, .mov, .mp4), each frame at its time");
+  replay_cmd->add_option("--codec", replay.codec, "With --video: ffv1 (lossless, alpha; the default), prores4444 (alpha) or h264");
+  replay_cmd->add_option("--size", replay.size, "The canvas WxH (default: the show's [output] or [display] size)");
   replay.headless = true;
 
   try {

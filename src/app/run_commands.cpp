@@ -141,6 +141,21 @@ int cmd_run(const RunArgs& a) {
   o.screenshot = a.screenshot;
   o.supersample = a.supersample;
   o.aliased = a.aliased;
+  o.video = a.video;
+  o.codec = a.codec;
+  if (const std::string e = check_video_take(a.video, a.codec); !e.empty()) {
+    std::cerr << "error: " << e << "\n";
+    return kExitBadInput;
+  }
+  if (!a.size.empty()) {
+    const auto sz = parse_size(a.size);
+    if (!sz || sz->first < 16 || sz->second < 16) {
+      std::cerr << "error: --size must be WxH with 16..8192 pixels each, got '" << a.size << "'\n";
+      return kExitBadInput;
+    }
+    o.width = sz->first;
+    o.height = sz->second;
+  }
   auto show = LiveShow::load(a.show, o);
   if (!show.ok()) {
     std::cerr << "error: " << show.error << "\n";

@@ -30,7 +30,7 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior"}, "the show file");
+  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -80,6 +80,24 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
     if (auto* n = o->get("width")) s.out_width = integer(path, *n, "width", 16, 8192);
     if (auto* n = o->get("height")) s.out_height = integer(path, *n, "height", 16, 8192);
     if ((s.out_width > 0) != (s.out_height > 0)) throw ShowError{at(path, *on) + ": [output] needs both width and height"};
+  }
+  if (const toml::node* on = root.get("osc_out")) {
+    const toml::table* o = on->as_table();
+    if (!o) throw ShowError{at(path, *on) + ": [osc_out] must be a table"};
+    check_keys(path, *o, {"host", "port", "rate", "prefix"}, "[osc_out]");
+    const toml::node* port = o->get("port");
+    if (!port) throw ShowError{at(path, *on) + ": [osc_out] needs a port (where to send)"};
+    s.osc_out.port = integer(path, *port, "port", 1, 65535);
+    if (auto* n = o->get("host")) s.osc_out.host = text(path, *n, "host");
+    if (auto* n = o->get("rate")) {
+      s.osc_out.rate = number(path, *n, "rate");
+      if (!(s.osc_out.rate >= 1 && s.osc_out.rate <= 1000)) throw ShowError{at(path, *n) + ": [osc_out] rate must be 1..1000 sends a second"};
+    }
+    if (auto* n = o->get("prefix")) {
+      s.osc_out.prefix = text(path, *n, "prefix");
+      if (s.osc_out.prefix.empty() || s.osc_out.prefix[0] != '/' || s.osc_out.prefix.find_first_of(" #*,?[]{}") != std::string::npos)
+        throw ShowError{at(path, *n) + ": [osc_out] prefix must be an OSC address such as \"/marionette\""};
+    }
   }
   if (const toml::node* kn = root.get("kiosk")) {
     const toml::table* k = kn->as_table();

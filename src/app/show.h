@@ -80,6 +80,12 @@ struct ShowConfig {
   /// [output] pipewire: the canvas published as a PipeWire video source named after the show
   /// (output/pipewire_out.h).
   bool out_pipewire = false;
+  /// [osc_out]: the show's state sent as OSC (output/osc_out.h); port 0: off.
+  struct OscOut {
+    std::string host = "127.0.0.1", prefix = "/marionette";
+    int port = 0;
+    double rate = 30;
+  } osc_out;
   /// [kiosk] (or `run --kiosk`): fullscreen on `display`, cursor hidden, no HUD, no quit keys
   /// (Escape, q and closing the window do nothing); only `exit_chord` (e.g. "ctrl+alt+shift+q",
   /// empty: none) or a signal ends the show.

@@ -55,12 +55,7 @@ struct PipeWireOut::Impl {
                  self->o_.node_name.c_str(), what.c_str());
   }
 
-  void drop_queued() {
-    const uint64_t h = self->head_.load(std::memory_order_acquire), t = self->tail_.load(std::memory_order_relaxed);
-    if (h == t) return;
-    self->dropped_.fetch_add(h - t, std::memory_order_relaxed);
-    self->tail_.store(h, std::memory_order_release);
-  }
+  void drop_queued() { self->dropped_.fetch_add(self->ring_->clear(), std::memory_order_relaxed); }
 
   void disconnect() {
     if (stream) {
@@ -169,17 +164,17 @@ struct PipeWireOut::Impl {
     pw_buffer* pb = pw_stream_dequeue_buffer(stream);
     if (!pb) return;  // the reader holds them all: the frame stays queued
     spa_buffer* sb = pb->buffer;
-    const uint64_t h = self->head_.load(std::memory_order_acquire), t = self->tail_.load(std::memory_order_relaxed);
+    FrameRing& ring = *self->ring_;
     auto* dst = static_cast<uint8_t*>(sb->datas[0].data);
     const PipeWireOptions& o = self->o_;
     const int32_t dstride = stride > 0 ? stride : o.width * 4;
-    if (h == t || !dst || sb->datas[0].maxsize < uint32_t(dstride) * uint32_t(o.height)) {
+    if (ring.queued() == 0 || !dst || sb->datas[0].maxsize < uint32_t(dstride) * uint32_t(o.height)) {
       sb->datas[0].chunk->size = 0;  // nothing new (a follower's cycle): an empty buffer
       pw_stream_queue_buffer(stream, pb);
       return;
     }
-    if (h - t > 1) self->dropped_.fetch_add(h - t - 1, std::memory_order_relaxed);
-    const Slot& s = self->slots_[(h - 1) % self->slots_.size()];
+    self->dropped_.fetch_add(ring.skip_to_newest(), std::memory_order_relaxed);
+    const FrameRing::Frame& s = ring.front();
     for (int y = 0; y < o.height; ++y) rgba_to_bgra(s.rgba.data() + size_t(y) * size_t(o.width) * 4, dst + size_t(y) * size_t(dstride), o.width);
     if (auto* hd = static_cast<spa_meta_header*>(spa_buffer_find_meta_data(sb, SPA_META_Header, sizeof(spa_meta_header)))) {
       hd->pts = s.t_ns;
@@ -187,7 +182,7 @@ struct PipeWireOut::Impl {
       hd->seq = s.seq;
       hd->dts_offset = 0;
     }
-    self->tail_.store(h, std::memory_order_release);
+    ring.pop();
     sb->datas[0].chunk->offset = 0;
     sb->datas[0].chunk->size = uint32_t(dstride) * uint32_t(o.height);
     sb->datas[0].chunk->stride = dstride;
@@ -212,7 +207,7 @@ struct PipeWireOut::Impl {
       drop_queued();
       return;
     }
-    if (self->head_.load(std::memory_order_acquire) != self->tail_.load(std::memory_order_relaxed) && pw_stream_is_driving(stream))
+    if (self->ring_->queued() && pw_stream_is_driving(stream))
       pw_stream_trigger_process(stream);
   }
 };
@@ -223,8 +218,7 @@ std::unique_ptr<PipeWireOut> PipeWireOut::open(const PipeWireOptions& o) {
   std::unique_ptr<PipeWireOut> p(new PipeWireOut());
   p->o_ = o;
   p->o_.rate = std::max(1, o.rate);
-  p->slots_.resize(std::max<size_t>(2, o.slots));
-  for (Slot& s : p->slots_) s.rgba.resize(size_t(o.width) * size_t(o.height) * 4);
+  p->ring_ = std::make_unique<FrameRing>(o.width, o.height, o.slots);
   p->impl_ = std::make_unique<Impl>();
   Impl& im = *p->impl_;
   im.self = p.get();
@@ -255,17 +249,7 @@ PipeWireOut::~PipeWireOut() {
 
 void PipeWireOut::push(const uint8_t* rgba, int stride, uint64_t seq, int64_t t_ns) {
   pushed_.fetch_add(1, std::memory_order_relaxed);
-  const uint64_t h = head_.load(std::memory_order_relaxed);
-  if (h - tail_.load(std::memory_order_acquire) >= slots_.size()) {
-    ++ring_full_;
-    return;
-  }
-  Slot& s = slots_[h % slots_.size()];
-  const size_t row = size_t(o_.width) * 4;
-  for (int y = 0; y < o_.height; ++y) std::memcpy(s.rgba.data() + size_t(y) * row, rgba + size_t(y) * size_t(stride), row);
-  s.seq = seq;
-  s.t_ns = t_ns;
-  head_.store(h + 1, std::memory_order_release);
+  ring_->push(rgba, stride, seq, t_ns);  // a full ring drops it (counted)
 }
 
 std::string PipeWireOut::state() const {

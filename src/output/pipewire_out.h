@@ -11,6 +11,8 @@
 // dies, is said once and retried every two seconds; frames meanwhile are dropped and counted.
 #pragma once
 
+#include "output/frame_ring.h"
+
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -44,7 +46,7 @@ class PipeWireOut {
   /// Frames a reader received.
   uint64_t sent() const { return sent_.load(std::memory_order_relaxed); }
   /// Frames no reader took: the ring full, skipped for a newer one, or nobody streaming.
-  uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed) + ring_full_; }
+  uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed) + (ring_ ? ring_->full() : 0); }
   /// "connecting", "paused" (published, no reader), "streaming", "unconnected: WHY".
   std::string state() const;
   const std::string& node_name() const { return o_.node_name; }
@@ -55,15 +57,8 @@ class PipeWireOut {
   PipeWireOut() = default;
   friend struct Impl;
   PipeWireOptions o_;
-  struct Slot {
-    std::vector<uint8_t> rgba;  ///< width * 4 a row
-    uint64_t seq = 0;
-    int64_t t_ns = 0;
-  };
-  std::vector<Slot> slots_;
-  std::atomic<uint64_t> head_{0}, tail_{0};  ///< written by the frame thread / PipeWire's
+  std::unique_ptr<FrameRing> ring_;
   std::atomic<uint64_t> pushed_{0}, sent_{0}, dropped_{0};
-  uint64_t ring_full_ = 0;  ///< the frame thread's own count
   std::unique_ptr<Impl> impl_;
 };
 

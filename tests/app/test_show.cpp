@@ -316,5 +316,37 @@ TEST(Show, KioskTableAndItsExitChord) {
   }
 }
 
+TEST(Show, OutputAndOscOutTables) {
+  auto ok = load_show(test::write_temp("outs.toml", "[show]\nrig = \"r.toml\"\n[output]\npipewire = true\n[osc_out]\nport = 9001\nhost = \"10.0.0.5\"\nrate = 20\nprefix = \"/puppet\"\n"),
+                      [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  ASSERT_TRUE(ok.ok()) << ok.error;
+  EXPECT_TRUE(ok.value->out_pipewire);
+  EXPECT_EQ(ok.value->osc_out.port, 9001);
+  EXPECT_EQ(ok.value->osc_out.host, "10.0.0.5");
+  EXPECT_EQ(ok.value->osc_out.rate, 20.0);
+  EXPECT_EQ(ok.value->osc_out.prefix, "/puppet");
+  auto plain = load_show(test::write_temp("outs-none.toml", "[show]\nrig = \"r.toml\"\n"),
+                         [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain.value->osc_out.port, 0) << "off unless asked";
+  EXPECT_EQ(plain.value->osc_out.host, "127.0.0.1") << "loopback unless told otherwise";
+  struct Case {
+    const char* table;
+    const char* expect;
+  };
+  const Case cases[] = {{"[osc_out]\nhost = \"x\"\n", ":3: [osc_out] needs a port"},
+                        {"[osc_out]\nport = 70000\n", ":4: port"},
+                        {"[osc_out]\nport = 9000\nrate = 0\n", ":5: [osc_out] rate must be 1..1000"},
+                        {"[osc_out]\nport = 9000\nprefix = \"nope\"\n", ":5: [osc_out] prefix must be an OSC address"},
+                        {"[osc_out]\nport = 9000\nbogus = 1\n", "bogus"},
+                        {"[output]\npipewire = \"yes\"\n", ":4: pipewire"}};
+  for (const Case& c : cases) {
+    const std::string bad = test::write_temp("outs-bad.toml", std::string("[show]\nrig = \"r.toml\"\n") + c.table);
+    auto e = load_show(bad, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+    ASSERT_FALSE(e.ok()) << c.table;
+    EXPECT_NE(e.error.find(c.expect), std::string::npos) << c.table << ": " << e.error;
+  }
+}
+
 }  // namespace
 }  // namespace mar

@@ -1,49 +1,90 @@
 // Where a frame goes besides the window (src/output), composed by the frame in one line:
-// `--dump-poses` (every frame's shapes, output/pose_dump.h) and `[output] pipewire = true` (the
-// canvas as a PipeWire video source, output/pipewire_out.h). Each runs on a thread of its own fed
-// through a ring the frame thread only writes: frame() allocates nothing, takes no lock and
-// never waits, except the pose dump on the virtual clock (nothing dropped there; wall time only).
+// `--dump-poses` (every frame's shapes, output/pose_dump.h), `--dump-frames` (PNG files,
+// output/png_dump.h), `--video` (a video take, output/video_out.h) and `[output] pipewire = true`
+// (the canvas as a PipeWire video source, output/pipewire_out.h), and `[osc_out]` (the show's
+// state as OSC, output/osc_out.h). Each runs on a thread of its own
+// fed through a ring the frame thread only writes: frame() allocates nothing, takes no lock and
+// never waits on the wall clock; on the virtual clock the files drop nothing, so the frame waits
+// for room (wall time only). What the hand-over costs the frame thread is measured.
 #pragma once
 
 #include "app/puppet.h"
-#include "output/pose_dump.h"
+#include "app/show.h"
+#include "app/stats.h"
+#include "devices/device.h"
+#include "output/osc_out.h"
 #include "render/canvas.h"
 
 #include <memory>
+#include <span>
 #include <string>
 
 namespace mar {
 
+class PoseDump;
+class PngDump;
+class VideoOut;
 class PipeWireOut;
 
 struct OutputsSpec {
   std::string dump_poses;  ///< a JSON-lines file; empty: none
-  bool lossless = false;   ///< the virtual clock: the pose dump waits rather than drops
+  std::string dump_dir;    ///< PNG files, every `every`th frame; empty: none
+  int every = 1;
+  std::string video, codec = "ffv1";  ///< a video file; empty: none
+  int factor = 1;          ///< the canvas's supersampling (files are box-filtered down)
+  bool lossless = false;   ///< the virtual clock: files wait rather than drop
   bool pipewire = false;
   std::string show_path;   ///< names the PipeWire node after the show
   int width = 0, height = 0, rate = 60;  ///< the canvas's, the show's
+  bool osc = false;
+  OscOutOptions osc_options;
+  ShowStateLayout osc_layout;  ///< the rig's handles, keys, swap sets, triggers; the show's devices
+  /// OSC out as the show's [osc_out] says (off without it), named after `rig` and the show.
+  void set_osc(const ShowConfig& show, const Rig& rig);
 };
+
+/// What a frame knew besides its shapes (spans over the loop's own arrays).
+struct FrameState {
+  std::span<const double> keys;
+  std::span<const int> swaps;
+  std::span<const char> triggers;
+  std::span<const DeviceState> devices;
+  double frame_ms = 0;
+  double latency_ms = -1;  ///< its newest input's age at frame-ready; < 0: no input this frame
+};
+
+/// Empty when a video take `path` with `codec` can be written by this build; else why not.
+std::string check_video_take(const std::string& path, const std::string& codec);
 
 class FrameOutputs {
  public:
   FrameOutputs();
   ~FrameOutputs();
-  /// Opens what `s` asks for; an error names the file (PipeWire connects in the background and
-  /// says so when it cannot: the show goes on without it).
+  /// Opens what `s` asks for; an error names the file or the codec (PipeWire connects in the
+  /// background and says so when it cannot: the show goes on without it).
   std::string open(const OutputsSpec& s, const Character& ch);
   /// The frame's shapes and canvas, after the render: frame number `n`, show time `t_ns`.
-  void frame(uint64_t n, int64_t t_ns, const Puppet& p, Canvas& canvas);
+  /// Returns the µs it took the frame thread, less any wait for a file's writer on the virtual
+  /// clock (wall time that is not the show's): the frame counts it as its own work.
+  double frame(uint64_t n, int64_t t_ns, const Puppet& p, Canvas& canvas, const FrameState& state);
   /// Finishes writing; says what was written unless `quiet`; errors go to stderr. Returns
-  /// false when a dump could not be written.
+  /// false when a file could not be written.
   bool finish(bool quiet);
-  /// {"pose_dump": {...} | null, "pipewire": {...} | null} for --stats.
+  /// {"pose_dump", "frame_dump", "video", "pipewire", "osc_out" (each null when off), "outputs_handover_us"}
+  /// for --stats.
   std::string stats_json() const;
-  bool pipewire() const { return pipewire_ != nullptr; }
 
  private:
   OutputsSpec spec_;
   std::unique_ptr<PoseDump> poses_;
+  std::unique_ptr<PngDump> pngs_;
+  std::unique_ptr<VideoOut> video_;
   std::unique_ptr<PipeWireOut> pipewire_;
+  std::unique_ptr<OscOut> osc_;
+  double latency_ms_ = 0;
+  Histogram handover_;  ///< µs the frame thread spends reading the canvas and copying it out
+  double waited_us() const;
+  bool finished_ = false;
 };
 
 }  // namespace mar
