@@ -138,6 +138,9 @@ std::string format_control(const ControlSpec& c) {
     case ControlSpec::NRPN: out = "nrpn " + std::to_string(c.number); break;
     case ControlSpec::Note: out = "note " + std::to_string(c.number); break;
     case ControlSpec::PitchBend: out = "pitchbend"; break;
+    case ControlSpec::NoteVelocity: out = "note " + std::to_string(c.number) + " velocity"; break;
+    case ControlSpec::Aftertouch: out = "aftertouch"; break;
+    case ControlSpec::PolyPressure: out = "polypressure " + std::to_string(c.number); break;
     case ControlSpec::Encoder: out = "encoder " + std::to_string(c.number); break;
     case ControlSpec::GpioButton: out = "button " + std::to_string(c.number); break;
     case ControlSpec::Pointer: out = "pointer"; break;
@@ -156,7 +159,8 @@ std::string format_control(const ControlSpec& c) {
     }
   }
   const bool midi = c.kind == ControlSpec::CC || c.kind == ControlSpec::CC14 || c.kind == ControlSpec::NRPN ||
-                    c.kind == ControlSpec::Note || c.kind == ControlSpec::PitchBend;
+                    c.kind == ControlSpec::Note || c.kind == ControlSpec::PitchBend || c.kind == ControlSpec::NoteVelocity ||
+                    c.kind == ControlSpec::Aftertouch || c.kind == ControlSpec::PolyPressure;
   if (midi && c.channel >= 0) out += " ch " + std::to_string(c.channel + 1);
   return out;
 }
@@ -182,6 +186,16 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
     const uint32_t max = c.kind == ControlSpec::NRPN ? 16383 : c.kind == ControlSpec::CC14 ? 31 : 127;
     if (!num(1, c.number, max)) return R::failure("'" + w[0] + "' needs a number 0.." + std::to_string(max));
     used = 2;
+    if (c.kind == ControlSpec::Note && w.size() > 2 && w[2] == "velocity") {  // a continuous control
+      c.kind = ControlSpec::NoteVelocity;
+      used = 3;
+    }
+  } else if (w[0] == "polypressure") {
+    c.kind = ControlSpec::PolyPressure;
+    if (!num(1, c.number, 127)) return R::failure("'polypressure' needs a note number 0..127");
+    used = 2;
+  } else if (w[0] == "aftertouch") {
+    c.kind = ControlSpec::Aftertouch;
   } else if (w[0] == "pitchbend") {
     c.kind = ControlSpec::PitchBend;
   } else if (w[0] == "encoder" || w[0] == "button") {
@@ -213,7 +227,8 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   } else if (w[0] == "pointer") {
     c.kind = ControlSpec::Pointer;
   } else {
-    return R::failure("unknown control '" + w[0] + "' (cc, cc14, nrpn, note, pitchbend, usage, encoder, button, pointer)");
+    return R::failure("unknown control '" + w[0] + "' (cc, cc14, nrpn, note, note N velocity, aftertouch, polypressure, pitchbend, usage, encoder, "
+                      "button, pointer)");
   }
   if (used + 2 == w.size() && w[used] == "ch") {
     uint32_t ch = 0;

@@ -123,6 +123,23 @@ bool Mapping::apply(const Event& e) {
           button(b, e.kind == ControlKind::MidiNoteOn);
         }
         break;
+      case ControlSpec::NoteVelocity:
+        if ((e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiNoteOff) && e.number == c.number && chan) {
+          hit = true;
+          const double v = e.kind == ControlKind::MidiNoteOn ? e.value / 127.0 : 0.0;
+          if (button_target(b.target) || b.tf.toggle) button(b, e.kind == ControlKind::MidiNoteOn && v >= b.tf.threshold);
+          else absolute(b, v, e.t_ns);
+        }
+        break;
+      case ControlSpec::Aftertouch:
+      case ControlSpec::PolyPressure:
+        if (chan && ((c.kind == ControlSpec::Aftertouch && e.kind == ControlKind::MidiChannelPressure) ||
+                     (c.kind == ControlSpec::PolyPressure && e.kind == ControlKind::MidiPolyPressure && e.number == c.number))) {
+          hit = true;
+          if (button_target(b.target) || b.tf.toggle) button(b, e.value / 127.0 >= b.tf.threshold);
+          else absolute(b, e.value / 127.0, e.t_ns);
+        }
+        break;
       case ControlSpec::PitchBend:
         if (e.kind == ControlKind::MidiPitchBend && chan) {
           hit = true;

@@ -2,6 +2,7 @@
 // toggle and momentary buttons, One Euro filter, slew, soft takeover handing over, swap sets
 // and triggers, timed pose eases and returns.
 #include "input/mapping.h"
+#include "input/midi.h"
 
 #include <gtest/gtest.h>
 
@@ -70,6 +71,49 @@ TEST(Absolute, FourteenBitCcAndNrpn) {
   m.apply(cc(98, 1));  // another parameter: data no longer ours
   m.apply(cc(6, 0x7F));
   EXPECT_DOUBLE_EQ(m.goal(0).y(), (0x10 << 7) | 0x05);
+}
+
+// Velocity and pressure as continuous controls, from the MIDI bytes a controller sends.
+TEST(Absolute, NoteVelocityAftertouchAndPolyPressure) {
+  Mapping m;
+  m.set_handles({"a", "b", "c"}, {Vec2(0, 0), Vec2(0, 0), Vec2(0, 0)});
+  Binding v = bind(ControlSpec::NoteVelocity, 60, TargetKind::HandleX, 0, 127);
+  v.index = 0;
+  Binding at = bind(ControlSpec::Aftertouch, 0, TargetKind::HandleX, 0, 127);
+  at.index = 1;
+  at.control.channel = 1;  // channel 2 only
+  Binding pp = bind(ControlSpec::PolyPressure, 61, TargetKind::HandleX, 0, 127);
+  pp.index = 2;
+  m.add_binding(v);
+  m.add_binding(at);
+  m.add_binding(pp);
+  auto send = [&](std::initializer_list<uint8_t> bytes) {
+    MidiStreamDecoder p;
+    int n = 0;
+    const std::vector<uint8_t> raw(bytes);
+    p.feed(raw, [&](const MidiMessage& msg) {
+      Event e;
+      if (midi_to_event(msg, 0, 0, e)) n += m.apply(e);
+    });
+    return n;
+  };
+  EXPECT_EQ(send({0x90, 60, 100}), 1);  // note 60 on, velocity 100
+  EXPECT_DOUBLE_EQ(m.goal(0).x(), 100);
+  EXPECT_EQ(send({0x90, 62, 90}), 0) << "another note";
+  EXPECT_DOUBLE_EQ(m.goal(0).x(), 100);
+  EXPECT_EQ(send({0x80, 60, 40}), 1);  // its note-off: back to 0
+  EXPECT_DOUBLE_EQ(m.goal(0).x(), 0);
+  EXPECT_EQ(send({0x90, 60, 1}), 1);
+  EXPECT_DOUBLE_EQ(m.goal(0).x(), 1);
+  EXPECT_EQ(send({0x90, 60, 0}), 1) << "note-on with velocity 0 is a note-off";
+  EXPECT_DOUBLE_EQ(m.goal(0).x(), 0);
+  EXPECT_EQ(send({0xD0, 80}), 0) << "aftertouch on channel 1: not ours";
+  EXPECT_EQ(send({0xD1, 80}), 1);
+  EXPECT_DOUBLE_EQ(m.goal(1).x(), 80);
+  EXPECT_EQ(send({0xA0, 61, 33}), 1);
+  EXPECT_DOUBLE_EQ(m.goal(2).x(), 33);
+  EXPECT_EQ(send({0xA0, 62, 99}), 0) << "another note's pressure";
+  EXPECT_DOUBLE_EQ(m.goal(2).x(), 33);
 }
 
 TEST(Absolute, DeadzoneCurveInvert) {

@@ -11,6 +11,8 @@ bool learn_control(std::span<const Event> events, const ShowConfig& show, Learne
       case ControlKind::MidiCC: spec.kind = ControlSpec::CC; break;
       case ControlKind::MidiNoteOn: spec.kind = ControlSpec::Note; break;
       case ControlKind::MidiPitchBend: spec.kind = ControlSpec::PitchBend; break;
+      case ControlKind::MidiChannelPressure: spec.kind = ControlSpec::Aftertouch; break;
+      case ControlKind::MidiPolyPressure: spec.kind = ControlSpec::PolyPressure; break;
       case ControlKind::EncoderDelta:
         // A GPIO encoder is "encoder N"; a HID relative axis (jog wheel, dial) is its usage.
         spec.kind = d.sim == "knob_box" || d.type == "gpio" ? ControlSpec::Encoder : ControlSpec::Hid;
@@ -20,7 +22,8 @@ bool learn_control(std::span<const Event> events, const ShowConfig& show, Learne
       default: continue;
     }
     spec.number = e.number;
-    if (e.kind == ControlKind::MidiCC || e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiPitchBend)
+    if (e.kind == ControlKind::MidiCC || e.kind == ControlKind::MidiNoteOn || e.kind == ControlKind::MidiPitchBend ||
+        e.kind == ControlKind::MidiChannelPressure || e.kind == ControlKind::MidiPolyPressure)
       spec.channel = e.channel;
     out.device = e.source;
     out.control = format_control(spec);
