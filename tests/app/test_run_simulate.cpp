@@ -28,6 +28,7 @@ std::vector<long> scripted_records(const std::string& show) {
     const toml::table& d = *node.as_table();
     std::string sim = d["sim"].value_or(std::string());
     std::string descriptor;
+    if (d["profile"].value_or(std::string()) == "nanokontrol2") sim = "nanokontrol2";  // the profile's simulator
     if (d["profile"].value_or(std::string()) == "ps4") {  // the profile's simulator and descriptor
       sim = "gamepad";
       const auto p = test::corpus_dir() / "hid/hid-tools-descriptors/sony_gamepad__PS4ControllerUSB.hex";

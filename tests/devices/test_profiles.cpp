@@ -2,6 +2,7 @@
 // profile names a real report descriptor from the corpus, the usage is in that descriptor.
 #include "app/show.h"
 #include "firmware_sim/hid_device.h"
+#include "firmware_sim/midi_controller.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -40,10 +41,32 @@ TEST(DeviceProfiles, ControlsParseAndExistInTheRealDescriptor) {
       }
     }
   }
-  EXPECT_EQ(profiles, 5);
+  EXPECT_EQ(profiles, 6);
   if (std::filesystem::exists(test::corpus_dir())) {
     EXPECT_GE(checked, 20);  // ps4, ps5 and the dial
   }
+}
+
+// The nanoKONTROL2's profile and its simulator speak of the same controls: every control the
+// profile names is the CC the simulator sends for that name, and the simulator has no control
+// the profile leaves out.
+TEST(DeviceProfiles, TheNanoKontrol2ProfileAgreesWithItsSimulator) {
+  const toml::table t = toml::parse_file((test::source_dir() / "config/devices/nanokontrol2.toml").string());
+  EXPECT_EQ(t["device"]["type"].value_or(std::string()), "usb_midi");
+  EXPECT_EQ(t["device"]["vid"].value_or(0), 0x0944);
+  EXPECT_EQ(t["device"]["pid"].value_or(0), 0x0117);
+  EXPECT_EQ(t["device"]["sim"].value_or(std::string()), "nanokontrol2");
+  const toml::table* controls = t["controls"].as_table();
+  ASSERT_NE(controls, nullptr);
+  int n = 0;
+  for (const auto& [name, v] : *controls) {
+    ControlSpec c;
+    ASSERT_TRUE(parse_control(v.value_or(std::string()), c).ok()) << name.str();
+    EXPECT_EQ(c.kind, ControlSpec::CC) << name.str();
+    EXPECT_EQ(int(c.number), MidiControllerSim::cc_of(std::string(name.str()))) << name.str();
+    ++n;
+  }
+  EXPECT_EQ(n, 8 * 5 + 11) << "five strips of eight and eleven transport buttons";
 }
 
 }  // namespace
