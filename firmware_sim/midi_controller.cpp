@@ -62,6 +62,25 @@ void MidiControllerSim::move(const std::string& control, double t_s, double to, 
   }
 }
 
+void MidiControllerSim::send_realtime(int64_t t_ns, uint8_t status) {
+  uint8_t pk[4];
+  usb_midi_encode(0, std::span<const uint8_t>(&status, 1), pk);
+  emit(t_ns, pk);
+}
+
+void MidiControllerSim::clock(double t_s, double bpm, double jitter_s, double dur_s, uint32_t seed) {
+  const double period = 60.0 / (bpm * 24);
+  uint32_t x = seed * 2654435761u + 1;
+  send_realtime(to_ns(std::max(0.0, t_s - period / 2)), 0xFA);  // (before the first tick, whatever its jitter)
+  const long ticks = long(dur_s / period);
+  for (long k = 0; k < ticks; ++k) {
+    x = x * 1664525u + 1013904223u;
+    const double j = jitter_s * (2.0 * double(x >> 8) / double(1u << 24) - 1.0);
+    send_realtime(to_ns(t_s + double(k) * period + j), 0xF8);
+  }
+  send_realtime(to_ns(t_s + double(ticks) * period), 0xFC);
+}
+
 void MidiControllerSim::press(const std::string& control, double t_s, double hold_s) {
   const int cc = cc_of(control);
   if (cc < 0) return;
@@ -71,8 +90,22 @@ void MidiControllerSim::press(const std::string& control, double t_s, double hol
 
 Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>& w) {
   using R = Result<bool>;
-  // move CONTROL VALUE [over SECONDS] | press CONTROL [for SECONDS]
-  if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]' or 'press CONTROL [for S]'");
+  // move CONTROL VALUE [over SECONDS] | press CONTROL [for SECONDS] | clock BPM [jitter S] [for S]
+  if (w.size() >= 2 && w[0] == "clock") {
+    double bpm = 0, jitter = 0, dur = 60;
+    if (!parse_number(w[1], bpm) || bpm < 20 || bpm > 300) return R::failure("clock needs a tempo of 20..300 BPM");
+    for (size_t i = 2; i < w.size(); i += 2) {
+      if (i + 1 >= w.size()) return R::failure("expected 'clock BPM [jitter SECONDS] [for SECONDS]'");
+      double v = 0;
+      if (!parse_number(w[i + 1], v) || v < 0) return R::failure("'" + w[i] + "' needs a number of seconds");
+      if (w[i] == "jitter" && v < 60.0 / (bpm * 24) / 2) jitter = v;
+      else if (w[i] == "for" && v <= 100000) dur = v;
+      else return R::failure("expected 'clock BPM [jitter SECONDS] [for SECONDS]' (jitter under half a tick)");
+    }
+    clock(t, bpm, jitter, dur, uint32_t(std::lround(t * 1000)) + 1);  // (the jitter's seed: the line's time)
+    return R::success(true);
+  }
+  if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]', 'press CONTROL [for S]' or 'clock BPM'");
   if (cc_of(w[1]) < 0)
     return R::failure("unknown control '" + w[1] + "' (fader1-8, knob1-8, solo1-8, mute1-8, rec1-8, play, stop, ...)");
   double dur = 0;
@@ -95,7 +128,7 @@ Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>&
     press(w[1], t, dur);
     return R::success(true);
   }
-  return R::failure("unknown action '" + w[0] + "' (move, press)");
+  return R::failure("unknown action '" + w[0] + "' (move, press, clock)");
 }
 
 }  // namespace mar

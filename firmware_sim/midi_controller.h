@@ -3,7 +3,11 @@
 // 48-55, record 64-71, transport (play 41, stop 42, rewind 43, forward 44, record 45,
 // cycle 46, marker set 60, marker prev 61, marker next 62, track prev 58, track next 59),
 // all on channel 1. It sends USB-MIDI event packets (CIN 0xB) on cable 0, one per value
-// change, at most one per millisecond per control, 7-bit values; buttons send 127/0.
+// change, at most one per millisecond per control, 7-bit values; buttons send 127/0. As a
+// clock source (a sequencer's, or a DJ controller's) it sends MIDI clock: 0xFA start half a tick
+// before the line's time, then 24 0xF8 ticks a beat from that time at a scripted tempo, each off its time by up to `jitter` (uniform, seeded),
+// and 0xFC stop:
+//   0.0 clock 120 [jitter 0.001] [for 10]   (BPM; jitter and length in seconds)
 #pragma once
 
 #include "firmware_sim/sim_device.h"
@@ -22,6 +26,9 @@ class MidiControllerSim : public SimDevice {
   /// Presses a button at `t_s` and releases it `hold_s` later.
   void press(const std::string& control, double t_s, double hold_s);
   void send_cc(int64_t t_ns, int cc, int value);
+  /// Start at `t_s`, ticks at `bpm` for `dur_s` seconds (each off by up to ±`jitter_s`), then stop.
+  void clock(double t_s, double bpm, double jitter_s, double dur_s, uint32_t seed);
+  void send_realtime(int64_t t_ns, uint8_t status);
 
  protected:
   Result<bool> action(double t, const std::vector<std::string>& w) override;

@@ -141,6 +141,8 @@ std::string format_control(const ControlSpec& c) {
     case ControlSpec::NoteVelocity: out = "note " + std::to_string(c.number) + " velocity"; break;
     case ControlSpec::Aftertouch: out = "aftertouch"; break;
     case ControlSpec::PolyPressure: out = "polypressure " + std::to_string(c.number); break;
+    case ControlSpec::Beat: out = "beat"; break;
+    case ControlSpec::Bar: out = "bar"; break;
     case ControlSpec::Encoder: out = "encoder " + std::to_string(c.number); break;
     case ControlSpec::GpioButton: out = "button " + std::to_string(c.number); break;
     case ControlSpec::Pointer: out = "pointer"; break;
@@ -196,6 +198,8 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
     used = 2;
   } else if (w[0] == "aftertouch") {
     c.kind = ControlSpec::Aftertouch;
+  } else if (w[0] == "beat" || w[0] == "bar") {
+    c.kind = w[0] == "beat" ? ControlSpec::Beat : ControlSpec::Bar;
   } else if (w[0] == "pitchbend") {
     c.kind = ControlSpec::PitchBend;
   } else if (w[0] == "encoder" || w[0] == "button") {
@@ -227,8 +231,8 @@ Result<bool> parse_control(const std::string& s, ControlSpec& c) {
   } else if (w[0] == "pointer") {
     c.kind = ControlSpec::Pointer;
   } else {
-    return R::failure("unknown control '" + w[0] + "' (cc, cc14, nrpn, note, note N velocity, aftertouch, polypressure, pitchbend, usage, encoder, "
-                      "button, pointer)");
+    return R::failure("unknown control '" + w[0] + "' (cc, cc14, nrpn, note, note N velocity, aftertouch, polypressure, pitchbend, beat, bar, usage, "
+                      "encoder, button, pointer)");
   }
   if (used + 2 == w.size() && w[used] == "ch") {
     uint32_t ch = 0;

@@ -21,7 +21,11 @@ enum class ControlKind : uint8_t {
   PointerX,          ///< value in [lo, hi]
   PointerY,
   Pressure,
+  ClockPhase,        ///< MIDI clock: number = kClockBeat | kClockBar, value = phase in 0..kClockPhaseMax
 };
+
+constexpr uint32_t kClockBeat = 0, kClockBar = 1;
+constexpr int32_t kClockPhaseMax = 1000000;
 
 /// One decoded control change. `t_ns` is the device timestamp on the loop's monotonic clock.
 struct Event {

@@ -140,6 +140,15 @@ bool Mapping::apply(const Event& e) {
           else absolute(b, e.value / 127.0, e.t_ns);
         }
         break;
+      case ControlSpec::Beat:
+      case ControlSpec::Bar:
+        if (e.kind == ControlKind::ClockPhase && e.number == (c.kind == ControlSpec::Beat ? kClockBeat : kClockBar)) {
+          hit = true;
+          const double v = double(e.value) / kClockPhaseMax;
+          if (button_target(b.target) || b.tf.toggle) button(b, v < 0.25);  // pressed for the first quarter of each beat
+          else absolute(b, v, e.t_ns);
+        }
+        break;
       case ControlSpec::PitchBend:
         if (e.kind == ControlKind::MidiPitchBend && chan) {
           hit = true;

@@ -32,7 +32,8 @@ namespace mar {
 struct ControlSpec {
   /// NoteVelocity: a note's velocity while held, 0 after its note-off; Aftertouch: channel
   /// pressure; PolyPressure: a note's own pressure (continuous controls, 0..127).
-  enum Kind : uint8_t { CC, CC14, NRPN, Note, PitchBend, Hid, Encoder, GpioButton, Pointer, NoteVelocity, Aftertouch, PolyPressure } kind = CC;
+  /// Beat, Bar: MIDI clock's phase within the beat and the bar, 0..1 (input/midi_clock.h).
+  enum Kind : uint8_t { CC, CC14, NRPN, Note, PitchBend, Hid, Encoder, GpioButton, Pointer, NoteVelocity, Aftertouch, PolyPressure, Beat, Bar } kind = CC;
   uint16_t device = 0;
   int channel = -1;     ///< MIDI channel 0-15, -1 = any
   uint32_t number = 0;  ///< CC / note / NRPN parameter / HID usage / encoder or button index

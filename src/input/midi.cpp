@@ -18,6 +18,7 @@ const char* control_kind_name(ControlKind k) {
     case ControlKind::PointerX: return "pointer_x";
     case ControlKind::PointerY: return "pointer_y";
     case ControlKind::Pressure: return "pressure";
+    case ControlKind::ClockPhase: return "clock_phase";
   }
   return "?";
 }

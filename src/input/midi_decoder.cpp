@@ -1,7 +1,11 @@
-// USB-MIDI packets or a MIDI 1.0 byte stream -> Events.
+// USB-MIDI packets or a MIDI 1.0 byte stream -> Events; MIDI clock -> beat and bar phases
+// (input/midi_clock.h), an event of each at every tick once the tempo is known.
 #include "input/decoder.h"
 #include "input/midi.h"
+#include "input/midi_clock.h"
 #include "input/usb_midi.h"
+
+#include <cmath>
 
 namespace mar {
 namespace {
@@ -15,7 +19,23 @@ class MidiDecoder final : public Decoder {
     const uint64_t before = dropped();
     auto on = [&](const MidiMessage& m) {
       Event e;
-      if (midi_to_event(m, r.t_ns, source(), e)) out.push(e);
+      if (midi_to_event(m, r.t_ns, source(), e)) {
+        out.push(e);
+      } else if (!m.is_sysex() && m.bytes[0] >= 0xF8 && clock_.feed(m.bytes[0], r.t_ns) && clock_.locked()) {
+        // Where the beat is, on the fitted line at this tick: the tick's own jitter left out.
+        const int64_t at = int64_t(std::llround(clock_.last_tick_time_ns()));
+        for (uint32_t which : {kClockBeat, kClockBar}) {
+          e = Event{};
+          e.t_ns = r.t_ns;
+          e.source = source();
+          e.kind = ControlKind::ClockPhase;
+          e.number = which;
+          e.lo = 0;
+          e.hi = kClockPhaseMax;
+          e.value = int32_t(std::lround((which == kClockBeat ? clock_.beat_phase(at) : clock_.bar_phase(at)) * kClockPhaseMax)) % kClockPhaseMax;
+          out.push(e);
+        }
+      }
     };
     if (kind() == WireKind::UsbMidi) usb_.feed(r.bytes(), [&](uint8_t, const MidiMessage& m) { on(m); });
     else stream_.feed(r.bytes(), on);
@@ -24,6 +44,7 @@ class MidiDecoder final : public Decoder {
   uint64_t dropped() const { return kind() == WireKind::UsbMidi ? usb_.dropped_bytes() : stream_.stats().dropped_bytes; }
   UsbMidiDecoder usb_;
   MidiStreamDecoder stream_;
+  MidiClock clock_;
 };
 
 }  // namespace

@@ -637,7 +637,7 @@ TEST(Live, RealtimeFollowsTheWallClockAndSaysSo) {
 // writes into a show file is what the show file reader accepts).
 TEST(format_control, RoundTripsEveryKind) {
   const char* texts[] = {"cc 7", "cc 7 ch 3", "cc14 5", "nrpn 300", "note 60 ch 10", "pitchbend", "pitchbend ch 2",
-                         "note 60 velocity", "note 61 velocity ch 2", "aftertouch", "aftertouch ch 16", "polypressure 64",
+                         "note 60 velocity", "note 61 velocity ch 2", "aftertouch", "aftertouch ch 16", "polypressure 64", "beat", "bar",
                          "encoder 2", "button 4", "pointer", "usage x", "usage pressure", "usage button3", "usage 0xFF0001"};
   for (const char* t : texts) {
     ControlSpec a;

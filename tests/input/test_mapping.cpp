@@ -116,6 +116,31 @@ TEST(Absolute, NoteVelocityAftertouchAndPolyPressure) {
   EXPECT_DOUBLE_EQ(m.goal(2).x(), 33);
 }
 
+// MIDI clock's beat and bar phases (input/midi_clock.h) drive targets as continuous controls, and
+// press a button target for the first quarter of each beat.
+TEST(Absolute, BeatAndBarPhases) {
+  Mapping m;
+  m.set_handles({"a", "b"}, {Vec2(0, 0), Vec2(0, 0)});
+  Binding beat = bind(ControlSpec::Beat, 0, TargetKind::HandleX, 0, 100);
+  Binding bar = bind(ControlSpec::Bar, 0, TargetKind::HandleX, 0, 100);
+  bar.index = 1;
+  m.add_binding(beat);
+  m.add_binding(bar);
+  auto phase = [](uint32_t which, double v) {
+    Event e;
+    e.kind = ControlKind::ClockPhase;
+    e.number = which;
+    e.lo = 0;
+    e.hi = kClockPhaseMax;
+    e.value = int32_t(v * kClockPhaseMax);
+    return e;
+  };
+  EXPECT_TRUE(m.apply(phase(kClockBeat, 0.25)));
+  EXPECT_TRUE(m.apply(phase(kClockBar, 0.5625)));
+  EXPECT_NEAR(m.goal(0).x(), 25, 1e-9);
+  EXPECT_NEAR(m.goal(1).x(), 56.25, 1e-9);
+}
+
 TEST(Absolute, DeadzoneCurveInvert) {
   Mapping m = one_handle();
   Binding b = bind(ControlSpec::CC, 1, TargetKind::HandleX, -1, 1);

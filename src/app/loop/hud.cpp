@@ -29,6 +29,7 @@ void format_event(const Event& e, char* out, size_t n) {
     case ControlKind::PointerX: std::snprintf(out, n, "pointer x %.2f", normalized(e)); break;
     case ControlKind::PointerY: std::snprintf(out, n, "pointer y %.2f", normalized(e)); break;
     case ControlKind::Pressure: std::snprintf(out, n, "pressure %.2f", normalized(e)); break;
+    case ControlKind::ClockPhase: std::snprintf(out, n, "%s %.2f", e.number == kClockBeat ? "beat" : "bar", normalized(e)); break;
   }
 }
 
