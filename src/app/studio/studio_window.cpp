@@ -5,6 +5,7 @@
 #include <SDL2/SDL.h>
 
 #include <cmath>
+#include <string_view>
 #include <cstdio>
 
 namespace mar {
@@ -28,8 +29,11 @@ Result<std::unique_ptr<StudioWindow>> StudioWindow::open(Studio& studio, const W
   auto f = GlyphAtlas::load(w->canvas_->window_renderer(), default_font_path(), 13);
   if (f.ok()) w->font_ = std::move(*f.value);
   else if (note) *note += (note->empty() ? "" : "; ") + ("no labels: " + f.error);
-  // Keys are commands until K asks for a name: no text events before then.
-  SDL_StopTextInput();
+  // Text input stays on: K's keydown and the letters typed right after it can come in one batch
+  // of X events, and SDL makes text only from keys it reads while text input is on (a fast
+  // typist's first letter was lost). Keys are commands until K asks for a name; the text K
+  // itself makes is dropped.
+  SDL_StartTextInput();
   w->say(studio.on_disk() ? "editing " + studio.rig_path() : "the automatic rig; S saves it as " + studio.rig_path());
   return R::success(std::move(w));
 }
@@ -120,12 +124,10 @@ void StudioWindow::key(const SDL_KeyboardEvent& k) {
   if (naming_) {
     if (sym == SDLK_RETURN || sym == SDLK_KP_ENTER) {
       naming_ = false;
-      SDL_StopTextInput();
       const std::string err = studio_.save_key(name_);
       say("saved the key " + name_ + " (S writes the rig)", err);
     } else if (sym == SDLK_ESCAPE) {
       naming_ = false;
-      SDL_StopTextInput();
       say("no key saved");
     } else if (sym == SDLK_BACKSPACE && !name_.empty()) {
       name_.pop_back();
@@ -157,7 +159,7 @@ void StudioWindow::key(const SDL_KeyboardEvent& k) {
     case SDLK_k:
       naming_ = true;
       name_.clear();
-      SDL_StartTextInput();
+      skip_k_text_ = true;
       say("name the key, then Enter (Esc: none)");
       break;
     case SDLK_DELETE:
@@ -225,7 +227,8 @@ void StudioWindow::handle(const SDL_Event& e) {
       break;
     }
     case SDL_TEXTINPUT:
-      if (naming_) name_ += e.text.text;
+      if (naming_ && !(skip_k_text_ && (std::string_view(e.text.text) == "k" || std::string_view(e.text.text) == "K"))) name_ += e.text.text;
+      skip_k_text_ = false;
       break;
     case SDL_KEYDOWN: key(e.key); break;
     default: break;

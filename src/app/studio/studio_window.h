@@ -78,6 +78,7 @@ class StudioWindow {
   Vec2 pointer_ = Vec2(-1e9, -1e9);  ///< the pointer (character)
   int selected_ = -1;                ///< the last handle touched
   bool naming_ = false;              ///< typing a key's name
+  bool skip_k_text_ = false;         ///< the text K's own press makes is not the name's
   std::string name_;
 };
 
