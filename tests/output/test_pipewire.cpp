@@ -110,18 +110,24 @@ TEST(PipeWireOut, ARealReaderReceivesTheShowsFramesInOrder) {
   EXPECT_GE(stats["pipewire"]["sent"].get<int>(), 20);
   EXPECT_EQ(stats["heap_allocations_after_warmup"], 0);
 
-  // Every frame the reader got is one the show drew (its dump, BGRA against RGBA), in order.
-  std::vector<std::vector<uint8_t>> drawn;
-  for (int f = 0;; ++f) {
+  // Every frame the reader got is one the show drew (its dump, BGRA against RGBA), in order. On
+  // the wall clock a PNG writer that falls behind drops dumps (counted): a frame whose dump was
+  // dropped has nothing to match, and only that many may go unmatched.
+  std::vector<std::vector<uint8_t>> drawn(360);
+  int dropped_dumps = 0;
+  for (int f = 0; f < 360; ++f) {
     char name[64];
     std::snprintf(name, sizeof name, "frame_%06d.png", f);
-    if (!std::filesystem::exists(dumps / name)) break;
+    if (!std::filesystem::exists(dumps / name)) {
+      ++dropped_dumps;
+      continue;
+    }
     auto img = read_png_image((dumps / name).string());
     ASSERT_TRUE(img.ok()) << img.error;
-    drawn.push_back(img.value->rgba);
+    drawn[size_t(f)] = img.value->rgba;
   }
-  ASSERT_EQ(drawn.size(), 360u);
-  int last = -1, distinct = 0;
+  EXPECT_EQ(dropped_dumps, stats["frame_dump"]["dropped"].get<int>()) << "a dump is written or counted as dropped";
+  int last = -1, distinct = 0, unmatched = 0;
   std::vector<uint8_t> prev;
   for (int k = 0; k < 20; ++k) {
     char name[32];
@@ -137,15 +143,20 @@ TEST(PipeWireOut, ARealReaderReceivesTheShowsFramesInOrder) {
       rgba[i + 3] = bgra[i + 3];
     }
     int match = -1;
-    for (int f = last + (rgba == prev ? 0 : 1); f < int(drawn.size()) && match < 0; ++f)
+    for (int f = std::max(0, last + (rgba == prev ? 0 : 1)); f < int(drawn.size()) && match < 0; ++f)
       if (drawn[size_t(f)] == rgba) match = f;
-    ASSERT_GE(match, 0) << name << " is a frame the show drew, after frame " << last;
+    prev = rgba;
+    if (match < 0) {
+      ++unmatched;
+      continue;
+    }
     distinct += match != last;
     last = match;
-    prev = rgba;
   }
+  EXPECT_LE(unmatched, dropped_dumps) << "every frame the reader got is one the show drew, in order (or one whose dump was dropped)";
   EXPECT_GE(distinct, 10) << "the reader saw the flame move";
-  std::printf("pipewiresrc read 20 frames, %d distinct, each identical to one of the show's dumps (last: frame %d)\n", distinct, last);
+  std::printf("pipewiresrc read 20 frames, %d distinct, %d identical to one of the show's dumps in order (%d dumps dropped; last: frame %d)\n",
+              distinct, 20 - unmatched, dropped_dumps, last);
 }
 
 TEST(PipeWireOut, ADaemonThatDiesDoesNotStopTheShow) {
