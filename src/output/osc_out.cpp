@@ -124,7 +124,7 @@ void OscOut::run() {
   };
   auto add = [&](const std::string& path, lo_message m) {
     if (b && lo_bundle_length(b) + lo_message_length(m, path.c_str()) + 16 > kMaxBundle) send();
-    if (!b) b = lo_bundle_new(LO_TT_IMMEDIATE);
+    if (!b) b = lo_bundle_new(lo_timetag{0, 1});  // "immediately" (LO_TT_IMMEDIATE, without its C compound literal)
     lo_bundle_add_message(b, path.c_str(), m);
     messages_.fetch_add(1);
   };
