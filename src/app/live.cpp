@@ -524,9 +524,17 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   stats_.hash.add(puppet_->shapes);
   double newest_us = -1;  // the newest input's age at frame-ready
   for (size_t i = 0; i < n_events_; ++i) newest_us = newest_us < 0 ? double(t_ns - events_[i].t_ns) * 1e-3 : std::min(newest_us, double(t_ns - events_[i].t_ns) * 1e-3);
-  // Each output on a thread of its own; handing the canvas over is this frame's work.
+  // Each output on a thread of its own; handing the canvas over is this frame's work. Reading a
+  // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
+  // what presenting allocates, apart from the frame's own.
+  const uint64_t before_outputs = allocations();
   compute_us += outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
                                {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_us < 0 ? -1 : (newest_us + compute_us) * 1e-3});
+  if (canvas_->is_window()) {
+    const uint64_t n = allocations() - before_outputs;
+    if (stats_.frames >= opt_.warmup) present_allocs_ += n;
+    alloc_base_ += n;
+  }
   if (recorder_) recorder_->frame(t_ns, governor_.iterations());
   for (size_t i = 0; i < n_events_; ++i) stats_.latency.add(double(t_ns - events_[i].t_ns) * 1e-3 + compute_us);
   last_compute_ms_ = compute_us * 1e-3;
