@@ -14,6 +14,7 @@
 #include <chrono>
 #include <fstream>
 #include <cmath>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <thread>
@@ -42,10 +43,19 @@ struct Receiver {
           auto* r = static_cast<Receiver*>(self);
           Received x;
           x.path = path;
-          for (int k = 0; k < argc; ++k) {
-            if (types[k] == 'f') x.f.push_back(argv[k]->f);
-            if (types[k] == 's') x.s.push_back(&argv[k]->s);
-            if (types[k] == 'i') x.i.push_back(argv[k]->i);
+          for (int k = 0; k < argc; ++k) {  // (liblo's arguments need not be aligned for its union: copied out)
+            const auto* raw = reinterpret_cast<const char*>(argv[k]);
+            if (types[k] == 'f') {
+              float f = 0;
+              std::memcpy(&f, raw, sizeof f);
+              x.f.push_back(f);
+            }
+            if (types[k] == 's') x.s.push_back(raw);
+            if (types[k] == 'i') {
+              int32_t i = 0;
+              std::memcpy(&i, raw, sizeof i);
+              x.i.push_back(i);
+            }
           }
           std::lock_guard<std::mutex> g(r->m);
           r->got.push_back(x);
