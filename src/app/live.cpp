@@ -522,14 +522,14 @@ void LiveShow::present() {
 
 void LiveShow::finish(int64_t t_ns, double compute_us) {
   stats_.hash.add(puppet_->shapes);
-  double newest_us = -1;  // the newest input's age at frame-ready
-  for (size_t i = 0; i < n_events_; ++i) newest_us = newest_us < 0 ? double(t_ns - events_[i].t_ns) * 1e-3 : std::min(newest_us, double(t_ns - events_[i].t_ns) * 1e-3);
+  int64_t newest_ns = -1;  // this frame's newest input (-1: none), for its age at frame-ready
+  for (size_t i = 0; i < n_events_; ++i) newest_ns = std::max(newest_ns, events_[i].t_ns);
   // Each output on a thread of its own; handing the canvas over is this frame's work. Reading a
   // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
   compute_us += outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
-                               {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_us < 0 ? -1 : (newest_us + compute_us) * 1e-3});
+                               {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
     if (stats_.frames >= opt_.warmup) present_allocs_ += n;

@@ -106,8 +106,7 @@ std::string LiveShow::stats_json() const {
          return std::string(buf);
        }()},
   };
-  const json outputs = json::parse(outputs_.stats_json());  // pose_dump, pipewire
-  for (const auto& [k, v] : outputs.items()) j[k] = v;
+  outputs_.add_stats(j);  // pose_dump, frame_dump, video, pipewire, osc_out
   return j.dump(2) + "\n";
 }
 

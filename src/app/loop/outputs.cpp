@@ -189,9 +189,9 @@ bool FrameOutputs::finish(bool quiet) {
   return ok;
 }
 
-std::string FrameOutputs::stats_json() const {
+void FrameOutputs::add_stats(nlohmann::json& j) const {
   using nlohmann::json;
-  json j = {{"pose_dump", poses_ ? json{{"written", poses_->written()}, {"dropped", poses_->dropped()}, {"waits", poses_->waits()}} : json()},
+  j.update(json{{"pose_dump", poses_ ? json{{"written", poses_->written()}, {"dropped", poses_->dropped()}, {"waits", poses_->waits()}} : json()},
             {"frame_dump", pngs_ ? json{{"written", pngs_->written()}, {"dropped", pngs_->dropped()}, {"waits", pngs_->waits()},
                                         {"writer_ms_per_frame", pngs_->written() ? pngs_->writer_us() * 1e-3 / double(pngs_->written()) : 0.0}}
                                  : json()},
@@ -203,7 +203,7 @@ std::string FrameOutputs::stats_json() const {
                                     {"send_errors", osc_->send_errors()}}
                              : json()},
             {"outputs_handover_us",
-             {{"frames", handover_.count()}, {"p50", handover_.quantile(0.5)}, {"p99", handover_.quantile(0.99)}, {"max", handover_.max()}}}};
+             {{"frames", handover_.count()}, {"p50", handover_.quantile(0.5)}, {"p99", handover_.quantile(0.99)}, {"max", handover_.max()}}}});
 #ifdef MARIONETTE_HAVE_VIDEO
   if (video_)
     j["video"] = {{"file", spec_.video}, {"codec", spec_.codec}, {"pushed", video_->pushed()}, {"written", video_->written()},
@@ -217,7 +217,6 @@ std::string FrameOutputs::stats_json() const {
                      {"dropped", pipewire_->dropped()},
                      {"state", pipewire_->state()}};
 #endif
-  return j.dump();
 }
 
 }  // namespace mar

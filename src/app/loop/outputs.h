@@ -15,6 +15,8 @@
 #include "output/osc_out.h"
 #include "render/canvas.h"
 
+#include <nlohmann/json_fwd.hpp>
+
 #include <memory>
 #include <span>
 #include <string>
@@ -70,9 +72,9 @@ class FrameOutputs {
   /// Finishes writing; says what was written unless `quiet`; errors go to stderr. Returns
   /// false when a file could not be written.
   bool finish(bool quiet);
-  /// {"pose_dump", "frame_dump", "video", "pipewire", "osc_out" (each null when off), "outputs_handover_us"}
-  /// for --stats.
-  std::string stats_json() const;
+  /// Adds "pose_dump", "frame_dump", "video", "pipewire", "osc_out" (each null when off) and
+  /// "outputs_handover_us" to the --stats object `j`.
+  void add_stats(nlohmann::json& j) const;
 
  private:
   OutputsSpec spec_;
