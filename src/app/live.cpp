@@ -88,7 +88,7 @@ std::string LiveShow::validate(const std::string& path) {
   return std::string();
 }
 
-Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o) {
+Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o, LiveShow* previous) {
   using R = Result<std::unique_ptr<LiveShow>>;
   std::unique_ptr<LiveShow> s(new LiveShow());
   s->opt_ = o;
@@ -114,6 +114,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_background_color(sh.background)) s->background_ = *c;
+  if (previous) s->restarted_ = s->keeps(*previous);  // a reload: what it cannot keep (empty: all)
+  const bool keep = previous && s->restarted_.empty();
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -189,7 +191,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     ShowDevice& d = sh.devices[i];
     const bool hardware = d.type != "sim";
     s->has_hardware_ = s->has_hardware_ || hardware;
-    if (d.sim.empty() || (hardware && !o.simulate)) continue;
+    if (keep || d.sim.empty() || (hardware && !o.simulate)) continue;  // (a reload keeps the simulators)
     if (d.descriptor_in_corpus && !std::filesystem::exists(d.descriptor)) {
       // The shared corpus is test material that may not be on this machine: the show still
       // runs, with the simulator's built-in descriptor.
@@ -227,6 +229,11 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   s->replay_retired_.resize(sh.devices.size());
   s->device_states_.assign(sh.devices.size(), DeviceState::Connected);
   s->last_events_.assign(sh.devices.size(), Event{});
+  if (keep) {  // everything that could fail has: take over the running show's clock and devices
+    s->adopt(*previous);
+    return R::success(std::move(s));
+  }
+  if (previous) previous->release();
   std::string err;
   if (!s->open_output(&err)) return R::failure(err);
   s->pacer_ = Pacer(s->pacer_.period_s(), s->realtime());  // open_output decides window or headless
@@ -337,8 +344,12 @@ void LiveShow::inputs(int64_t t_ns) {
 
 void LiveShow::map(int64_t t_ns) {
   bool input = false;  // a visitor moved a bound control (what keeps the attract away)
-  for (size_t i = 0; i < n_events_; ++i) input = mapping_.apply(events_[i]) || input;
+  for (size_t i = 0; i < n_events_; ++i) {
+    input = mapping_.apply(events_[i]) || input;
+    if (events_[i].kind == ControlKind::ClockPhase) beat_.event(events_[i]);  // MIDI clock: the music time
+  }
   const double dt = stats_.frames ? double(t_ns - last_t_) * 1e-9 : 0;
+  beat_.step(t_ns, dt);
   dt_ = dt;
   last_t_ = t_ns;
   mapping_.update(dt);
@@ -402,7 +413,7 @@ void LiveShow::poses() {
   // Key poses: the morph and blend settings give weights over the keys (a morph from A to B at t
   // puts 1 − t on A and t on B; blends add), the interpolated frame is the base pose, and every
   // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
-  idle_.step(dt_, mapping_);  // idle behaviours: their keys' weights are read below
+  idle_.step(dt_, mapping_, beat_.beats());  // idle behaviours: their keys' weights are read below
   if (!interp_) return;
   std::fill(key_weights_.begin(), key_weights_.end(), 0.0);
   const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;  // the crossfade
@@ -461,6 +472,7 @@ void LiveShow::motion() {
     const int i = setting_physics_ + int(k);
     physics_.set(k, mapping_.setting(i) + idle_.setting_offset(i));
   }
+  physics_.set_beats(beat_.beats());
   physics_.step(dt_, *puppet_, std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()));
 }
 
@@ -524,11 +536,12 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   stats_.hash.add(puppet_->shapes);
   int64_t newest_ns = -1;  // this frame's newest input (-1: none), for its age at frame-ready
   for (size_t i = 0; i < n_events_; ++i) newest_ns = std::max(newest_ns, events_[i].t_ns);
+  newest_ns_ = newest_ns;
   // Each output on a thread of its own; handing the canvas over is this frame's work. Reading a
   // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
-  compute_us += outputs_.frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
+  compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
                                {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
@@ -545,6 +558,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
 void LiveShow::frame(int64_t t_ns) {
   if (stats_.frames == opt_.warmup) alloc_base_ = allocations();
   double at = now_us();
+  marks_[0] = at;
   const double start = at;
   auto timed = [&](Stage s, auto&& run) {
     run();
@@ -558,7 +572,9 @@ void LiveShow::frame(int64_t t_ns) {
   timed(Stage::Motion, [&] { motion(); });
   timed(Stage::Solve, [&] { solve(); });
   timed(Stage::Render, [&] { render(); });
+  marks_[1] = at;
   timed(Stage::Present, [&] { present(); });
+  marks_[2] = at;
   finish(t_ns, at - start);
 }
 
@@ -608,26 +624,8 @@ bool LiveShow::learn_from_events() {
   return true;
 }
 
-int LiveShow::run() {
-  const bool learn = !opt_.learn.empty();
-  int64_t end_ns = 0;
-  bool scripted = false;
-  for (const auto& s : sims_)
-    if (s) {
-      end_ns = std::max(end_ns, s->end_ns());
-      scripted = true;
-    }
-  long limit = opt_.frames;
+std::string LiveShow::begin() {
   const double period = pacer_.period_s();
-  // Headless: until the scripts end (+ half a second for the last events to arrive from
-  // the bench); a headless show of real hardware alone runs until interrupted.
-  if (limit < 0 && opt_.headless && !playback_ && scripted)
-    limit = long(std::ceil((double(end_ns) * 1e-9 + (has_hardware_ ? 0.5 : 0)) / period)) + 1;
-  if (!opt_.quiet)
-    std::cout << (playback_ ? "replaying " : "running ") << show_.path
-              << (!canvas_->is_window() ? " headless" : show_.kiosk.enabled ? " in a kiosk window" : " in a window")
-              << " at " << std::lround(1.0 / period) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
-              << std::endl;
   if (!has_hardware_) pacer_.set_epoch(monotonic_ns());  // with hardware: set when the devices opened
   // On the virtual clock the files drop nothing.
   OutputsSpec out;
@@ -644,17 +642,59 @@ int LiveShow::run() {
   out.height = canvas_->height();
   out.rate = int(std::lround(1.0 / period));
   out.set_osc(show_, puppet_->rig);
-  if (const std::string e = outputs_.open(out, puppet_->character); !e.empty()) {
-    std::cerr << "error: " << e << "\n";
-    return 1;
-  }
+  if (std::string e = outputs_->open(out, puppet_->character); !e.empty()) return e;
   install_quit_handler();
+  const bool late_timed = realtime() && !playback_;
+  if (late_timed) {  // hot reload on save (the virtual clock's shows run as given, start to end)
+    watch_ = std::make_unique<FileWatch>();
+    if (const std::string e = watch_->watch({show_.path, show_.rig, puppet_->character.source}); !e.empty()) {
+      if (!opt_.quiet) std::cerr << "warning: " << show_.path << ": no reload on save (" << e << ")\n";
+      watch_.reset();
+    }
+  }
+  late_.configure(late_timed, (opt_.late_input < 0 ? show_.late_input : opt_.late_input > 0), period * 1e6,
+                  show_.late_input_margin_ms * 1e3);
   pacer_.start();
+  started_ = true;
+  return {};
+}
+
+int LiveShow::run() {
+  const bool learn = !opt_.learn.empty();
+  int64_t end_ns = 0;
+  bool scripted = false;
+  for (const auto& s : sims_)
+    if (s) {
+      end_ns = std::max(end_ns, s->end_ns());
+      scripted = true;
+    }
+  long limit = opt_.frames;
+  const double period = pacer_.period_s();
+  // Headless: until the scripts end (+ half a second for the last events to arrive from
+  // the bench); a headless show of real hardware alone runs until interrupted.
+  if (limit < 0 && opt_.headless && !playback_ && scripted)
+    limit = long(std::ceil((double(end_ns) * 1e-9 + (has_hardware_ ? 0.5 : 0)) / period)) + 1;
+  if (!opt_.quiet && !started_)
+    std::cout << (playback_ ? "replaying " : "running ") << show_.path
+              << (!canvas_->is_window() ? " headless" : show_.kiosk.enabled ? " in a kiosk window" : " in a window")
+              << " at " << std::lround(1.0 / period) << " Hz" << (limit > 0 ? ", " + std::to_string(limit) + " frames" : "")
+              << std::endl;
+  if (!started_) {
+    if (const std::string e = begin(); !e.empty()) {
+      std::cerr << "error: " << e << "\n";
+      return 1;
+    }
+  }
   reload_asked_ = false;
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || stats_.frames < limit)) {
     if (take_reload_request()) {  // SIGHUP: the caller reads the show file again
       reload_asked_ = true;
+      reload_cause_ = "SIGHUP";
       break;
+    }
+    if (watch_ && stats_.frames % 8 == 0) {  // a saved edit (between frames: a non-blocking read)
+      reload_cause_ = watch_->poll(monotonic_ns());
+      if ((reload_asked_ = !reload_cause_.empty())) break;
     }
     int64_t t = pacer_.time_of(stats_.frames);
     if (playback_) {
@@ -665,15 +705,23 @@ int LiveShow::run() {
     }
     if (canvas_->is_window() && !handle_window_events()) break;
     await_simulation(t);
+    const long k = stats_.frames;
     frame(t);
+    if (late_.timed()) {  // the frame against its deadline, on the show clock (loop/late_input.h)
+      const int64_t e = pacer_.epoch();
+      auto show_ns = [&](double us) { return int64_t(us * 1e3) - e; };
+      late_.frame(pacer_.deadline(k) - e, show_ns(marks_[0]), show_ns(marks_[1]), show_ns(marks_[2]), newest_ns_,
+                  stats_.frames > opt_.warmup);
+    }
     if (learn) {
       if (!learn_from_events()) return 1;
       if (learned_) break;
     }
-    if (!playback_) pacer_.wait_for(stats_.frames);  // frame pacing, outside the frame
+    if (!playback_) pacer_.wait_for(stats_.frames, late_.lead_us());  // frame pacing, outside the frame
   }
+  if (reload_asked_) return 0;  // the outputs, the recording and the clock go on in the reloaded show
   if (recorder_) recorder_->flush();
-  const bool outputs_ok = outputs_.finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
+  const bool outputs_ok = outputs_->finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
   if (learn && !learned_) {
     std::cerr << "error: no control moved; nothing learned for " << opt_.learn << "\n";
     return 1;

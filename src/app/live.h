@@ -10,6 +10,9 @@
 #include "app/loop/governor.h"
 #include "app/loop/hud.h"
 #include "app/loop/grab.h"
+#include "app/loop/file_watch.h"
+#include "app/loop/late_input.h"
+#include "app/loop/music.h"
 #include "app/loop/pacing.h"
 #include "app/loop/idle.h"
 #include "app/loop/outputs.h"
@@ -43,6 +46,7 @@ struct RunOptions {
   bool quiet = false;
   bool kiosk = false;        ///< as the show's [kiosk] (run --kiosk)
   bool realtime = false;     ///< headless on the wall clock (run --realtime): not reproducible
+  int late_input = -1;       ///< on the wall clock, late input (-1: the show's [show] late_input; 0 off; 1 on)
   std::string screenshot;    ///< a window's pixels at the last of `frames` frames, as PNG
   int supersample = 1;       ///< the canvas at N x, box-filtered for dumps (a reference path)
   bool aliased = false;      ///< SDL's aliased triangles (run --aliased, to compare)
@@ -63,12 +67,26 @@ void set_allocation_counter(AllocationCounter f);
 
 class LiveShow {
  public:
-  static Result<std::unique_ptr<LiveShow>> load(const std::string& show_path, const RunOptions& o);
+  /// Loads a show. `previous`: a reload of that running show (app/live_reload.cpp): the new
+  /// show takes over its clock, devices, simulators, window and outputs where the edit left
+  /// them alone, and starts them over (previous lets go of its own first) where it did not.
+  static Result<std::unique_ptr<LiveShow>> load(const std::string& show_path, const RunOptions& o,
+                                                LiveShow* previous = nullptr);
   /// Reads and checks a show file as load() would — the show, its rig, its character, every
   /// binding — without opening a device or a window. Empty when it would load.
   static std::string validate(const std::string& show_path);
-  /// run() returned because SIGHUP asked for the show file again.
+  /// run() returned because SIGHUP or a saved edit asked for the show file again.
   bool reload_asked() const { return reload_asked_; }
+  /// What asked: "SIGHUP", or the saved files' names ("show.toml, figure.toml").
+  const std::string& reload_cause() const { return reload_cause_; }
+  /// After a reload: says what happened in the HUD and the window's title; `refused`: the
+  /// edit's error (file:line), and the running show goes on.
+  void reloaded(const std::string& what, const std::string& refused = {});
+  /// Reloads so far; what the last one started over (empty: nothing, all was kept).
+  int reloads() const { return reloads_; }
+  const std::string& restarted() const { return restarted_; }
+  /// A reload that could not keep this show let go of its devices, window and outputs.
+  bool released() const { return released_; }
   /// Under a service manager: presented frames are counted for its watchdog (the caller owns it
   /// across reloads).
   void set_service(ServiceNotifier* s) { service_ = s; }
@@ -102,6 +120,10 @@ class LiveShow {
  private:
   LiveShow() = default;
   bool open_output(std::string* err);
+  std::string keeps(const LiveShow& old) const;  ///< empty: this show can take over `old`'s clock and devices
+  void adopt(LiveShow& old);
+  void release();
+  std::string begin();                           ///< once, at the first run(): outputs, pacing, the watch
   std::string open_devices();
 
   // The stages of a frame.
@@ -137,7 +159,7 @@ class LiveShow {
   size_t n_events_ = 0;
   uint64_t dropped_events_ = 0, dropped_records_ = 0;
   std::unique_ptr<Recorder> recorder_;
-  FrameOutputs outputs_;                           ///< --dump-poses, [output] pipewire
+  std::unique_ptr<FrameOutputs> outputs_ = std::make_unique<FrameOutputs>();  ///< dumps, video, PipeWire, OSC out
   std::unique_ptr<Playback> playback_;
   std::vector<WireRecord> replay_wires_;
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
@@ -166,6 +188,7 @@ class LiveShow {
   std::vector<int> swap_counts_, swap_members_;
   std::vector<char> triggers_on_;
   IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
+  MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
   PhysicsStage physics_;                           ///< motion: the rig's [[physics]] chains
   int setting_physics_ = 0;                        ///< first of its settings
   Governor governor_{8, 2};
@@ -188,13 +211,19 @@ class LiveShow {
   std::unique_ptr<Hud> hud_panel_;                 ///< a window's HUD (glyphs made at load)
   // the run
   Pacer pacer_{1.0 / 60, false};
+  LateInput late_;                                 ///< on the wall clock: when a frame wakes; the latency split
+  double marks_[3] = {0, 0, 0};                    ///< this frame's read, ready and presented (now_us)
+  int64_t newest_ns_ = -1;                         ///< this frame's newest input (show clock; -1: none)
   RunStats stats_;
   ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
   uint64_t allocs_ = 0, alloc_base_ = 0;
   uint64_t present_allocs_ = 0;  ///< a window's present (the window system's), after warm-up
   double quality_pct_ = 0;       ///< this frame's pose quality (the HUD)
   std::atomic<bool> stop_{false};
-  bool quit_ = false, learned_ = false, reload_asked_ = false;
+  bool quit_ = false, learned_ = false, reload_asked_ = false, started_ = false, released_ = false;
+  std::string reload_cause_, restarted_, last_reload_;
+  int reloads_ = 0, refused_ = 0;
+  std::unique_ptr<FileWatch> watch_;               ///< the show's files, on the wall clock
 };
 
 }  // namespace mar

@@ -90,10 +90,14 @@ std::string LiveShow::stats_json() const {
            a.push_back({{"name", show_.behaviors[i].name}, {"target", show_.behaviors[i].target_text}, {"blinks", idle_.behavior(i).blinks()}});
          return a;
        }()},
+      {"music", {{"bpm", beat_.clock().bpm()}, {"locked", beat_.clock().locked()}, {"beats", beat_.clock().beats()}}},
       {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
                    {"reverted_steps", physics_.reverts()}}},
       {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
       {"heap_allocations_after_warmup", allocs_},
+      // Reloads (SIGHUP, a saved edit): how many, how many edits were refused, what the last one
+      // was, and what it started over (empty: the clock, devices and outputs went on).
+      {"reloads", {{"count", reloads_}, {"refused", refused_}, {"last", last_reload_}, {"restarted", restarted_}}},
       {"window_present_allocations_after_warmup", present_allocs_},
       {"warmup_frames", opt_.warmup},
       {"attract", attract_ ? json{{"starts", attract_->starts()}, {"handovers", attract_->handovers()},
@@ -106,7 +110,8 @@ std::string LiveShow::stats_json() const {
          return std::string(buf);
        }()},
   };
-  outputs_.add_stats(j);  // pose_dump, frame_dump, video, pipewire, osc_out
+  outputs_->add_stats(j);  // pose_dump, frame_dump, video, pipewire, osc_out
+  if (late_.timed()) late_.add_stats(j);  // the frame against its deadline; the latency split
   return j.dump(2) + "\n";
 }
 
@@ -166,22 +171,31 @@ int cmd_run(const RunArgs& a) {
   while (true) {
     const int rc = live->run();
     if (!live->reload_asked()) return rc;
-    // SIGHUP (systemctl reload): the edited show file is checked first; a bad edit keeps the
-    // running show and says what is wrong with file:line.
+    // SIGHUP (systemctl reload) or a saved edit: the edited files are checked first; a bad edit
+    // keeps the running show and says what is wrong with file:line, in the log and the HUD.
+    const std::string cause = live->reload_cause();
     if (const std::string err = LiveShow::validate(a.show); !err.empty()) {
       std::cerr << "error: " << err << " (reload refused; the running show goes on)" << std::endl;
+      live->reloaded(cause, err);
       continue;
     }
     service.reloading();
-    live.reset();  // let go of the devices and the window first
-    auto next = LiveShow::load(a.show, o);
+    auto next = LiveShow::load(a.show, o, live.get());
     if (!next.ok()) {
-      std::cerr << "error: " << next.error << "\n";
-      return kExitBadInput;
+      std::cerr << "error: " << next.error << " (reload refused)" << std::endl;
+      if (live->released()) return kExitBadInput;  // it had let go of its devices and window
+      live->reloaded(cause, next.error);
+      continue;
     }
     live = std::move(*next.value);
     if (service.active()) live->set_service(&service);
-    std::cerr << "reloaded " << a.show << std::endl;
+    live->reloaded(cause);
+    if (live->restarted().empty())
+      std::cerr << "reloaded " << a.show << " (" << cause << ") at frame " << live->frames()
+                << ": the clock, the devices and the outputs go on" << std::endl;
+    else
+      std::cerr << "reloaded " << a.show << " (" << cause << "): " << live->restarted()
+                << " changed, so the devices, the window and the outputs start over" << std::endl;
   }
 }
 

@@ -34,7 +34,7 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
-  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations"}, "[show]");
+  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations", "late_input", "late_input_margin_ms"}, "[show]");
   if (auto* n = t.get("character")) s.character = resolve(path, text(path, *n, "character"));
   if (auto* n = t.get("rig")) s.rig = resolve(path, text(path, *n, "rig"));
   else throw ShowError{at(path, *sn) + ": [show] needs a rig"};
@@ -51,6 +51,12 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
       throw ShowError{at(path, *n) + ": min_iterations must be 1..iterations"};
   }
   s.min_iterations = std::min(s.min_iterations, s.iterations);
+  if (auto* n = t.get("late_input")) s.late_input = boolean(path, *n, "late_input");
+  if (auto* n = t.get("late_input_margin_ms")) {
+    s.late_input_margin_ms = number(path, *n, "late_input_margin_ms");
+    if (!(s.late_input_margin_ms >= 0 && s.late_input_margin_ms <= 100))
+      throw ShowError{at(path, *n) + ": late_input_margin_ms must be 0..100"};
+  }
   if (const toml::node* dn = root.get("display")) {
     const toml::table* d = dn->as_table();
     if (!d) throw ShowError{at(path, *dn) + ": [display] must be a table"};
@@ -409,6 +415,8 @@ ShowConfig default_show() {
   s.rate_hz = 60;
   s.iterations = 8;
   s.min_iterations = 2;
+  s.late_input = true;
+  s.late_input_margin_ms = 0.5;
   s.width = 800;
   s.height = 600;
   s.fullscreen = false;

@@ -50,6 +50,9 @@ struct ShowPhysics {
   double rate = 120;          ///< steps per second, 30..240
   Vec2 gravity{0, 980};       ///< character units / s², down
   Vec2 wind{0, 0};
+  /// sync = "beat": the wind and the chains' gusts blow in a pulse on every beat of the music
+  /// (motion/beat_clock.h), strongest on the beat, still between.
+  bool sync_beat = false;
 };
 
 /// [[behavior]]: an idle behaviour (motion/behavior.h) and the target it drives.
@@ -68,6 +71,10 @@ struct ShowConfig {
   // (no defaults here: default_show() has them all)
   double rate_hz = 0;
   int iterations = 0, min_iterations = 0;
+  /// On the wall clock a frame wakes its predicted compute plus a margin before it is due, and
+  /// reads its inputs then (app/loop/late_input.h); false: it reads when it is due.
+  bool late_input = false;
+  double late_input_margin_ms = 0;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
   /// [display] screen: the screen a window or fullscreen show opens on (-1: SDL's choice), or

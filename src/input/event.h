@@ -25,6 +25,8 @@ enum class ControlKind : uint8_t {
 };
 
 constexpr uint32_t kClockBeat = 0, kClockBar = 1;
+/// A clock tick's tempo: value = BPM x 1000 (range 0..kClockPhaseMax), sent before its phases.
+constexpr uint32_t kClockTempo = 2;
 constexpr int32_t kClockPhaseMax = 1000000;
 
 /// One decoded control change. `t_ns` is the device timestamp on the loop's monotonic clock.

@@ -28,6 +28,47 @@ void Mapping::set_handles(std::vector<std::string> names, std::vector<Vec2> rest
   targets_ = std::move(rest);
 }
 
+void Mapping::carry_from(const Mapping& old) {
+  // Handles and rotations by name stay where they were; a binding whose control is the same
+  // keeps what it knew of that control, and an absolute one that had picked its target up sets
+  // it at once with its new range (the edit shows without the control moving).
+  for (size_t i = 0; i < names_.size(); ++i) {
+    const int j = old.handle_index(names_[i]);
+    if (j < 0) continue;
+    goal_[i] = old.goal_[size_t(j)];
+    current_[i] = old.current_[size_t(j)];
+    targets_[i] = old.targets_[size_t(j)];
+  }
+  for (size_t g = 0; g < groups_.size(); ++g) {
+    const int j = old.group_index(groups_[g].name);
+    if (j < 0) continue;
+    angle_goal_[g] = old.angle_goal_[size_t(j)];
+    angle_[g] = old.angle_[size_t(j)];
+  }
+  for (Binding& b : bindings_) {
+    for (const Binding& o : old.bindings_) {
+      const ControlSpec &x = b.control, &y = o.control;
+      if (x.device != y.device || x.kind != y.kind || x.number != y.number || x.channel != y.channel) continue;
+      b.last_norm = o.last_norm;
+      b.toggled = o.toggled;
+      b.pressed = o.pressed;
+      b.msb = o.msb;
+      b.lsb = o.lsb;
+      b.nrpn_hi = o.nrpn_hi;
+      b.nrpn_param = o.nrpn_param;
+      b.px = o.px;
+      b.py = o.py;
+      b.tip = o.tip;
+      const bool continuous = !button_target(b.target) && b.target != TargetKind::Grab && b.target != TargetKind::HandlePoint;
+      if (continuous && o.engaged && o.last_norm >= 0) {
+        b.engaged = true;
+        set_target(b, b.tf.lo + o.last_norm * (b.tf.hi - b.tf.lo));
+      }
+      break;
+    }
+  }
+}
+
 void Mapping::set_swaps(std::vector<int> member_counts, std::vector<int> defaults, size_t triggers) {
   swap_count_ = std::move(member_counts);
   swap_now_ = std::move(defaults);

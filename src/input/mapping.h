@@ -150,6 +150,11 @@ class Mapping {
   /// Whether handle h is easing toward a pose or back to rest.
   bool easing(int handle) const { return anim_[size_t(handle)].on; }
 
+  /// A reloaded show's mapping (after its handles, groups and bindings are added) takes over
+  /// from the running one: handles and groups by name where they were, and bindings of the same
+  /// control what they knew of it; an absolute control that had picked its target up sets it
+  /// now with its new range.
+  void carry_from(const Mapping& old);
   /// Updates goals from one event. Returns true when some binding used it.
   bool apply(const Event& e);
   /// Advances slew-limited targets by `dt_s` and recomputes the final handle targets.

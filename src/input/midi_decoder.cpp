@@ -5,6 +5,7 @@
 #include "input/midi_clock.h"
 #include "input/usb_midi.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mar {
@@ -24,7 +25,7 @@ class MidiDecoder final : public Decoder {
       } else if (!m.is_sysex() && m.bytes[0] >= 0xF8 && clock_.feed(m.bytes[0], r.t_ns) && clock_.locked()) {
         // Where the beat is, on the fitted line at this tick: the tick's own jitter left out.
         const int64_t at = int64_t(std::llround(clock_.last_tick_time_ns()));
-        for (uint32_t which : {kClockBeat, kClockBar}) {
+        for (uint32_t which : {kClockTempo, kClockBeat, kClockBar}) {
           e = Event{};
           e.t_ns = r.t_ns;
           e.source = source();
@@ -32,7 +33,8 @@ class MidiDecoder final : public Decoder {
           e.number = which;
           e.lo = 0;
           e.hi = kClockPhaseMax;
-          e.value = int32_t(std::lround((which == kClockBeat ? clock_.beat_phase(at) : clock_.bar_phase(at)) * kClockPhaseMax)) % kClockPhaseMax;
+          if (which == kClockTempo) e.value = int32_t(std::clamp(std::lround(clock_.bpm() * 1000), 0L, long(kClockPhaseMax)));
+          else e.value = int32_t(std::lround((which == kClockBeat ? clock_.beat_phase(at) : clock_.bar_phase(at)) * kClockPhaseMax)) % kClockPhaseMax;
           out.push(e);
         }
       }

@@ -26,19 +26,33 @@ Behavior::Behavior(const BehaviorSpec& s) : s_(s), rng_(s.seed) {
   s_.jitter = std::clamp(s_.jitter, 0.0, 0.95);
   s_.hold = std::clamp(s_.hold, 0.01, s_.mean);
   s_.period = std::max(0.05, s_.period);
-  until_ = next_interval();
+  until_ = s_.sync_beat ? std::ceil(next_interval()) : next_interval();
 }
 
 double Behavior::next_interval() { return s_.mean * (1 + s_.jitter * (2 * uniform(rng_) - 1)); }
 
-void Behavior::step(double dt, bool touched) {
+void Behavior::step(double dt, bool touched, double beats) {
   if (!(dt >= 0) || !std::isfinite(dt)) dt = 0;
   t_ += dt;
+  tau_ = s_.sync_beat && std::isfinite(beats) ? beats : t_;
   // A performer's control on the target: paused at once, back `resume` s after the last write.
   since_touch_ = touched ? 0.0 : since_touch_ + dt;
   const double back = since_touch_ - s_.resume;
   weight_ = back <= 0 ? 0.0 : s_.fade > 0 ? std::min(1.0, back / s_.fade) : 1.0;
   if (s_.kind != BehaviorSpec::Blink) return;
+  if (s_.sync_beat) {  // on the beat: starts when the music time reaches a whole beat
+    if (on_) {
+      if (t_ >= shut_until_) on_ = false;
+    } else if (tau_ >= until_) {
+      if (weight_ >= 1) {
+        on_ = true;
+        ++blinks_;
+        shut_until_ = t_ + s_.hold;
+      }
+      until_ = std::ceil(tau_ + std::max(1.0, next_interval()) - 1e-9);
+    }
+    return;
+  }
   if (on_) {
     if (t_ >= until_) {
       on_ = false;
@@ -57,9 +71,9 @@ void Behavior::step(double dt, bool touched) {
 
 Vec2 Behavior::offset() const {
   switch (s_.kind) {
-    case BehaviorSpec::Breathe: return weight_ * 0.5 * (1 - std::cos(2 * M_PI * t_ / s_.period)) * s_.depth;
+    case BehaviorSpec::Breathe: return weight_ * 0.5 * (1 - std::cos(2 * M_PI * tau_ / s_.period)) * s_.depth;
     case BehaviorSpec::Look: {
-      const double u = 2 * M_PI * s_.speed * t_, sd = double(s_.seed % 1000);
+      const double u = 2 * M_PI * s_.speed * tau_, sd = double(s_.seed % 1000);
       return weight_ * Vec2(s_.range.x() * smooth_noise(u, sd), s_.range.y() * smooth_noise(u, sd + 0.5));
     }
     case BehaviorSpec::Blink: break;
@@ -69,8 +83,8 @@ Vec2 Behavior::offset() const {
 
 double Behavior::value() const {
   switch (s_.kind) {
-    case BehaviorSpec::Breathe: return weight_ * 0.5 * (1 - std::cos(2 * M_PI * t_ / s_.period)) * s_.amount;
-    case BehaviorSpec::Look: return weight_ * s_.amount * smooth_noise(2 * M_PI * s_.speed * t_, double(s_.seed % 1000));
+    case BehaviorSpec::Breathe: return weight_ * 0.5 * (1 - std::cos(2 * M_PI * tau_ / s_.period)) * s_.amount;
+    case BehaviorSpec::Look: return weight_ * s_.amount * smooth_noise(2 * M_PI * s_.speed * tau_, double(s_.seed % 1000));
     case BehaviorSpec::Blink: break;
   }
   return 0;

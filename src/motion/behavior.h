@@ -27,13 +27,17 @@ struct BehaviorSpec {
   double speed = 0.15;                          ///< look: Hz of the noise
   uint64_t seed = 1;
   double resume = 2, fade = 0.5;                ///< after a performer's last write
+  /// On the music (sync = "beat"): period and mean count beats, speed is per beat, a blink
+  /// starts on a beat (its hold stays in seconds). The music time comes to step().
+  bool sync_beat = false;
 };
 
 class Behavior {
  public:
   explicit Behavior(const BehaviorSpec& s);
-  /// One frame of `dt` seconds; `touched`: a performer's control wrote the target this frame.
-  void step(double dt, bool touched);
+  /// One frame of `dt` seconds; `touched`: a performer's control wrote the target this frame;
+  /// `beats`: the music time now (motion/beat_clock.h), used when the spec syncs to the beat.
+  void step(double dt, bool touched, double beats = 0);
   /// Blink: shut now.
   bool on() const { return on_; }
   /// Breathe, look: the offset now (times weight()).
@@ -50,7 +54,9 @@ class Behavior {
   BehaviorSpec s_;
   uint64_t rng_;
   double t_ = 0;            ///< seconds run
-  double until_ = 0;        ///< blink: the next one starts (or, on, ends) at this t_
+  double tau_ = 0;          ///< what its cycles count: t_, or the music time in beats (sync)
+  double until_ = 0;        ///< blink: the next one starts (or, on, ends) at this t_ (sync: starts at this beat)
+  double shut_until_ = 0;   ///< blink on the beat: it opens at this t_
   bool on_ = false;
   long blinks_ = 0;
   double weight_ = 1, since_touch_ = 1e9;

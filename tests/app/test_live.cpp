@@ -633,6 +633,42 @@ TEST(Live, RealtimeFollowsTheWallClockAndSaysSo) {
   EXPECT_GE(s, 29.0 / 60);
 }
 
+// Late input: on the wall clock a frame wakes its predicted compute plus a margin before it is
+// due and the stats split the latency; on the virtual clock it changes nothing the show computes.
+TEST(Live, LateInputOnTheWallClockAndNothingOnTheVirtualClock) {
+  const std::string path = (test::source_dir() / "tests/data/shows/bench_live.toml").string();
+  auto stats = [&](bool realtime, int late) {
+    RunOptions o;
+    o.realtime = realtime;
+    o.late_input = late;
+    o.frames = 150;
+    auto s = load(path, o);
+    if (!s) return nlohmann::json{};
+    EXPECT_EQ(s->run(), 0);
+    return nlohmann::json::parse(s->stats_json());
+  };
+  const auto virtual_on = stats(false, 1), virtual_off = stats(false, 0);
+  EXPECT_FALSE(virtual_on.contains("late_input"));
+  EXPECT_EQ(virtual_on["run_hash"], virtual_off["run_hash"]);
+  for (int late : {0, 1}) {
+    const auto j = stats(true, late);
+    ASSERT_TRUE(j.contains("late_input")) << j.dump();
+    const auto& l = j["late_input"];
+    EXPECT_EQ(l["on"], late == 1);
+    EXPECT_EQ(l["frames"], 150 - 30);  // after the 30 warm-up frames
+    const double period_us = 1e6 / 120;
+    EXPECT_LE(l["lead_us"]["max"].get<double>(), period_us);
+    if (late) {
+      EXPECT_GT(l["lead_us"]["p50"].get<double>(), 0);
+    } else {
+      EXPECT_EQ(l["lead_us"]["max"].get<double>(), 0);
+    }
+    EXPECT_GT(l["newest_input_to_shown_us"]["frames"].get<double>(), 100);  // the fader moves every ms
+    // A frame is shown at a tick after it read its input, at most a period and its lateness later.
+    EXPECT_GE(l["newest_input_to_shown_us"]["p50"].get<double>(), l["device_to_read_us"]["p50"].get<double>());
+  }
+}
+
 // One control grammar: format_control prints exactly what parse_control reads (what --learn
 // writes into a show file is what the show file reader accepts).
 TEST(format_control, RoundTripsEveryKind) {

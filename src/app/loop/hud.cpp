@@ -29,11 +29,21 @@ void format_event(const Event& e, char* out, size_t n) {
     case ControlKind::PointerX: std::snprintf(out, n, "pointer x %.2f", normalized(e)); break;
     case ControlKind::PointerY: std::snprintf(out, n, "pointer y %.2f", normalized(e)); break;
     case ControlKind::Pressure: std::snprintf(out, n, "pressure %.2f", normalized(e)); break;
-    case ControlKind::ClockPhase: std::snprintf(out, n, "%s %.2f", e.number == kClockBeat ? "beat" : "bar", normalized(e)); break;
+    case ControlKind::ClockPhase:
+      if (e.number == kClockTempo) std::snprintf(out, n, "tempo %.1f BPM", double(e.value) * 1e-3);
+      else std::snprintf(out, n, "%s %.2f", e.number == kClockBeat ? "beat" : "bar", normalized(e));
+      break;
   }
 }
 
-Hud::Hud(const ShowConfig& show) : show_(show), lines_(2 + show.devices.size() + show.bindings.size() * 2) {}
+Hud::Hud(const ShowConfig& show) : show_(show), lines_(3 + show.devices.size() + show.bindings.size() * 2) {}
+
+void Hud::set_notice(std::string_view text, bool error) {
+  const size_t n = std::min(text.size(), notice_.text.size() - 1);
+  std::copy_n(text.data(), n, notice_.text.data());
+  notice_.text[n] = 0;
+  notice_.color = error ? SDL_Color{240, 90, 90, 255} : SDL_Color{120, 220, 120, 255};
+}
 
 std::string Hud::load_font(SDL_Renderer* r) {
   auto f = GlyphAtlas::load(r, default_font_path(), 13);
@@ -57,6 +67,7 @@ void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& 
     std::snprintf(l.text.data(), l.text.size(), "frame %.2f ms of %.1f ms   iterations %d of %d   quality %.2f %%",
                   f.used_us * 1e-3, f.budget_us * 1e-3, f.iterations, f.iterations_wanted, f.quality_pct);
   }
+  if (notice_.text[0]) next() = notice_;  // what the last reload did, or why it was refused
   static constexpr SDL_Color kState[] = {{240, 180, 60, 255},    // waiting
                                          {120, 220, 120, 255},   // connected
                                          {240, 90, 90, 255},     // unplugged

@@ -17,6 +17,7 @@
 #include <memory>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 struct SDL_Renderer;
@@ -45,6 +46,9 @@ class Hud {
   std::string load_font(SDL_Renderer* r);
   /// Draws the HUD on `r` over a window of w x h pixels.
   void draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m);
+  /// A line under the header until replaced: what a reload did (green) or why an edit was
+  /// refused, with its file:line (red, `error`). Empty: none. Between frames (it copies).
+  void set_notice(std::string_view text, bool error);
   /// The text of the last draw, a line each (tests).
   size_t line_count() const { return n_; }
   const char* line(size_t i) const { return lines_[i].text.data(); }
@@ -55,6 +59,7 @@ class Hud {
     SDL_Color color{235, 235, 235, 255};
   };
   Line& next();
+  Line notice_;
   const ShowConfig& show_;
   std::vector<Line> lines_;
   size_t n_ = 0;

@@ -16,7 +16,7 @@ void read_behaviors(const std::string& path, const toml::table& root, ShowConfig
   for (const toml::node& node : *a) {
     const toml::table* t = node.as_table();
     if (!t) throw ShowError{at(path, node) + ": a behavior must be a table"};
-    check_keys(path, *t, {"name", "kind", "target", "mean", "jitter", "hold", "seed", "period", "depth", "range", "speed", "resume", "fade"},
+    check_keys(path, *t, {"name", "kind", "target", "mean", "jitter", "hold", "seed", "period", "depth", "range", "speed", "resume", "fade", "sync"},
                "[[behavior]]");
     ShowBehavior b;
     b.line = int(node.source().begin.line);
@@ -57,6 +57,11 @@ void read_behaviors(const std::string& path, const toml::table& root, ShowConfig
     positive("speed", b.spec.speed, 0.001, 10);
     positive("resume", b.spec.resume, 0, 3600);
     positive("fade", b.spec.fade, 0, 60);
+    if (const toml::node* sy = t->get("sync")) {  // on the music: period, mean in beats, speed per beat
+      const std::string v = text(path, *sy, "sync");
+      if (v != "beat" && v != "time") throw ShowError{at(path, *sy) + ": sync must be \"beat\" or \"time\""};
+      b.spec.sync_beat = v == "beat";
+    }
     if (const toml::node* sd = t->get("seed")) b.spec.seed = uint64_t(integer(path, *sd, "seed", 0, 2147483647));
     // depth (breathe) and range (look): [x, y] for a handle, a number for anything else
     for (const char* key : {"depth", "range"}) {
@@ -114,13 +119,13 @@ void IdleStage::prepare(const ShowConfig& show, const Mapping& m) {
   first_ = true;
 }
 
-void IdleStage::step(double dt, const Mapping& m) {
+void IdleStage::step(double dt, const Mapping& m, double beats) {
   for (Item& it : items_) {
     uint64_t hits = 0;
     for (size_t w : it.writers) hits += m.binding(w).hits;
     const bool touched = !first_ && hits != it.hits;
     it.hits = hits;
-    it.b.step(dt, touched);
+    it.b.step(dt, touched, beats);
   }
 }
 

@@ -21,7 +21,8 @@ class IdleStage {
   bool has_blinks() const { return blinks_; }
   size_t size() const { return items_.size(); }
   /// One frame: each behaviour, paused while a binding on its target moved this frame.
-  void step(double dt, const Mapping& m);
+  /// `beats`: the music time (motion/beat_clock.h), for behaviours with sync = "beat".
+  void step(double dt, const Mapping& m, double beats = 0);
   /// What the behaviours add to setting `i` now.
   double setting_offset(int i) const;
   /// Offsets the handles' targets and turns the rotate groups' (the rig's handles).

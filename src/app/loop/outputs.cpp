@@ -53,6 +53,15 @@ void OutputsSpec::set_osc(const ShowConfig& show, const Rig& rig) {
 FrameOutputs::FrameOutputs() = default;
 FrameOutputs::~FrameOutputs() = default;
 
+std::string FrameOutputs::relayout(const OutputsSpec& s, const Character& ch) {
+  OutputsSpec next = spec_;
+  next.osc = s.osc;
+  next.osc_options = s.osc_options;
+  next.osc_layout = s.osc_layout;
+  osc_.reset();
+  return open(next, ch);
+}
+
 std::string FrameOutputs::open(const OutputsSpec& s, const Character& ch) {
   spec_ = s;
   spec_.every = std::max(1, s.every);

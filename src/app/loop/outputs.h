@@ -65,6 +65,9 @@ class FrameOutputs {
   /// Opens what `s` asks for; an error names the file or the codec (PipeWire connects in the
   /// background and says so when it cannot: the show goes on without it).
   std::string open(const OutputsSpec& s, const Character& ch);
+  /// A reloaded show with its rig's names in `s` (set_osc): OSC out starts again with them;
+  /// the files and the stream go on.
+  std::string relayout(const OutputsSpec& s, const Character& ch);
   /// The frame's shapes and canvas, after the render: frame number `n`, show time `t_ns`.
   /// Returns the µs it took the frame thread, less any wait for a file's writer on the virtual
   /// clock (wall time that is not the show's): the frame counts it as its own work.

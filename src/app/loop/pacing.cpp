@@ -14,11 +14,11 @@ int64_t Pacer::time_of(long k) const {
 
 void Pacer::start() { start_ns_ = monotonic_ns(); }
 
-void Pacer::wait_for(long k) {
+void Pacer::wait_for(long k, double lead_us) {
   if (!realtime_) return;
   const int64_t now = monotonic_ns();
   if (start_ns_ < 0) start_ns_ = now;
-  const int64_t due = start_ns_ + int64_t(double(k) * period_s_ * 1e9);
+  const int64_t due = deadline(k) - int64_t(lead_us * 1e3);
   if (due <= now) return;
   timespec ts{time_t(due / 1000000000), long(due % 1000000000)};
   while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) != 0) {

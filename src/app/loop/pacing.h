@@ -1,7 +1,8 @@
 // The show clock and frame pacing. Headless shows run on a virtual clock: frame k is at
 // k x period, as fast as the machine goes. Windowed shows and shows with hardware follow
 // CLOCK_MONOTONIC from the show's epoch (the clock device timestamps use), and wait for
-// each frame's deadline after the frame's work, never inside it.
+// each frame's wake-up (its deadline less the late-input lead, loop/late_input.h) after the
+// frame's work, never inside it.
 #pragma once
 
 #include <cstdint>
@@ -18,8 +19,11 @@ class Pacer {
   void start();
   /// Show time of frame `k` (ns).
   int64_t time_of(long k) const;
-  /// Realtime: sleeps until frame `k` is due (k periods after start()); headless: returns.
-  void wait_for(long k);
+  /// Realtime: sleeps until `lead_us` before frame `k` is due (k periods after start());
+  /// headless: returns.
+  void wait_for(long k, double lead_us = 0);
+  /// When frame `k` is due, on CLOCK_MONOTONIC (ns; realtime, after start()).
+  int64_t deadline(long k) const { return start_ns_ + int64_t(double(k) * period_s_ * 1e9); }
   double period_s() const { return period_s_; }
   bool realtime() const { return realtime_; }
 

@@ -13,7 +13,12 @@ void read_physics(const std::string& path, const toml::table& root, ShowConfig& 
   if (!n) return;
   const toml::table* t = n->as_table();
   if (!t) throw ShowError{at(path, *n) + ": [physics] must be a table"};
-  check_keys(path, *t, {"rate", "gravity", "wind"}, "[physics]");
+  check_keys(path, *t, {"rate", "gravity", "wind", "sync"}, "[physics]");
+  if (const toml::node* sy = t->get("sync")) {
+    const std::string v = text(path, *sy, "sync");
+    if (v != "beat" && v != "time") throw ShowError{at(path, *sy) + ": sync must be \"beat\" or \"time\""};
+    s.physics.sync_beat = v == "beat";
+  }
   if (const toml::node* r = t->get("rate")) {
     s.physics.rate = number(path, *r, "rate");
     if (s.physics.rate < 30 || s.physics.rate > 240) throw ShowError{at(path, *r) + ": rate must be 30..240 (steps per second)"};
@@ -137,10 +142,12 @@ void PhysicsStage::step(double dt, const Puppet& p, std::span<Vec2> targets) {
     it.seen_before = true;
     MotionWorld w;
     w.gravity = (it.own_gravity ? it.gravity : world_.gravity) * gravity_scale_;
-    Vec2 wind = world_.wind + it.wind;
+    // On the beat (sync): the show's wind and the gusts in a pulse, strongest on each beat.
+    const double pulse = world_.sync_beat ? 0.5 + 0.5 * std::cos(2 * M_PI * beats_) : 1.0;
+    Vec2 wind = world_.wind * pulse + it.wind;
     if (it.gust > 0) {  // gusts along the wind (across when there is none), smooth and the same each run
       const Vec2 along = wind.norm() > 1e-9 ? Vec2(wind.normalized()) : Vec2(1, 0);
-      wind += along * (it.gust * smooth_noise(1.3 * t_, double(c) + 1));
+      wind += along * (it.gust * (world_.sync_beat ? pulse : smooth_noise(1.3 * t_, double(c) + 1)));
     }
     w.wind = wind;
     if (reset_) it.chain.reset(anchor, turned);

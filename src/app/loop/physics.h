@@ -47,6 +47,8 @@ class PhysicsStage {
   /// One frame of `dt` seconds: each chain follows its parent in `p`'s current shapes and
   /// writes its link ends into `targets` (the puppet's handles).
   void step(double dt, const Puppet& p, std::span<Vec2> targets);
+  /// The music time (motion/beat_clock.h) for [physics] sync = "beat".
+  void set_beats(double beats) { beats_ = beats; }
   /// The next step starts every chain at rest relative to its parent, still (a jump).
   void reset() { reset_ = true; }
   long steps() const;
@@ -70,6 +72,7 @@ class PhysicsStage {
   ShowPhysics world_;
   double h_ = 1.0 / 120;
   double t_ = 0;           ///< show time the chains have seen (gusts)
+  double beats_ = 0;       ///< the music time (sync)
   double gravity_scale_ = 1;
   double reset_level_ = 0;
   bool reset_ = true;

@@ -85,6 +85,27 @@ TEST(Hud, SaysWhatTheShowIsDoing) {
   EXPECT_TRUE(contains(hud, "-> handle.head.y = 0.0"));
 }
 
+// A reload's notice: under the header until replaced, red for a refused edit with its file:line.
+TEST(Hud, SaysWhatAReloadDidUnderTheHeader) {
+  ShowSetup s;
+  Hud hud(s.show);
+  Surface out;
+  ASSERT_EQ(hud.load_font(out.r), "");
+  const DeviceState states[] = {DeviceState::Connected, DeviceState::Connected};
+  const Event last[] = {Event{}, Event{}};
+  const HudFrame f{1000, 16667, 8, 8, 0.1, states, last};
+  hud.draw(out.r, 640, 240, f, s.m);
+  const size_t plain = hud.line_count();
+  hud.set_notice("edit refused: show.toml:12: the rig has no handle 'nose'", true);
+  hud.draw(out.r, 640, 240, f, s.m);
+  ASSERT_EQ(hud.line_count(), plain + 1);
+  EXPECT_STREQ(hud.line(1), "edit refused: show.toml:12: the rig has no handle 'nose'");
+  hud.set_notice("reloaded show.toml", false);
+  hud.draw(out.r, 640, 240, f, s.m);
+  EXPECT_STREQ(hud.line(1), "reloaded show.toml");
+  EXPECT_EQ(hud.line_count(), plain + 1);
+}
+
 TEST(Hud, WithoutAFontItSaysWhyAndDrawsTheBar) {
   ShowSetup s;
   Hud hud(s.show);

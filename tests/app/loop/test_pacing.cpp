@@ -1,8 +1,10 @@
 #include "app/loop/pacing.h"
+#include "app/loop/late_input.h"
 
 #include "devices/device.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 namespace mar {
 namespace {
@@ -29,6 +31,117 @@ TEST(Pacer, RealtimeFramesFollowTheMonotonicClockAndWaitForTheirDeadline) {
   EXPECT_GE(p.time_of(0), t);  // show time moves with the clock, whatever the frame number
   p.wait_for(4);               // 20 ms after start(): never earlier (a busy machine may be later)
   EXPECT_GE(monotonic_ns() - start, 20000000 - 1000);
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+TEST(Pacer, ALeadWakesTheFrameThatLongBeforeItsDeadline) {
+  Pacer p(0.010, true);
+  p.set_epoch(monotonic_ns());
+  p.start();
+  const int64_t due = p.deadline(3);
+  p.wait_for(3, 4000);  // 4 ms early: never before due - 4 ms
+  EXPECT_GE(monotonic_ns(), due - 4000000);
+  EXPECT_EQ(p.deadline(4) - p.deadline(3), 10000000);
+}
+
+// Frame times in us on one clock; a frame `c` us of work read at `deadline - lead`.
+struct FrameAt {
+  int64_t deadline, read, ready, presented;
+};
+FrameAt frame_at(int64_t deadline_us, double lead_us, double compute_us) {
+  const int64_t read = deadline_us * 1000 - int64_t(lead_us * 1000);
+  const int64_t presented = read + int64_t(compute_us * 1000);
+  return {deadline_us * 1000, read, presented - 50000 > read ? presented - 50000 : read, presented};
+}
+
+TEST(LateInput, OffReadsAtTheDeadlineAndOnWakesThePredictedComputePlusTheMarginBefore) {
+  LateInput off;
+  off.configure(true, false, 8333, 500);
+  EXPECT_EQ(off.lead_us(), 0);
+  LateInput on;
+  on.configure(true, true, 8333, 500);
+  EXPECT_EQ(on.lead_us(), 8333);  // nothing measured yet: read right after the last frame
+  for (int k = 1; k <= 10; ++k) {
+    const FrameAt f = frame_at(k * 8333, on.lead_us(), 300);
+    on.frame(f.deadline, f.read, f.ready, f.presented, -1, true);
+  }
+  EXPECT_DOUBLE_EQ(on.lead_us(), 300 + 500);
+  EXPECT_EQ(on.misses(), 0);
+}
+
+TEST(LateInput, TheSlowestOfTheLast64FramesIsThePrediction) {
+  LateInput l;
+  l.configure(true, true, 8333, 500);
+  auto run = [&](int from, int n, double compute) {
+    for (int k = from; k < from + n; ++k) {
+      const FrameAt f = frame_at(k * 8333, l.lead_us(), compute);
+      l.frame(f.deadline, f.read, f.ready, f.presented, -1, true);
+    }
+  };
+  run(1, 10, 300);
+  run(11, 1, 2000);  // a slow frame in an 800 us lead: it misses, and is remembered
+  EXPECT_EQ(l.misses(), 1);
+  EXPECT_DOUBLE_EQ(l.lead_us(), 2000 + l.margin_us());
+  run(12, 63, 300);
+  EXPECT_DOUBLE_EQ(l.lead_us(), 2000 + l.margin_us());  // still among the last 64
+  run(75, 1, 300);
+  EXPECT_DOUBLE_EQ(l.lead_us(), 300 + l.margin_us());  // gone; the margin it raised stays a while
+  EXPECT_EQ(l.misses(), 1);
+}
+
+TEST(LateInput, AMissMakesItMoreCarefulAndQuietFramesRelaxTheMarginBack) {
+  LateInput l;
+  l.configure(true, true, 8333, 500);
+  const FrameAt a = frame_at(8333, 800, 300);
+  l.frame(a.deadline, a.read, a.ready, a.presented, -1, true);
+  EXPECT_EQ(l.misses(), 0);
+  const FrameAt b = frame_at(2 * 8333, l.lead_us(), 1500);  // 1.5 ms of work in a 0.8 ms lead
+  l.frame(b.deadline, b.read, b.ready, b.presented, -1, true);
+  EXPECT_EQ(l.misses(), 1);
+  EXPECT_NEAR(l.margin_us(), 2 * 500 + 700, 1);  // doubled, plus what it missed by
+  for (int k = 3; k < 3 + 240 * 20; ++k) {
+    const FrameAt f = frame_at(k * 8333, l.lead_us(), 300);
+    l.frame(f.deadline, f.read, f.ready, f.presented, -1, true);
+  }
+  EXPECT_EQ(l.misses(), 1);
+  EXPECT_NEAR(l.margin_us(), 500, 1e-9);  // back to where it started, never below
+}
+
+TEST(LateInput, TheNewestInputIsShownAtTheDeadlineOrTheTickAfterALateFrame) {
+  for (bool on : {false, true}) {
+    LateInput l;
+    l.configure(true, on, 10000, 500);
+    for (int k = 1; k <= 5; ++k) {
+      const double lead = on ? 1000 : 0;  // off: read at the deadline, ready after it
+      const FrameAt f = frame_at(k * 10000, lead, 300);
+      l.frame(f.deadline, f.read, f.ready, f.presented, f.read - 200000, true);  // input 0.2 ms before the read
+    }
+    nlohmann::json j;
+    l.add_stats(j);
+    const auto& s = j["late_input"];
+    EXPECT_EQ(s["on"], on);
+    EXPECT_EQ(s["frames"], 5);
+    EXPECT_NEAR(s["device_to_read_us"]["p50"].get<double>(), 200, 1);
+    EXPECT_NEAR(s["newest_input_to_ready_us"]["p50"].get<double>(), 450, 1);  // 0.2 ms + 0.3 ms work - 0.05 present
+    // on: shown at its deadline 1 ms after the read; off: at the next tick, 10 ms after the read
+    EXPECT_NEAR(s["newest_input_to_shown_us"]["p50"].get<double>(), on ? 1200 : 10200, 1);
+    EXPECT_EQ(s["missed_deadlines"], 0);  // off: reading when due is the plan, not a miss
+  }
+}
+
+TEST(LateInput, WarmUpFramesTeachThePredictionButAreNotCounted) {
+  LateInput l;
+  l.configure(true, true, 8333, 500);
+  const FrameAt f = frame_at(8333, 8333, 9000);  // the first frame: slow, late
+  l.frame(f.deadline, f.read, f.ready, f.presented, -1, false);
+  EXPECT_EQ(l.misses(), 0);
+  EXPECT_DOUBLE_EQ(l.margin_us(), 500);
+  EXPECT_DOUBLE_EQ(l.lead_us(), 8333);  // 9000 + 500, at most a period
 }
 
 }  // namespace

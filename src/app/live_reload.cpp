@@ -1,0 +1,133 @@
+// Reloading a running show (SIGHUP, or a saved edit: loop/file_watch.h). The edited files are
+// loaded into a new LiveShow, which then takes over what the running one holds when the edit
+// left it alone: the clock (the pacer, the frame count, the statistics), the devices with their
+// connections, the simulators with their scripts' positions, the window and the outputs. An
+// edit to the devices or to the canvas's size starts those over, and says so.
+#include "app/live.h"
+#include "app/simulate.h"
+#include "firmware_sim/sim_device.h"
+#include "output/frame_ring.h"
+
+#include <SDL.h>
+
+#include <filesystem>
+#include <iostream>
+#include <tuple>
+
+namespace mar {
+namespace {
+
+bool same_device(const ShowDevice& a, const ShowDevice& b) {
+  auto key = [](const ShowDevice& d) {
+    const DeviceSpec& h = d.hw;
+    return std::tie(d.name, d.type, d.sim, d.controls, d.descriptor, d.voice, d.script, d.bounce_ms, d.debounce_ms, d.seed,
+                    h.type, h.vid, h.pid, h.pids, h.serial, h.product, h.usage_page, h.usage, h.chip, h.buttons,
+                    h.debounce_ms, h.host, h.port, h.osc_addresses, h.alsa_source, h.sdl, h.feedback, h.pcm);
+  };
+  if (key(a) != key(b) || a.hw.encoders.size() != b.hw.encoders.size()) return false;
+  for (size_t i = 0; i < a.hw.encoders.size(); ++i) {
+    const auto &x = a.hw.encoders[i], &y = b.hw.encoders[i];
+    if (std::tie(x.a, x.b, x.steps_per_detent) != std::tie(y.a, y.b, y.steps_per_detent)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+std::string LiveShow::keeps(const LiveShow& old) const {
+  const ShowConfig &a = show_, &b = old.show_;
+  if (old.playback_) return "a replay";
+  if (a.devices.size() != b.devices.size()) return "the devices";
+  for (size_t i = 0; i < a.devices.size(); ++i)
+    if (!same_device(a.devices[i], b.devices[i])) return "device '" + a.devices[i].name + "'";
+  if (std::tie(a.width, a.height, a.out_width, a.out_height, a.fullscreen, a.screen, a.screen_name, a.kiosk.enabled,
+               a.kiosk.display) != std::tie(b.width, b.height, b.out_width, b.out_height, b.fullscreen, b.screen,
+                                            b.screen_name, b.kiosk.enabled, b.kiosk.display))
+    return "[display] or [output]";
+  if ((background_.a < 1) != (old.background_.a < 1)) return "the background's transparency";
+  if (!opt_.dump_poses.empty() && puppet_->shapes.size() != old.puppet_->shapes.size()) return "the pose dump's shapes";
+  if (a.rate_hz != b.rate_hz) return "the rate";
+  return {};
+}
+
+void LiveShow::release() {
+  // Starting over: the outputs finish their files and the devices and the window are let go,
+  // before the new show opens its own.
+  released_ = true;
+  if (started_) outputs_->finish(opt_.quiet);
+  if (recorder_) recorder_->flush();
+  if (simulation_) simulation_->stop();
+  devices_.reset();
+  simulation_.reset();
+  sims_.clear();
+  hud_panel_.reset();
+  canvas_.reset();
+}
+
+void LiveShow::adopt(LiveShow& old) {
+  opt_ = old.opt_;  // (open_output may have turned a window without a display headless)
+  // the devices, as connected, and the simulators where their scripts are
+  devices_ = std::move(old.devices_);
+  simulation_ = std::move(old.simulation_);
+  sims_ = std::move(old.sims_);
+  has_hardware_ = old.has_hardware_;
+  device_states_ = std::move(old.device_states_);
+  last_events_ = std::move(old.last_events_);
+  // the clock
+  pacer_ = old.pacer_;
+  stats_ = std::move(old.stats_);
+  late_ = std::move(old.late_);
+  last_t_ = old.last_t_;
+  beat_ = old.beat_;  // the music time goes on
+  last_compute_ms_ = old.last_compute_ms_;
+  allocs_ = old.allocs_;
+  alloc_base_ = old.alloc_base_;
+  present_allocs_ = old.present_allocs_;
+  dropped_events_ = old.dropped_events_;
+  dropped_records_ = old.dropped_records_;
+  sim_waits_ = old.sim_waits_;
+  sim_timeouts_ = old.sim_timeouts_;
+  sim_max_wait_ms_ = old.sim_max_wait_ms_;
+  started_ = old.started_;
+  reloads_ = old.reloads_ + 1;
+  refused_ = old.refused_;
+  watch_ = std::move(old.watch_);
+  if (watch_) watch_->watch({show_.path, show_.rig, puppet_->character.source});  // (an edit may name new files)
+  service_ = old.service_;
+  // where the controls and the handles were
+  mapping_.carry_from(old.mapping_);
+  // the window and the outputs (the HUD's lines follow the new show's devices and bindings)
+  canvas_ = std::move(old.canvas_);
+  recorder_ = std::move(old.recorder_);
+  outputs_ = std::move(old.outputs_);
+  hud_ = old.hud_;
+  if (canvas_->is_window()) {
+    hud_panel_ = std::make_unique<Hud>(show_);
+    if (const std::string e = hud_panel_->load_font(canvas_->window_renderer()); !e.empty() && !opt_.quiet)
+      std::cerr << "warning: the HUD has no text: " << e << "\n";
+  }
+  const int ss = std::clamp(opt_.supersample, 1, 8);
+  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
+  if (started_) {  // the OSC address space follows the rig
+    OutputsSpec out;
+    out.set_osc(show_, puppet_->rig);
+    if (const std::string e = outputs_->relayout(out, puppet_->character); !e.empty() && !opt_.quiet)
+      std::cerr << "warning: " << e << " (OSC out stays off)\n";
+  }
+}
+
+void LiveShow::reloaded(const std::string& what, const std::string& refused) {
+  const std::string stem = std::filesystem::path(show_.path).stem().string();
+  if (!refused.empty()) {
+    ++refused_;
+    if (hud_panel_) hud_panel_->set_notice("edit refused: " + refused, true);
+    return;
+  }
+  last_reload_ = what;
+  const std::string note = "reloaded " + what;
+  if (hud_panel_) hud_panel_->set_notice(note, false);
+  if (canvas_ && canvas_->is_window())
+    SDL_SetWindowTitle(canvas_->sdl_window(), ("marionette - " + stem + " (" + note + ")").c_str());
+}
+
+}  // namespace mar

@@ -1,0 +1,56 @@
+// Late input: on the wall clock a frame reads its inputs as late as its compute allows. Frame k
+// is due at its deadline (the pacer's tick: when a display or a stream that samples at the
+// show's rate takes it); it wakes at the deadline minus the predicted compute minus a margin,
+// then reads, computes and presents, so what it shows is as fresh as the frame's own cost
+// permits (ALGORITHMS.md §8, "late input").
+//
+// The prediction is the largest compute time of the last 64 frames; the margin starts at
+// `margin_us` and doubles (up to half a period) when a frame is ready after its deadline, then
+// relaxes by a tenth every 240 frames without a miss. On the virtual clock nothing of this is
+// used: a frame reads what happened by its show time, so a busy machine changes nothing.
+//
+// It also keeps the run's latency split (`--stats` "late_input"): device -> read (the newest
+// input's age when the frame read), read -> frame ready (the frame's work up to its picture),
+// frame ready -> present returned, and the newest input's age at the tick that shows the frame
+// (the first deadline at or after present returned). Adding never allocates.
+#pragma once
+
+#include "app/stats.h"
+
+#include <nlohmann/json_fwd.hpp>
+
+#include <array>
+#include <cstdint>
+
+namespace mar {
+
+class LateInput {
+ public:
+  /// `timed`: frames have deadlines (the wall clock; not a replay). `on`: late input (false: a
+  /// frame reads at its deadline, as before). `period_us`: the frame period; `margin_us`: the
+  /// starting margin.
+  void configure(bool timed, bool on, double period_us, double margin_us);
+  bool timed() const { return timed_; }
+  bool on() const { return on_; }
+  /// How long before its deadline the next frame wakes (us): the whole period until a frame
+  /// was measured (it reads right after the last one), 0 when late input is off.
+  double lead_us() const;
+  /// One frame, on one clock (ns): `deadline` it was due, `read` it read its inputs, `ready` its
+  /// picture was drawn, `presented` present returned, `newest` its newest input (-1: none).
+  /// `counted`: after warm-up (the statistics; the prediction learns from every frame).
+  void frame(int64_t deadline, int64_t read, int64_t ready, int64_t presented, int64_t newest, bool counted);
+  long misses() const { return misses_; }
+  double margin_us() const { return margin_us_; }
+  /// Adds "late_input" to the stats object.
+  void add_stats(nlohmann::json& stats) const;
+
+ private:
+  bool timed_ = false, on_ = false;
+  double period_us_ = 0, base_margin_us_ = 500, margin_us_ = 500;
+  std::array<double, 64> recent_{};  ///< the last frames' compute (read -> present returned), us
+  size_t n_ = 0, at_ = 0;
+  long since_miss_ = 0, misses_ = 0, frames_ = 0;
+  Histogram lead_, device_to_read_, read_to_ready_, ready_to_present_, newest_to_ready_, newest_to_tick_;
+};
+
+}  // namespace mar

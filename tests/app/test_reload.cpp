@@ -1,0 +1,154 @@
+// Reloading a running show (SIGHUP, or a saved edit: app/live_reload.cpp): the clock, the
+// devices and their simulators' scripts go on; an edit to the devices starts them over; in a
+// window a saved edit is picked up on its own, a bad one is refused with file:line, and the
+// title says what was reloaded.
+#include "app/live.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <csignal>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <fstream>
+#include <thread>
+
+namespace mar {
+namespace {
+
+std::string show_text(const std::string& range, const std::string& knob = "knob1") {
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  return "[show]\nrig = \"" + rig + "\"\nrate = 60\n[display]\nwidth = 160\nheight = 200\n" +
+         "[[device]]\nname = \"k\"\nsim = \"nanokontrol2\"\nscript = \"\"\"\n0 move " + knob + " 0\n0 move fader1 0\n" +
+         "0.1 move fader1 1 over 3\n\"\"\"\n[[binding]]\ndevice = \"k\"\ncontrol = \"cc 0\"\ntarget = \"handle.chest.x\"\nrange = " +
+         range + "\n";
+}
+
+// Saves as an editor does: a new file renamed over the old.
+void save(const std::string& path, const std::string& text) {
+  std::ofstream(path + ".tmp") << text;
+  std::filesystem::rename(path + ".tmp", path);
+}
+
+std::unique_ptr<LiveShow> load(const std::string& path, LiveShow* previous = nullptr) {
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  auto s = LiveShow::load(path, o, previous);
+  EXPECT_TRUE(s.ok()) << s.error;
+  return s.ok() ? std::move(*s.value) : nullptr;
+}
+
+TEST(Reload, AnEditKeepsTheClockTheDevicesAndTheSimulatorsWhereTheyAre) {
+  const std::string path = (test::temp_dir("reload-keep") / "show.toml").string();
+  save(path, show_text("[140.0, 240.0]"));  // the chest's rest (x 150) is at 0.1: picked up at 0.4 s
+  auto a = load(path);
+  ASSERT_TRUE(a);
+  const int chest = a->mapping().handle_index("chest");
+  auto fader = [](long frame) { return (double(frame) / 60 - 0.1) / 3; };  // the sweep at a frame's time
+  for (long k = 0; k < 90; ++k) a->frame(int64_t(double(k) * 1e9 / 60));
+  EXPECT_NEAR(a->targets()[size_t(chest)].x(), 140 + 100 * fader(89), 3);
+  const DeviceSet* devices = a->devices();
+  save(path, show_text("[400.0, 500.0]"));  // the binding's range moves
+  auto b = load(path, a.get());
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->restarted(), "");
+  EXPECT_EQ(b->reloads(), 1);
+  EXPECT_EQ(b->frames(), 90);               // the clock goes on
+  EXPECT_EQ(b->devices(), devices);         // the same device set, connections and all
+  for (long k = 90; k < 120; ++k) b->frame(int64_t(double(k) * 1e9 / 60));
+  // The new range at once, without the fader having to pick the handle up again; and the
+  // simulator's script went on from 1.5 s: the fader is where the sweep is at 2 s.
+  EXPECT_NEAR(b->targets()[size_t(chest)].x(), 400 + 100 * fader(119), 3);
+  const auto j = nlohmann::json::parse(b->stats_json());
+  EXPECT_EQ(j["frames"], 120);
+  EXPECT_EQ(j["reloads"]["count"], 1);
+}
+
+TEST(Reload, AnEditToTheDevicesStartsThemOverAndSaysWhy) {
+  const std::string path = (test::temp_dir("reload-devices") / "show.toml").string();
+  save(path, show_text("[100.0, 200.0]"));
+  auto a = load(path);
+  ASSERT_TRUE(a);
+  for (long k = 0; k < 30; ++k) a->frame(int64_t(double(k) * 1e9 / 60));
+  save(path, show_text("[100.0, 200.0]", "knob2"));  // the device's script changed
+  auto b = load(path, a.get());
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->restarted(), "device 'k'");
+  EXPECT_TRUE(a->released());
+  EXPECT_EQ(b->frames(), 0);
+}
+
+// In a window (under Xvfb), on the wall clock: saving the show reloads it without a restart
+// (the title says so, as xdotool reads it), a bad save is refused with file:line, and the show
+// goes on to the end with one clock.
+TEST(Reload, ASavedEditReloadsTheShowInItsWindowAndABadOneIsRefused) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1 && command -v xdotool >/dev/null 2>&1") != 0)
+    GTEST_SKIP() << "xvfb-run or xdotool not installed";
+  const auto dir = test::temp_dir("reload-watch");
+  const std::string show = (dir / "show.toml").string(), stats = (dir / "stats.json").string();
+  const std::string out = (dir / "out.txt").string(), err = (dir / "err.txt").string(), env = (dir / "env.txt").string(),
+                    pidf = (dir / "pid.txt").string();
+  save(show, show_text("[100.0, 200.0]"));
+  const std::string inner = "echo \"$DISPLAY $XAUTHORITY\" > '" + env + "'; ASAN_OPTIONS=detect_leaks=0 '" + MARIONETTE_BINARY +
+                            "' run '" + show + "' --frames 100000 --stats '" + stats + "' > '" + out + "' 2> '" + err +
+                            "' & echo $! > '" + pidf + "'; wait";
+  const std::string cmd = "xvfb-run -a -s '-screen 0 640x480x24' sh -c \"" + [&] {
+    std::string q;
+    for (char c : inner) q += c == '"' || c == '$' ? std::string("\\") + c : std::string(1, c);
+    return q;
+  }() + "\" >/dev/null 2>&1 &";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  auto slurp = [](const std::string& path) {
+    std::ifstream in(path);
+    return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  };
+  auto wait_for = [&](const std::string& path, const std::string& what, int count = 1) {  // generous: a busy machine is slow
+    for (int k = 0; k < 900; ++k) {
+      const std::string t = slurp(path);
+      int n = 0;
+      for (size_t at = t.find(what); at != std::string::npos; at = t.find(what, at + 1)) ++n;
+      if (n >= count) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    return false;
+  };
+  const bool started = wait_for(out, "running") && wait_for(pidf, "\n");
+  const pid_t pid = started ? pid_t(std::stol(slurp(pidf))) : -1;
+  std::string title;
+  if (started) {
+    EXPECT_NE(slurp(out).find("in a window"), std::string::npos) << slurp(out) << slurp(err);
+    save(show, show_text("[300.0, 400.0]"));
+    EXPECT_TRUE(wait_for(err, "reloaded " + show + " (show.toml) at frame")) << slurp(err);
+    // The window's title, read by the X server's own client.
+    std::istringstream e(slurp(env));
+    std::string display, xauth;
+    e >> display >> xauth;
+    const std::string q = "DISPLAY=" + display + " XAUTHORITY=" + xauth +
+                          " xdotool search --name 'reloaded show.toml' getwindowname > '" + (dir / "title.txt").string() + "'";
+    for (int k = 0; k < 50 && title.empty(); ++k) {
+      if (std::system(q.c_str()) == 0) title = slurp((dir / "title.txt").string());
+      else std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+    save(show, show_text("[300.0, 400.0]") + "[[binding]]\ndevice = \"k\"\ncontrol = \"cc 1\"\ntarget = \"handle.nose.x\"\n");
+    EXPECT_TRUE(wait_for(err, "reload refused")) << slurp(err);
+    EXPECT_NE(slurp(err).find(show + ":23: the rig has no handle 'nose'"), std::string::npos) << slurp(err);
+    save(show, show_text("[100.0, 200.0]"));
+    EXPECT_TRUE(wait_for(err, "reloaded " + show, 2)) << slurp(err);
+    ::kill(pid, SIGINT);
+  }
+  ASSERT_TRUE(started) << slurp(out) << slurp(err);
+  EXPECT_TRUE(wait_for(stats, "run_hash")) << slurp(err);
+  EXPECT_EQ(title.rfind("marionette - show (reloaded show.toml)", 0), 0u) << title;
+  std::ifstream in(stats);
+  const auto j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["reloads"]["count"], 2);
+  EXPECT_EQ(j["reloads"]["refused"], 1);
+  EXPECT_GT(j["frames"].get<long>(), 30);  // one clock: the frames of every reload in one count
+}
+
+}  // namespace
+}  // namespace mar
