@@ -239,10 +239,19 @@ void UsbMidiBackend::start_out() {
 }
 
 bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
-  if (!h_ || !out_) return false;
+  // One message: a packet, or a SysEx in packets of three bytes (the last one ends it).
+  if (!h_ || !out_ || bytes.empty()) return false;
   std::array<uint8_t, 4> p;
-  if (usb_midi_encode(0, bytes, p.data()) != UsbMidiEncodeError::None) return false;
-  return out_ring_.push(p);
+  if (bytes[0] != 0xF0) {
+    if (usb_midi_encode(0, bytes, p.data()) != UsbMidiEncodeError::None) return false;
+    return out_ring_.push(p);
+  }
+  if (bytes.back() != 0xF7 || bytes.size() > 3 * 32) return false;
+  for (size_t at = 0; at < bytes.size(); at += 3) {
+    const auto chunk = bytes.subspan(at, std::min<size_t>(3, bytes.size() - at));
+    if (usb_midi_encode(0, chunk, p.data()) != UsbMidiEncodeError::None || !out_ring_.push(p)) return false;
+  }
+  return true;
 }
 
 bool UsbMidiBackend::poll(int64_t, WireSink& out) {

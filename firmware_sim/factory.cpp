@@ -24,7 +24,7 @@ const uint8_t kBuiltinGamepad[] = {
 Result<std::unique_ptr<SimDevice>> make_sim_device(const std::string& kind, const std::string& descriptor,
                                                    double bounce_ms, uint32_t seed) {
   using R = Result<std::unique_ptr<SimDevice>>;
-  if (kind == "nanokontrol2") return R::success(std::make_unique<MidiControllerSim>());
+  if (midi_model(kind)) return R::success(std::make_unique<MidiControllerSim>(kind));
   if (kind == "knob_box") return R::success(std::make_unique<KnobBoxSim>(bounce_ms, seed));
   if (kind == "microphone") {  // `descriptor`: the WAV it plays (the show resolves it)
     auto m = MicrophoneSim::make(descriptor, descriptor.empty() ? "" : std::filesystem::path(descriptor).parent_path().string());
@@ -40,7 +40,7 @@ Result<std::unique_ptr<SimDevice>> make_sim_device(const std::string& kind, cons
     hid = std::make_unique<GamepadSim>();
     builtin = kBuiltinGamepad;
   } else {
-    return R::failure("unknown simulated device '" + kind + "' (nanokontrol2, knob_box, pen_tablet, gamepad, microphone)");
+    return R::failure("unknown simulated device '" + kind + "' (" + midi_model_names() + ", knob_box, pen_tablet, gamepad, microphone)");
   }
   std::vector<uint8_t> bytes(builtin.begin(), builtin.end());
   if (!descriptor.empty()) {

@@ -1,44 +1,63 @@
 #include "firmware_sim/midi_controller.h"
+#include "firmware_sim/midi_models.h"
 
 #include "input/usb_midi.h"
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <iterator>
 
 namespace mar {
 
+MidiControllerSim::MidiControllerSim(const std::string& kind) : model_(midi_model(kind)) {
+  if (!model_) model_ = midi_model("nanokontrol2");
+  led_.assign(model_->controls.size() + size_t(model_->rings), -1);
+  led_channel_.assign(led_.size(), 0);
+}
+
+const char* MidiControllerSim::kind() const { return model_->kind; }
+const std::vector<MidiControl>& MidiControllerSim::controls() const { return model_->controls; }
+
+const MidiControl* MidiControllerSim::control(const std::string& name) const {
+  for (const MidiControl& c : model_->controls)
+    if (c.name == name) return &c;
+  return nullptr;
+}
+
 int MidiControllerSim::cc_of(const std::string& c) {
-  auto indexed = [&](const char* prefix, int base) -> int {
-    const std::string p = prefix;
-    if (c.rfind(p, 0) != 0 || c.size() != p.size() + 1) return -1;
-    const int i = c.back() - '1';
-    return i >= 0 && i < 8 ? base + i : -1;
-  };
-  for (auto [p, base] : {std::pair{"fader", 0}, {"knob", 16}, {"solo", 32}, {"mute", 48}, {"rec", 64}})
-    if (int cc = indexed(p, base); cc >= 0) return cc;
-  static const std::pair<const char*, int> transport[] = {
-      {"play", 41}, {"stop", 42}, {"rewind", 43}, {"forward", 44}, {"record", 45}, {"cycle", 46},
-      {"marker_set", 60}, {"marker_prev", 61}, {"marker_next", 62}, {"track_prev", 58}, {"track_next", 59}};
-  for (auto [name, cc] : transport)
-    if (c == name) return cc;
+  for (const MidiControl& m : midi_model("nanokontrol2")->controls)
+    if (m.name == c) return m.number;
   return -1;
 }
 
-void MidiControllerSim::send_cc(int64_t t_ns, int cc, int value) {
-  const uint8_t msg[3] = {0xB0, uint8_t(cc & 0x7F), uint8_t(value & 0x7F)};
+void MidiControllerSim::send_cc(int64_t t_ns, int cc, int value, int channel) {
+  const uint8_t msg[3] = {uint8_t(0xB0 | (channel & 0x0F)), uint8_t(cc & 0x7F), uint8_t(value & 0x7F)};
   uint8_t pk[4];
   usb_midi_encode(0, msg, pk);
   emit(t_ns, pk);
-  position_[cc & 0x7F] = value;
+  position_[channel & 0x0F][cc & 0x7F] = value;
+}
+
+void MidiControllerSim::send(int64_t t_ns, const MidiControl& c, int value) {
+  if (!c.note) {
+    send_cc(t_ns, c.number, value, c.channel);
+    return;
+  }
+  const uint8_t msg[3] = {uint8_t((value ? 0x90 : 0x80) | (c.channel & 0x0F)), uint8_t(c.number & 0x7F), uint8_t(value & 0x7F)};
+  uint8_t pk[4];
+  usb_midi_encode(0, msg, pk);
+  emit(t_ns, pk);
 }
 
 void MidiControllerSim::move(const std::string& control, double t_s, double to, double dur_s) {
-  const int cc = cc_of(control);
-  if (cc < 0) return;
-  const int from = position_[cc];
+  const MidiControl* m = this->control(control);
+  if (!m || m->note) return;
+  const int cc = m->number, ch = m->channel;
+  const int from = position_[ch][cc];
   const int target = int(std::lround(std::clamp(to, 0.0, 1.0) * 127));
   if (dur_s <= 0 || from == target) {
-    if (from != target || dur_s <= 0) send_cc(to_ns(t_s), cc, target);
+    if (from != target || dur_s <= 0) send_cc(to_ns(t_s), cc, target, ch);
     return;
   }
   // The firmware scans its ADC at 1 kHz and sends a CC when the 7-bit value changes. A
@@ -57,7 +76,7 @@ void MidiControllerSim::move(const std::string& control, double t_s, double to, 
     while (next > k + 1 && value_at(next - 1) != last) --next;
     while (value_at(next) == last) ++next;  // ends: value_at(steps) == target
     last = value_at(next);
-    send_cc(to_ns(t_s + double(next) / double(steps) * dur_s), cc, last);
+    send_cc(to_ns(t_s + double(next) / double(steps) * dur_s), cc, last, ch);
     k = next;
   }
 }
@@ -82,10 +101,117 @@ void MidiControllerSim::clock(double t_s, double bpm, double jitter_s, double du
 }
 
 void MidiControllerSim::press(const std::string& control, double t_s, double hold_s) {
-  const int cc = cc_of(control);
-  if (cc < 0) return;
-  send_cc(to_ns(t_s), cc, 127);
-  send_cc(to_ns(t_s + std::max(hold_s, 0.001)), cc, 0);
+  const MidiControl* m = this->control(control);
+  if (!m) return;
+  send(to_ns(t_s), *m, 127);
+  send(to_ns(t_s + std::max(hold_s, 0.001)), *m, 0);
+}
+
+bool MidiControllerSim::set_led(int index, int value, int channel) {
+  if (index < 0 || size_t(index) >= led_.size()) {
+    ++ignored_;
+    return false;
+  }
+  led_[size_t(index)] = value;
+  led_channel_[size_t(index)] = channel;
+  return true;
+}
+
+bool MidiControllerSim::receive(std::span<const uint8_t> m) {
+  const auto& cs = model_->controls;
+  auto find = [&](bool note, int number, int channel) {
+    for (size_t i = 0; i < cs.size(); ++i)
+      if (cs[i].note == note && cs[i].number == number && cs[i].channel == channel) return int(i);
+    return -1;
+  };
+  auto named = [&](const char* prefix) {  // a control whose name starts so has an LED
+    return [&, prefix](int i) { return i >= 0 && cs[size_t(i)].name.rfind(prefix, 0) == 0 ? i : -1; };
+  };
+  if (m.size() < 3 && !(m.size() >= 1 && m[0] == 0xF0)) {
+    ++ignored_;
+    return false;
+  }
+  const int status = m[0] & 0xF0, ch = m[0] & 0x0F;
+  const bool note_on = status == 0x90, note_off = status == 0x80, cc = status == 0xB0;
+  const int value = note_off ? 0 : m.size() >= 3 ? m[2] : 0;
+  switch (model_->leds) {
+    case LedProtocol::NanoKontrol2: {  // CCs on channel 1 to the buttons, in External LED mode only
+      if (!cc || ch != 0 || !external_leds_) break;
+      const int i = find(false, m[1], 0);
+      if (i >= 0 && cs[size_t(i)].name.rfind("fader", 0) != 0 && cs[size_t(i)].name.rfind("knob", 0) != 0) return set_led(i, value, ch);
+      break;
+    }
+    case LedProtocol::ApcMiniMk2: {  // note-ons: pads take a colour and a brightness (the channel)
+      if (!note_on && !note_off) break;
+      const int i = [&] {
+        for (size_t k = 0; k < cs.size(); ++k)
+          if (cs[k].note && cs[k].number == m[1] && cs[k].name != "shift") return int(k);
+        return -1;
+      }();
+      if (i >= 0) return set_led(i, value, ch);
+      break;
+    }
+    case LedProtocol::MidiMix: {  // mute, rec arm and the bank buttons: note-on 127 lights, 0 does not
+      if ((!note_on && !note_off) || ch != 0) break;
+      const int i = find(true, m[1], 0);
+      for (const char* p : {"mute", "rec", "bank_"})
+        if (named(p)(i) >= 0) return set_led(i, value, ch);
+      break;
+    }
+    case LedProtocol::LaunchControlXl: {  // buttons: note-on on the template's channel, velocity a colour
+      if ((!note_on && !note_off) || ch != 8) break;
+      const int i = find(true, m[1], 8);
+      if (i >= 0) return set_led(i, note_off ? 12 : value, ch);
+      break;
+    }
+    case LedProtocol::XTouchMini: {  // the global channel (1): button LEDs by note 0-15, rings CC 9-16
+      if (ch != 0) break;
+      if ((note_on || note_off) && m[1] < 16) {
+        const MidiControl* b = control("button" + std::to_string(m[1] + 1));
+        return set_led(int(b - cs.data()), value, ch);
+      }
+      if (cc && m[1] >= 9 && m[1] <= 16) return set_led(int(cs.size()) + m[1] - 9, value, ch);
+      if (cc && ((m[1] >= 1 && m[1] <= 8) || m[1] == 127)) return true;  // ring modes, operation mode
+      break;
+    }
+    case LedProtocol::BeatStep: {  // F0 00 20 6B 7F 42 02 00 10 7p vv F7
+      static const uint8_t head[] = {0xF0, 0x00, 0x20, 0x6B, 0x7F, 0x42, 0x02, 0x00, 0x10};
+      if (m.size() != 12 || !std::equal(std::begin(head), std::end(head), m.begin()) || (m[9] & 0xF0) != 0x70 || m[11] != 0xF7) break;
+      const MidiControl* p = control("pad" + std::to_string((m[9] & 0x0F) + 1));
+      return set_led(int(p - cs.data()), m[10], 0);
+    }
+  }
+  ++ignored_;
+  return false;
+}
+
+int MidiControllerSim::led(const std::string& name) const {
+  const auto& cs = model_->controls;
+  for (size_t i = 0; i < cs.size(); ++i)
+    if (cs[i].name == name) return led_[i];
+  if (name.rfind("ring", 0) == 0 && name.size() > 4) {
+    const int k = std::atoi(name.c_str() + 4) - 1;
+    if (k >= 0 && k < model_->rings) return led_[cs.size() + size_t(k)];
+  }
+  return -1;
+}
+
+int MidiControllerSim::led_channel(const std::string& name) const {
+  const auto& cs = model_->controls;
+  for (size_t i = 0; i < cs.size(); ++i)
+    if (cs[i].name == name) return led_channel_[i];
+  return -1;
+}
+
+std::string MidiControllerSim::leds() const {
+  std::string out;
+  const auto& cs = model_->controls;
+  for (size_t i = 0; i < led_.size(); ++i) {
+    if (led_[i] < 0) continue;
+    if (!out.empty()) out += ' ';
+    out += (i < cs.size() ? cs[i].name : "ring" + std::to_string(i - cs.size() + 1)) + "=" + std::to_string(led_[i]);
+  }
+  return out;
 }
 
 Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>& w) {
@@ -105,13 +231,23 @@ Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>&
     clock(t, bpm, jitter, dur, uint32_t(std::lround(t * 1000)) + 1);  // (the jitter's seed: the line's time)
     return R::success(true);
   }
+  if (w.size() == 2 && w[0] == "ledmode" && model_->leds == LedProtocol::NanoKontrol2) {  // the stored scene's
+    if (w[1] != "external" && w[1] != "internal") return R::failure("expected 'ledmode external' or 'ledmode internal'");
+    external_leds_ = w[1] == "external";
+    return R::success(true);
+  }
   if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]', 'press CONTROL [for S]' or 'clock BPM'");
-  if (cc_of(w[1]) < 0)
-    return R::failure("unknown control '" + w[1] + "' (fader1-8, knob1-8, solo1-8, mute1-8, rec1-8, play, stop, ...)");
+  const MidiControl* c = control(w[1]);
+  if (!c) {
+    std::string names;
+    for (size_t i = 0; i < model_->controls.size() && i < 6; ++i) names += (i ? ", " : "") + model_->controls[i].name;
+    return R::failure("unknown control '" + w[1] + "' (" + names + ", ...)");
+  }
   double dur = 0;
   if (w[0] == "move") {
     double v = 0;
     if (w.size() < 3 || !parse_number(w[2], v) || v < 0 || v > 1) return R::failure("move needs a value in 0..1");
+    if (c->note) return R::failure("'" + w[1] + "' is a button: press it");
     if (w.size() == 5 && w[3] == "over" && parse_number(w[4], dur) && dur >= 0) {
     } else if (w.size() != 3) {
       return R::failure("expected 'move CONTROL VALUE [over SECONDS]'");

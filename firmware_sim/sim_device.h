@@ -14,6 +14,7 @@
 
 #include <array>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -36,6 +37,10 @@ class SimDevice {
 
   /// A voice's calibration for the decoder (a microphone: F1, F2 of a, i, u, e, o; others ignore it).
   virtual void set_voice(const std::array<std::array<double, 2>, 5>&) {}
+  /// A message the host sent it (feedback: a MIDI controller's LEDs). false: it sets nothing.
+  virtual bool receive(std::span<const uint8_t>) { return false; }
+  /// What its LEDs show ("name=value ..."; empty: it has none, or none is set).
+  virtual std::string leds() const { return {}; }
 
   /// Runs a timeline script (one action per line, times in seconds from start; see
   /// README). Errors are "line N: ..." and leave the device unchanged.

@@ -186,6 +186,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     m.add_binding(b);
   }
   s->idle_.prepare(sh, m);  // after the bindings: each behaviour pauses while one on its target moves
+  s->leds_.prepare(sh, m);  // the controllers' lights the bindings drive
 
   for (size_t i = 0; i < sh.devices.size(); ++i) {
     ShowDevice& d = sh.devices[i];
@@ -345,6 +346,7 @@ void LiveShow::inputs(int64_t t_ns) {
 void LiveShow::map(int64_t t_ns) {
   bool input = false;  // a visitor moved a bound control (what keeps the attract away)
   for (size_t i = 0; i < n_events_; ++i) {
+    if (!leds_.empty() && leds_.echo(events_[i], t_ns)) continue;  // a controller sending our lights back
     input = mapping_.apply(events_[i]) || input;
     if (events_[i].kind == ControlKind::ClockPhase) beat_.event(events_[i]);  // MIDI clock: the music time
   }
@@ -386,6 +388,7 @@ void LiveShow::map(int64_t t_ns) {
     for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
   }
   n_targets_ = grab_.apply(mapping_.grab_point(), targets_);
+  if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, *this);
 }
 
 void LiveShow::apply_settings() {

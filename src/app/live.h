@@ -12,6 +12,7 @@
 #include "app/loop/grab.h"
 #include "app/loop/file_watch.h"
 #include "app/loop/late_input.h"
+#include "app/loop/leds.h"
 #include "app/loop/music.h"
 #include "app/loop/pacing.h"
 #include "app/loop/idle.h"
@@ -65,7 +66,7 @@ bool take_reload_request();
 using AllocationCounter = uint64_t (*)();
 void set_allocation_counter(AllocationCounter f);
 
-class LiveShow {
+class LiveShow : private LedSink {
  public:
   /// Loads a show. `previous`: a reload of that running show (app/live_reload.cpp): the new
   /// show takes over its clock, devices, simulators, window and outputs where the edit left
@@ -138,6 +139,7 @@ class LiveShow {
 
   void apply_settings();
   void feedback();
+  bool send(uint16_t device, std::span<const uint8_t> message) override;  ///< a light (LedSink)
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up
   double sim_max_wait_ms_ = 0;
@@ -189,6 +191,7 @@ class LiveShow {
   std::vector<char> triggers_on_;
   IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
   MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
+  LedFeedback leds_;                               ///< controllers' lights from the show's state
   PhysicsStage physics_;                           ///< motion: the rig's [[physics]] chains
   int setting_physics_ = 0;                        ///< first of its settings
   Governor governor_{8, 2};

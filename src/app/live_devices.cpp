@@ -97,6 +97,14 @@ void LiveShow::await_simulation(int64_t t) {
   }
 }
 
+bool LiveShow::send(uint16_t device, std::span<const uint8_t> message) {
+  // An in-process simulator takes a light at once; anything else goes to its backend (whose
+  // thread writes it: USB-MIDI hands it to its I/O thread through a lock-free ring).
+  if (device < sims_.size() && sims_[device] && show_.devices[device].type == "sim") return sims_[device]->receive(message);
+  if (devices_ && device < show_.devices.size()) return devices_->backend(device).send_midi(message);
+  return false;
+}
+
 void LiveShow::feedback() {
   // Controllers with feedback = true get their note/CC input echoed back (button LEDs follow).
   for (size_t k = 0; k < n_events_; ++k) {

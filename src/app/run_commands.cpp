@@ -111,7 +111,14 @@ std::string LiveShow::stats_json() const {
        }()},
   };
   outputs_->add_stats(j);  // pose_dump, frame_dump, video, pipewire, osc_out
-  if (late_.timed()) late_.add_stats(j);  // the frame against its deadline; the latency split
+  if (late_.timed()) late_.add_stats(j);
+  if (!leds_.empty()) {  // the lights sent, and what each simulator shows
+    leds_.add_stats(j);
+    json shown = json::object();
+    for (size_t d = 0; d < sims_.size() && d < show_.devices.size(); ++d)
+      if (sims_[d] && !sims_[d]->leds().empty()) shown[show_.devices[d].name] = sims_[d]->leds();
+    j["leds"]["simulators_show"] = shown;
+  }  // the frame against its deadline; the latency split
   return j.dump(2) + "\n";
 }
 

@@ -1,4 +1,5 @@
 #include "app/show.h"
+#include "firmware_sim/midi_controller.h"
 #include "app/show_toml.h"
 #include "character/color.h"
 #include "input/hid_usages.h"
@@ -452,10 +453,11 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         read_hardware(path, t, d);  // type, identity, profile (show_devices.cpp)
         if (const toml::node* sim = t.get("sim")) {
           d.sim = text(path, *sim, "sim");
-          if (d.sim != "nanokontrol2" && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad" && d.sim != "microphone")
-            throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "'"};
-        } else if (d.type == "sim") {
-          throw ShowError{at(path, dn) + ": a sim device needs sim = nanokontrol2|knob_box|pen_tablet|gamepad|microphone"};
+          if (!midi_model(d.sim) && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad" && d.sim != "microphone")
+            throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "' (" + midi_model_names() +
+                            ", knob_box, pen_tablet, gamepad, microphone)"};
+        } else if (d.type == "sim" && d.sim.empty()) {  // (a profile names its simulator)
+          throw ShowError{at(path, dn) + ": a sim device needs sim = " + midi_model_names() + ", knob_box, pen_tablet, gamepad or microphone"};
         }
         if (d.sim == "microphone" || d.type == "audio") read_voice(path, t, d);  // show_devices.cpp: file, pcm, calibrate, names
         if (auto* n = t.get("descriptor")) {
@@ -530,7 +532,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
       for (const toml::node& bn : *bs) {
         const toml::table& t = *bn.as_table();
         check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
-                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return"},
+                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led"},
                    "[[binding]]");
         Binding b;
         b.line = int(bn.source().begin.line);
@@ -549,6 +551,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         b.target_text = text(path, *tgt, "target");
         if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, &b.member); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};
+        if (const toml::node* led = t.get("led")) read_binding_led(path, *led, s.devices[size_t(di)], b);  // show_devices.cpp
         Transform& tf = b.tf;
         // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
         // rest position; a rotation turns -90..90 degrees.

@@ -16,6 +16,23 @@
 
 namespace mar {
 
+/// A controller's light, from its profile's [leds] (app/loop/leds.h): the MIDI message that sets
+/// it, with the value's place in it, and the values that light it and put it out.
+struct DeviceLed {
+  std::string name;              ///< the profile's control name
+  std::string control;           ///< its control text ("note 56")
+  std::vector<uint8_t> bytes;    ///< the message, the value's byte at value_at
+  size_t value_at = 0;
+  int on = 127, off = 0;
+  std::string palette;           ///< colours by name: "apc_mini_mk2", "launch_control_xl" (empty: none)
+  bool ring = false;             ///< an encoder's ring: the bound value from lo (the low end) to hi
+  int lo = 0, hi = 127;
+};
+
+/// A controller's colours by name (palette "apc_mini_mk2" or "launch_control_xl"): the value, or
+/// -1 with `names` the ones there are.
+int led_color(const std::string& palette, const std::string& color, std::string* names = nullptr);
+
 struct ShowDevice {
   std::string name;
   std::string type = "sim";     ///< "sim" (in-process firmware_sim device) or a hardware backend
@@ -28,6 +45,8 @@ struct ShowDevice {
   std::array<std::array<double, 2>, 5> voice{};
   bool descriptor_in_corpus = false;  ///< named with "corpus:" (optional: the corpus may be absent)
   std::string script;           ///< timeline script text
+  std::vector<DeviceLed> leds;  ///< its profile's lights
+  std::vector<std::vector<uint8_t>> init;  ///< its profile's messages on connecting (a mode for its LEDs)
   double bounce_ms = 0, debounce_ms = 0;
   uint32_t seed = 1;
   int line = 0;
@@ -166,6 +185,9 @@ Result<bool> parse_target(const std::string& text, const ShowConfig& show, const
 /// A binding's control text with the device profile's names replaced ("left-x" -> "usage x");
 /// OSC controls ("osc /fader/1") are numbered per device here.
 std::string device_control(ShowDevice& d, const std::string& control);
+/// Reads device profile `file` (config/devices/NAME.toml) into `d`: identity, simulator, control
+/// names, lights and init messages. Throws ShowError with file:line.
+void read_hardware_profile(const std::string& file, const std::string& name, ShowDevice& d);
 /// The program's data folder (device profiles, example characters, rigs and shows):
 /// $MARIONETTE_DATA_DIR, else `share/marionette` beside or above the executable's folder
 /// (an installed `bin/marionette`, or a build tree, where CMake links it to config/).

@@ -5,6 +5,8 @@
 #include "firmware_sim/sim_device.h"
 
 #include <cstdio>
+#include <span>
+#include <sstream>
 
 namespace mar {
 
@@ -33,30 +35,70 @@ void ids(const std::string& path, const toml::table& t, DeviceSpec& hw) {
   if (auto* n = t.get("serial")) hw.serial = text(path, *n, "serial");
 }
 
+// A message as hex bytes ("96 38 {v}"): `{v}` is the value's byte (its place in *value_at; a
+// message without one when value_at is null).
+std::vector<uint8_t> hex_message(const std::string& file, const toml::node& n, const char* what, size_t* value_at, size_t* count) {
+  const std::string s = text(file, n, what);
+  std::istringstream in(s);
+  std::vector<uint8_t> out;
+  bool has_value = false;
+  for (std::string w; in >> w;) {
+    if (w == "{v}" && value_at && !has_value) {
+      *value_at = out.size();
+      out.push_back(0);
+      has_value = true;
+      continue;
+    }
+    char* end = nullptr;
+    const unsigned long b = std::strtoul(w.c_str(), &end, 16);
+    if (w.size() > 2 || *end || b > 0xFF)
+      throw ShowError{at(file, n) + ": " + what + ": '" + w + "' is not a byte in hex" + (value_at ? " or {v}" : "")};
+    out.push_back(uint8_t(b));
+  }
+  if (out.empty() || out[0] < 0x80 || out.size() > 64) throw ShowError{at(file, n) + ": " + what + ": a MIDI message of 1..64 bytes"};
+  if (value_at && !has_value) throw ShowError{at(file, n) + ": " + what + ": where the value goes: {v}"};
+  ++*count;
+  return out;
+}
+
+// [leds]: NAME = { send = "HEX {v}", on = N, off = N, palette = "...", ring = [LO, HI] }.
+void read_leds(const std::string& file, const toml::table& t, ShowDevice& d) {
+  for (const auto& [k, v] : t) {
+    const toml::table* e = v.as_table();
+    const std::string name(k.str());
+    if (!e) throw ShowError{at(file, v) + ": led '" + name + "' must be a table { send = \"...\", ... }"};
+    check_keys(file, *e, {"send", "on", "off", "palette", "ring"}, "an led");
+    DeviceLed led;
+    led.name = name;
+    for (const auto& [cn, ct] : d.controls)
+      if (cn == name) led.control = ct;
+    if (led.control.empty()) throw ShowError{at(file, v) + ": led '" + name + "' is no control of [controls]"};
+    const toml::node* send = e->get("send");
+    if (!send) throw ShowError{at(file, v) + ": led '" + name + "' needs send = \"HEX {v}\""};
+    size_t count = 0;
+    led.bytes = hex_message(file, *send, "send", &led.value_at, &count);
+    if (auto* n = e->get("on")) led.on = int(integer(file, *n, "on", 0, 127));
+    if (auto* n = e->get("off")) led.off = int(integer(file, *n, "off", 0, 127));
+    if (auto* n = e->get("palette")) {
+      led.palette = text(file, *n, "palette");
+      std::string names;
+      if (led_color(led.palette, "off", &names) < 0) throw ShowError{at(file, *n) + ": no palette '" + led.palette + "' (apc_mini_mk2, launch_control_xl)"};
+    }
+    if (auto* n = e->get("ring")) {
+      const toml::array* a = n->as_array();
+      if (!a || a->size() != 2) throw ShowError{at(file, *n) + ": ring = [LO, HI] (the values at either end)"};
+      led.ring = true;
+      led.lo = int(integer(file, *a->get(0), "ring", 0, 127));
+      led.hi = int(integer(file, *a->get(1), "ring", 0, 127));
+    }
+    d.leds.push_back(std::move(led));
+  }
+}
+
 void read_profile(const std::string& show_path, const toml::node& where, const std::string& name, ShowDevice& d) {
   const std::string file = find_profile(show_path, name);
   if (file.empty()) throw ShowError{at(show_path, where) + ": no device profile '" + name + "' in config/devices/"};
-  toml::table root;
-  try {
-    root = toml::parse_file(file);
-  } catch (const toml::parse_error& e) {
-    throw ShowError{file + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
-  }
-  check_keys(file, root, {"device", "controls"}, "a device profile");
-  if (const toml::table* t = root["device"].as_table()) {
-    check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor"}, "[device]");
-    if (auto* n = t->get("type")) d.hw.type = text(file, *n, "type");
-    ids(file, *t, d.hw);
-    if (auto* n = t->get("sim")) d.sim = text(file, *n, "sim");
-    if (auto* n = t->get("descriptor")) {
-      const std::string desc = text(file, *n, "descriptor");
-      d.descriptor = resolve(file, desc);
-      d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
-    }
-  }
-  if (const toml::table* c = root["controls"].as_table())
-    for (const auto& [k, v] : *c) d.controls.emplace_back(std::string(k.str()), text(file, v, "a control"));
-  d.hw.profile = name;
+  read_hardware_profile(file, name, d);
 }
 
 }  // namespace
@@ -79,6 +121,40 @@ std::string find_profile(const std::string& show_path, const std::string& name) 
     if (fs::exists(dir / (name + ".toml"))) return (dir / (name + ".toml")).lexically_normal().string();
   return {};
 }
+
+void read_hardware_profile(const std::string& file, const std::string& name, ShowDevice& d) {
+  toml::table root;
+  try {
+    root = toml::parse_file(file);
+  } catch (const toml::parse_error& e) {
+    throw ShowError{file + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
+  }
+  check_keys(file, root, {"device", "controls", "leds"}, "a device profile");
+  if (const toml::table* t = root["device"].as_table()) {
+    check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor", "init"}, "[device]");
+    if (const toml::node* n = t->get("init")) {
+      const toml::array* a = n->as_array();
+      if (!a) throw ShowError{at(file, *n) + ": init must be a list of messages (hex bytes)"};
+      for (const toml::node& m : *a) {
+        size_t unused = 0;
+        d.init.push_back(hex_message(file, m, "init", nullptr, &unused));
+      }
+    }
+    if (auto* n = t->get("type")) d.hw.type = text(file, *n, "type");
+    ids(file, *t, d.hw);
+    if (auto* n = t->get("sim")) d.sim = text(file, *n, "sim");
+    if (auto* n = t->get("descriptor")) {
+      const std::string desc = text(file, *n, "descriptor");
+      d.descriptor = resolve(file, desc);
+      d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
+    }
+  }
+  if (const toml::table* c = root["controls"].as_table())
+    for (const auto& [k, v] : *c) d.controls.emplace_back(std::string(k.str()), text(file, v, "a control"));
+  if (const toml::table* l = root["leds"].as_table()) read_leds(file, *l, d);
+  d.hw.profile = name;
+}
+
 
 void read_voice(const std::string& path, const toml::table& t, ShowDevice& d) {
   using namespace showtoml;
@@ -162,6 +238,42 @@ void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d)
     throw ShowError{at(path, t) + ": a gpio device needs chip and encoders and/or buttons (line names)"};
   if (d.type == "sdl" && hw.sdl != "mouse" && hw.sdl != "touch" && hw.sdl != "gamepad")
     throw ShowError{at(path, *t.get("sdl")) + ": sdl = mouse, touch or gamepad"};
+}
+
+int led_color(const std::string& palette, const std::string& color, std::string* names) {
+  // The APC mini mk2's velocity palette (Akai's protocol), the Launch Control XL's red/green
+  // mix (16 x green + red + 12, Novation's programmer's reference).
+  static const std::pair<const char*, int> apc[] = {{"off", 0},     {"white", 3},   {"red", 5},     {"orange", 9},
+                                                    {"yellow", 13}, {"green", 21},  {"cyan", 33},   {"blue", 45},
+                                                    {"purple", 49}, {"magenta", 53}, {"pink", 57}};
+  static const std::pair<const char*, int> lcxl[] = {{"off", 12}, {"red", 15}, {"amber", 63}, {"yellow", 62}, {"green", 60}};
+  std::span<const std::pair<const char*, int>> p;
+  if (palette == "apc_mini_mk2") p = apc;
+  else if (palette == "launch_control_xl") p = lcxl;
+  if (names) names->clear();
+  for (const auto& [n, v] : p) {
+    if (color == n) return v;
+    if (names) *names += (names->empty() ? "" : ", ") + std::string(n);
+  }
+  return -1;
+}
+
+void read_binding_led(const std::string& path, const toml::node& n, const ShowDevice& d, Binding& b) {
+  if (const auto* off = n.as_boolean()) {
+    if (off->get()) throw ShowError{at(path, n) + ": led = false (no light), or a colour"};
+    b.led = -2;
+    return;
+  }
+  const std::string color = text(path, n, "led");
+  const DeviceLed* led = nullptr;
+  for (const DeviceLed& l : d.leds)
+    if (l.control == b.control.text || l.name == b.control.text) led = &l;
+  if (!led) throw ShowError{at(path, n) + ": '" + b.control.text + "' of device '" + d.name + "' has no light (its profile's [leds])"};
+  std::string names;
+  b.led = led_color(led->palette, color, &names);
+  if (b.led < 0)
+    throw ShowError{at(path, n) + ": " + (led->palette.empty() ? "this light has one colour: use led = false to keep it dark"
+                                                               : "no colour '" + color + "' (" + names + ")")};
 }
 
 std::string device_control(ShowDevice& d, const std::string& control) {

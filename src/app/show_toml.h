@@ -60,6 +60,9 @@ void check_device_keys(const std::string& path, const toml::table& t);
 void read_voice(const std::string& path, const toml::table& t, ShowDevice& d);
 /// Reads a hardware device's keys (and its profile) into `d.hw` / `d.controls`.
 void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d);
+struct Binding;
+/// A binding's `led`: a colour of its device's palette, or false for none.
+void read_binding_led(const std::string& path, const toml::node& n, const ShowDevice& d, Binding& b);
 struct ShowConfig;
 /// [attract] (after the devices: a script names the device whose simulator speaks it).
 void read_attract(const std::string& path, const toml::table& root, ShowConfig& s);

@@ -1,5 +1,6 @@
 // The virtual bench behind --simulate (linked by marionette-simulate and the tests only).
 #include "app/simulate.h"
+#include "firmware_sim/midi_controller.h"
 #include "devices/device.h"
 #include "devices/vbench.h"
 #include "firmware_sim/hid_device.h"
@@ -42,7 +43,7 @@ class BenchSimulation final : public HardwareSimulation {
 
   std::string present(const ShowDevice& d, SimDevice& sim) override {
     const DeviceSpec& h = d.hw;
-    if (d.type == "usb_midi" && d.sim == "nanokontrol2") {
+    if (d.type == "usb_midi" && midi_model(d.sim)) {
       played_.push_back({bench_.add_usb_midi({h.vid >= 0 ? h.vid : 0x0944, h.pid >= 0 ? h.pid : 0x0117, false}), &sim, false});
     } else if (d.type == "hid" && (d.sim == "gamepad" || d.sim == "pen_tablet")) {
       const int pid = h.pid >= 0 ? h.pid : h.pids.empty() ? 0x0001 : h.pids[0];

@@ -336,8 +336,15 @@ double Mapping::current_norm(const Binding& b) const {
 }
 
 void Mapping::written_by(const Binding* w, TargetKind k, int index) {
-  // A control moved the handle: an ease toward a pose or rest stops there.
-  if (k == TargetKind::HandleX || k == TargetKind::HandleY || k == TargetKind::HandlePoint) anim_[size_t(index)].on = false;
+  // A control moved the handle: an ease toward a pose or rest stops there, and a pose that
+  // placed it is no longer the current one.
+  if (k == TargetKind::HandleX || k == TargetKind::HandleY || k == TargetKind::HandlePoint) {
+    anim_[size_t(index)].on = false;
+    if (current_pose_ >= 0) {
+      const auto& at = poses_[size_t(current_pose_)].positions;
+      if (size_t(index) < at.size() && std::isfinite(at[size_t(index)].x())) current_pose_ = -1;
+    }
+  }
   // Another writer moved the target: absolute controls on it must pick it up again.
   for (Binding& b : bindings_)
     if (&b != w && b.target == k && b.index == index) b.engaged = false;
@@ -419,6 +426,7 @@ void Mapping::button(Binding& b, bool down) {
           written_by(&b, TargetKind::HandleY, int(h));
           ease_handle(int(h), p.positions[h], b.tf.transition, b.tf.ease);
         }
+      current_pose_ = b.index;  // (after its own writes)
       return;
     }
     case TargetKind::Recall:

@@ -86,6 +86,7 @@ struct Binding {
   Transform tf;
   int line = 0;   ///< show-file line (messages)
   std::string target_text;  ///< as written (the HUD)
+  int led = -1;              ///< its control's light when lit: -1 the profile's, -2 none (app/loop/leds.h)
   // state
   bool engaged = false;      ///< soft takeover has picked the target up
   double last_norm = -1;     ///< previous normalised control value (-1: none yet)
@@ -147,6 +148,8 @@ class Mapping {
     out = recall_;
     return true;
   }
+  /// The [[pose]] last pressed while no other control has moved a handle it places (-1: none).
+  int current_pose() const { return current_pose_; }
   /// Whether handle h is easing toward a pose or back to rest.
   bool easing(int handle) const { return anim_[size_t(handle)].on; }
 
@@ -195,6 +198,7 @@ class Mapping {
   std::vector<RotationGroup> groups_;
   std::vector<Pose> poses_;
   std::vector<Binding> bindings_;
+  int current_pose_ = -1;
   void put_setting(size_t i, double v);
   std::vector<Setting> settings_;
   bool settings_changed_ = false;

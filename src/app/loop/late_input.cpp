@@ -30,11 +30,11 @@ void LateInput::frame(int64_t deadline, int64_t read, int64_t ready, int64_t pre
   n_ = std::min(n_ + 1, recent_.size());
   const bool missed = presented > deadline;
   if (!counted) return;  // warm-up: the prediction learns, the margin and the figures wait
-  if (on_ && missed) {  // more careful: a larger margin for a while
-    margin_us_ = std::min(2 * margin_us_ + double(presented - deadline) * 1e-3, period_us_ / 2);
+  if (on_ && missed) {  // more careful: the margin grows by what it missed by, for a while
+    margin_us_ = std::min(margin_us_ + double(presented - deadline) * 1e-3, period_us_ / 2);
     since_miss_ = 0;
-  } else if (++since_miss_ >= 240) {
-    margin_us_ = std::max(base_margin_us_, 0.9 * margin_us_);
+  } else if (++since_miss_ >= 120) {
+    margin_us_ = std::max(base_margin_us_, base_margin_us_ + 0.8 * (margin_us_ - base_margin_us_));
     since_miss_ = 0;
   }
   ++frames_;

@@ -5,8 +5,8 @@
 // permits (ALGORITHMS.md §8, "late input").
 //
 // The prediction is the largest compute time of the last 64 frames; the margin starts at
-// `margin_us` and doubles (up to half a period) when a frame is ready after its deadline, then
-// relaxes by a tenth every 240 frames without a miss. On the virtual clock nothing of this is
+// `margin_us`, grows by what a frame missed its deadline by (up to half a period), and gives back
+// a fifth of what it grew every 120 frames without a miss. On the virtual clock nothing of this is
 // used: a frame reads what happened by its show time, so a busy machine changes nothing.
 //
 // It also keeps the run's latency split (`--stats` "late_input"): device -> read (the newest

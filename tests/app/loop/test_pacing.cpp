@@ -103,13 +103,14 @@ TEST(LateInput, AMissMakesItMoreCarefulAndQuietFramesRelaxTheMarginBack) {
   const FrameAt b = frame_at(2 * 8333, l.lead_us(), 1500);  // 1.5 ms of work in a 0.8 ms lead
   l.frame(b.deadline, b.read, b.ready, b.presented, -1, true);
   EXPECT_EQ(l.misses(), 1);
-  EXPECT_NEAR(l.margin_us(), 2 * 500 + 700, 1);  // doubled, plus what it missed by
-  for (int k = 3; k < 3 + 240 * 20; ++k) {
+  EXPECT_NEAR(l.margin_us(), 500 + 700, 1);  // grown by what it missed by
+  for (int k = 3; k < 3 + 120 * 40; ++k) {
     const FrameAt f = frame_at(k * 8333, l.lead_us(), 300);
     l.frame(f.deadline, f.read, f.ready, f.presented, -1, true);
   }
   EXPECT_EQ(l.misses(), 1);
-  EXPECT_NEAR(l.margin_us(), 500, 1e-9);  // back to where it started, never below
+  EXPECT_NEAR(l.margin_us(), 500, 1);  // back to where it started, never below
+  EXPECT_GE(l.margin_us(), 500);
 }
 
 TEST(LateInput, TheNewestInputIsShownAtTheDeadlineOrTheTickAfterALateFrame) {
