@@ -723,6 +723,7 @@ int LiveShow::run() {
     if (!playback_) pacer_.wait_for(stats_.frames, late_.lead_us());  // frame pacing, outside the frame
   }
   if (reload_asked_) return 0;  // the outputs, the recording and the clock go on in the reloaded show
+  if (simulation_) simulation_->deliver_sent();  // --simulate: the simulators show the lights they were sent
   if (recorder_) recorder_->flush();
   const bool outputs_ok = outputs_->finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
   if (learn && !learned_) {

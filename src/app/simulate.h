@@ -34,6 +34,9 @@ class HardwareSimulation {
   virtual int64_t written_through() const = 0;
   /// Stops playing (joins the players); the devices stay plugged until destruction.
   virtual void stop() = 0;
+  /// Hands each simulator what the show sent its device since the last call (a USB-MIDI
+  /// controller's lights: SimDevice::receive), so it shows them. Between frames (allocates).
+  virtual void deliver_sent() {}
 };
 
 /// Makes the simulation; nullptr with `error` set when this program cannot simulate.

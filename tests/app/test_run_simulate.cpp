@@ -173,5 +173,53 @@ TEST(RunSimulate, RecordedHardwareShowReplaysToTheSameHash) {
   for (int src = 0; src < 4; ++src) EXPECT_EQ(jb["devices"][src]["events"], ja["devices"][src]["events"]) << src;
 }
 
+// The lights reach a controller through libusb as USB-MIDI packets (a SysEx in several): the
+// emulated APC mini mk2 and BeatStep show what the show's state lit, as their in-process
+// simulators do.
+TEST(RunSimulate, LightsReachTheEmulatedControllersThroughLibusb) {
+  const std::string rig = (test::source_dir() / "config/rigs/singer.toml").string();
+  const std::string show = test::write_temp("leds_simulate.toml", "[show]\nrig = \"" + rig + R"("
+rate = 60
+[[device]]
+name = "apc"
+profile = "apc_mini_mk2"
+script = """
+0.2 press pad_r1c1
+0.5 press pad_r2c1
+"""
+[[device]]
+name = "steps"
+profile = "beatstep"
+script = "0.3 press pad1"
+[[binding]]
+device = "apc"
+control = "pad_r1c1"
+target = "trigger.blush"
+button = "toggle"
+led = "pink"
+[[binding]]
+device = "apc"
+control = "pad_r2c1"
+target = "swap.mouth.mouth-a"
+[[binding]]
+device = "steps"
+control = "pad1"
+target = "trigger.blink"
+button = "toggle"
+)");
+  const auto stats = test::temp_dir("simulate") / "leds.json";
+  const auto r = test::run_cli("run '" + show + "' --headless --simulate --frames 60 --stats '" + stats.string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(stats);
+  const auto j = nlohmann::json::parse(in);
+  ASSERT_TRUE(j.contains("leds")) << j.dump();
+  EXPECT_EQ(j["leds"]["failed"], 0);
+  const std::string apc = j["leds"]["simulators_show"].value("apc", ""), steps = j["leds"]["simulators_show"].value("steps", "");
+  EXPECT_NE((" " + apc + " ").find(" pad_r1c1=57 "), std::string::npos) << apc;  // blush on: pink
+  EXPECT_NE((" " + apc + " ").find(" pad_r2c1=21 "), std::string::npos) << apc;  // mouth-a shows: green
+  EXPECT_NE((" " + steps + " ").find(" pad1=1 "), std::string::npos) << steps;   // blink on (a SysEx)
+  EXPECT_EQ((" " + steps + " ").find(" pad2="), std::string::npos) << steps;     // unbound: never sent
+}
+
 }  // namespace
 }  // namespace mar
