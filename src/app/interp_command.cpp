@@ -14,8 +14,8 @@ namespace mar {
 
 int cmd_interp(const InterpArgs& a) {
   const bool one = a.t >= 0;
-  if (one == (a.steps > 0) || (one && !(a.t <= 1)) || a.steps > 10000) {
-    std::cerr << "error: give either --t T (0..1) or --steps N (1..10000)\n";
+  if (one == (a.steps > 0) || (one && !(a.t <= 1)) || (!one && (a.steps < 2 || a.steps > 10000))) {
+    std::cerr << "error: give either --t T (0..1) or --steps N (2..10000 pictures, from t = 0 to t = 1)\n";
     return kExitBadInput;
   }
   if ((!a.output.empty() && !one) || (!a.out_dir.empty() && one)) {
@@ -67,9 +67,10 @@ int cmd_interp(const InterpArgs& a) {
   }
   nlohmann::ordered_json steps = nlohmann::ordered_json::array();
   Points v(ff->frame().rest.size());
-  const int n = one ? 1 : a.steps + 1;
+  const int n = one ? 1 : a.steps;  // --steps N: N pictures, t = 0 ... 1
+  std::string first, last;
   for (int s = 0; s < n; ++s) {
-    const double t = one ? a.t : double(s) / a.steps;
+    const double t = one ? a.t : double(s) / (n - 1);
     if (a.linear) interp.linear_morph(from, to, t, v);
     else interp.morph(from, to, t, v);
     reconstruct_shapes(ff->frame(), v, p.shapes);
@@ -92,6 +93,8 @@ int cmd_interp(const InterpArgs& a) {
     if (!png.empty()) {
       const int rc = write_picture(p, png, w, h, bg, false, {});
       if (rc != kExitOk) return rc;
+      if (first.empty()) first = png;
+      last = png;
     }
   }
   if (!a.dump.empty()) {
@@ -108,6 +111,13 @@ int cmd_interp(const InterpArgs& a) {
       return kExitRuntime;
     }
   }
+  // What was written: a new user sees the files, not silence.
+  const std::string what = a.from + " -> " + a.to + (a.linear ? " (linear)" : "");
+  if (one && !first.empty()) std::cout << "wrote " << first << ": " << what << " at t = " << a.t << "\n";
+  if (!one && !first.empty())
+    std::cout << "wrote " << n << " pictures of " << what << " from t = 0 to 1: " << first << " ... " << last << "\n";
+  if (!a.dump.empty()) std::cout << "wrote " << a.dump << ": " << n << (n == 1 ? " step" : " steps") << "\n";
+  if (first.empty() && a.dump.empty()) std::cout << "nothing written: give -o, --out-dir or --dump\n";
   if (a.dump.empty() && a.output.empty() && a.out_dir.empty())
     std::printf("%d in-betweens from %s to %s (%zu triangles)\n", n, a.from.c_str(), a.to.c_str(), interp.triangles());
   return kExitOk;

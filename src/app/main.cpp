@@ -55,7 +55,7 @@ int main(int argc, char** argv) {
   ip->add_option("--from", interp.from, "Key name (default: rest)");
   ip->add_option("--to", interp.to, "Key name")->required();
   ip->add_option("--t", interp.t, "One in-between at t (0..1)");
-  ip->add_option("--steps", interp.steps, "STEPS + 1 in-betweens from t = 0 to 1");
+  ip->add_option("--steps", interp.steps, "N pictures from t = 0 to t = 1 (2..10000)");
   ip->add_flag("--linear", interp.linear, "The naive linear blend of frame vertices instead (for comparison)");
   ip->add_option("--dump", interp.dump, "JSON: per step, t, frame vertices and deformed sub-shapes");
   ip->add_option("-o,--output", interp.output, "PNG of the in-between (with --t)");

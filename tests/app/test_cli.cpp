@@ -346,10 +346,16 @@ TEST(cli_interp, InBetweensOfTheRigsKeysAndBadKeys) {
   auto steps = test::run_cli("interp " + fig + " --rig " + r + " --to wave --steps 4 --out-dir " + q(dir / "steps") + " --dump " +
                              q(dir / "steps.json"));
   ASSERT_EQ(steps.exit_code, 0) << steps.err;
-  for (int k = 0; k <= 4; ++k) EXPECT_TRUE(std::filesystem::exists(dir / "steps" / ("step_00" + std::to_string(k) + ".png"))) << k;
+  // --steps 4: four pictures, t = 0, 1/3, 2/3, 1, and it says what it wrote.
+  for (int k = 0; k < 4; ++k) EXPECT_TRUE(std::filesystem::exists(dir / "steps" / ("step_00" + std::to_string(k) + ".png"))) << k;
+  EXPECT_FALSE(std::filesystem::exists(dir / "steps" / "step_004.png"));
+  EXPECT_NE(steps.out.find("wrote 4 pictures of rest -> wave from t = 0 to 1: "), std::string::npos) << steps.out;
+  EXPECT_NE(steps.out.find("step_003.png"), std::string::npos) << steps.out;
+  EXPECT_NE(steps.out.find("steps.json: 4 steps"), std::string::npos) << steps.out;
   std::ifstream f(dir / "steps.json");
   const auto j = nlohmann::json::parse(f);
-  ASSERT_EQ(j["steps"].size(), 5u);
+  ASSERT_EQ(j["steps"].size(), 4u);
+  EXPECT_NEAR(j["steps"][1]["t"].get<double>(), 1.0 / 3, 1e-12);
   EXPECT_EQ(j["method"], "arap");
   // t = 1 is the key: the same frame a pose with the key's targets converges to.
   auto key = test::run_cli("pose " + fig + " --rig " + r + " --target right-hand=262,35 --target left-hand=20,190 --iterations 300 --dump " +
@@ -357,7 +363,7 @@ TEST(cli_interp, InBetweensOfTheRigsKeysAndBadKeys) {
   ASSERT_EQ(key.exit_code, 0) << key.err;
   std::ifstream kf(dir / "key.json");
   const auto kj = nlohmann::json::parse(kf);
-  const auto& last = j["steps"][4]["frame_vertices"];
+  const auto& last = j["steps"][3]["frame_vertices"];
   ASSERT_EQ(last.size(), kj["frame_vertices"].size());
   double worst = 0;
   for (size_t i = 0; i < last.size(); ++i)
@@ -370,6 +376,10 @@ TEST(cli_interp, InBetweensOfTheRigsKeysAndBadKeys) {
   EXPECT_NE(unknown.err.find("keys: rest, wave, kick"), std::string::npos) << unknown.err;
   EXPECT_EQ(test::run_cli("interp " + fig + " --rig " + r + " --to wave --t 1.5").exit_code, 2);
   EXPECT_EQ(test::run_cli("interp " + fig + " --rig " + r + " --to wave").exit_code, 2);
+  EXPECT_EQ(test::run_cli("interp " + fig + " --rig " + r + " --to wave --steps 1 --out-dir " + q(dir / "one")).exit_code, 2);
+  auto single = test::run_cli("interp " + fig + " --rig " + r + " --to wave --t 0.5 -o " + q(dir / "half.png"));
+  EXPECT_EQ(single.exit_code, 0) << single.err;
+  EXPECT_NE(single.out.find("half.png: rest -> wave at t = 0.5"), std::string::npos) << single.out;
   // A saved frame with the wrong vertex count: file:line.
   std::ofstream(dir / "short.json") << "{\"frame_vertices\": [[0, 0], [1, 1]]}";
   {
