@@ -139,6 +139,7 @@ class LiveShow : private LedSink {
 
   void apply_settings();
   void feedback();
+  void tell_takeover_waits();  ///< between frames: each binding's first wait for soft takeover, once
   bool send(uint16_t device, std::span<const uint8_t> message) override;  ///< a light (LedSink)
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <iostream>
 #include <thread>
 
@@ -103,6 +104,24 @@ bool LiveShow::send(uint16_t device, std::span<const uint8_t> message) {
   if (device < sims_.size() && sims_[device] && show_.devices[device].type == "sim") return sims_[device]->receive(message);
   if (devices_ && device < show_.devices.size()) return devices_->backend(device).send_midi(message);
   return false;
+}
+
+void LiveShow::tell_takeover_waits() {
+  // A control that has not picked its target up yet does nothing until it gets there: said once
+  // per binding, with where to move it (the HUD shows it while it waits). No allocation.
+  for (size_t i = 0; i < mapping_.binding_count(); ++i) {
+    Binding& b = mapping_.bindings()[i];
+    if (b.takeover_told != 1) continue;
+    b.takeover_told = 2;
+    if (opt_.quiet) continue;
+    const double at = mapping_.takeover_at(i);
+    char line[512];
+    std::snprintf(line, sizeof line,
+                  "note: %s:%d: '%s' -> %s waits for soft takeover: move it to %.0f %% to pick the target up "
+                  "(takeover = false makes it jump)\n",
+                  show_.path.c_str(), b.line, b.control.text.c_str(), b.target_text.c_str(), at < 0 ? 0.0 : at * 100);
+    std::fputs(line, stderr);
+  }
 }
 
 void LiveShow::feedback() {

@@ -590,6 +590,14 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
             throw ShowError{at(path, *n) + ": filter cutoffs must be > 0 and beta >= 0"};
         }
         if (auto* n = t.get("slew")) tf.slew = std::max(0.0, number(path, *n, "slew"));
+        // Soft takeover by default for what a hand moves through its travel; controls that can
+        // only jump (an OSC value, a note or a button, a velocity, the clock's phase) would wait
+        // for ever, so they set their target at once unless the show says otherwise.
+        const ControlSpec& cs = b.control;
+        if (cs.kind == ControlSpec::Note || cs.kind == ControlSpec::GpioButton || cs.kind == ControlSpec::NoteVelocity ||
+            cs.kind == ControlSpec::Beat || cs.kind == ControlSpec::Bar ||
+            (cs.kind == ControlSpec::Hid && (cs.number & 0xFF000000u) == 0xFF000000u))
+          tf.takeover = false;
         if (auto* n = t.get("takeover")) tf.takeover = boolean(path, *n, "takeover");
         if (auto* n = t.get("mode")) {
           const std::string m = text(path, *n, "mode");

@@ -89,6 +89,7 @@ struct Binding {
   int led = -1;              ///< its control's light when lit: -1 the profile's, -2 none (app/loop/leds.h)
   // state
   bool engaged = false;      ///< soft takeover has picked the target up
+  uint8_t takeover_told = 0; ///< 1: it has waited for soft takeover, not yet said; 2: said
   double last_norm = -1;     ///< previous normalised control value (-1: none yet)
   bool toggled = false, pressed = false;
   int before = 0;            ///< momentary swap: the member shown before the press
@@ -148,6 +149,9 @@ class Mapping {
     out = recall_;
     return true;
   }
+  /// Whether a binding has waited for soft takeover for the first time since the last call
+  /// (its takeover_told is 1 until the caller says so and sets it to 2).
+  bool take_takeover_news() { bool c = takeover_news_; takeover_news_ = false; return c; }
   /// The [[pose]] last pressed while no other control has moved a handle it places (-1: none).
   int current_pose() const { return current_pose_; }
   /// Whether handle h is easing toward a pose or back to rest.
@@ -199,6 +203,7 @@ class Mapping {
   std::vector<Pose> poses_;
   std::vector<Binding> bindings_;
   int current_pose_ = -1;
+  bool takeover_news_ = false;
   void put_setting(size_t i, double v);
   std::vector<Setting> settings_;
   bool settings_changed_ = false;

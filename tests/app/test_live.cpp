@@ -669,6 +669,56 @@ TEST(Live, LateInputOnTheWallClockAndNothingOnTheVirtualClock) {
   }
 }
 
+// Soft takeover is said, once per binding, with where to move the control; controls that can
+// only jump (a note, a velocity, an OSC value, the clock's phase) set their target at once by
+// default, and `takeover` still decides when the show gives it.
+TEST(Live, SoftTakeoverIsSaidOnceAndJumpOnlyControlsDoNotWait) {
+  const auto path = show_file("takeover.toml", R"(
+[[device]]
+name = "korg"
+sim = "nanokontrol2"
+script = """
+0.0 move fader1 0
+0.1 move fader1 0.1 over 0.3
+"""
+[[device]]
+name = "osc"
+type = "osc"
+port = 47813
+[[binding]]
+device = "korg"
+control = "cc 0"
+target = "handle.chest.x"
+range = [100.0, 200.0]
+[[binding]]
+device = "korg"
+control = "note 60 velocity"
+target = "handle.head.y"
+[[binding]]
+device = "osc"
+control = "osc /morph"
+target = "handle.hips.x"
+[[binding]]
+device = "korg"
+control = "note 61"
+target = "handle.hips.y"
+takeover = true
+)");
+  auto r = test::run_cli("run '" + path + "' --headless --frames 40");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::string said = "takeover.toml:21: 'cc 0' -> handle.chest.x waits for soft takeover: move it to 50 % to pick the target up";
+  ASSERT_NE(r.err.find(said), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find(said, r.err.find(said) + 1), std::string::npos) << "said once: " << r.err;
+  auto s = load(path);
+  ASSERT_TRUE(s);
+  const Mapping& m = s->mapping();
+  ASSERT_EQ(m.binding_count(), 4u);
+  EXPECT_TRUE(m.binding(0).tf.takeover);   // a fader: soft takeover
+  EXPECT_FALSE(m.binding(1).tf.takeover);  // a velocity jumps
+  EXPECT_FALSE(m.binding(2).tf.takeover);  // an OSC value jumps
+  EXPECT_TRUE(m.binding(3).tf.takeover);   // the show said so
+}
+
 // One control grammar: format_control prints exactly what parse_control reads (what --learn
 // writes into a show file is what the show file reader accepts).
 TEST(format_control, RoundTripsEveryKind) {
@@ -703,7 +753,9 @@ TEST(Live, RasterShowPosesAPngWithTheArapBaseline) {
   auto r = test::run_cli("run " + (test::source_dir() / "config/shows/raster.toml").string() + " --headless --stats " +
                          (dir / "s.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(r.err.empty()) << r.err;
+  // (a note that a knob waits for soft takeover is the show telling the performer, not a fault)
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
   std::ifstream f(dir / "s.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_GT(j["frames"].get<int>(), 200);
@@ -730,7 +782,9 @@ TEST(Live, GridShowTurnsTheStiffnessLive) {
   auto r = test::run_cli("run " + (test::source_dir() / "config/shows/grid.toml").string() + " --headless --stats " +
                          (dir / "s.json").string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_TRUE(r.err.empty()) << r.err;
+  // (a note that a knob waits for soft takeover is the show telling the performer, not a fault)
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("error"), std::string::npos) << r.err;
   std::ifstream f(dir / "s.json");
   const auto j = nlohmann::json::parse(f);
   EXPECT_GT(j["frames"].get<int>(), 300);
