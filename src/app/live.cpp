@@ -710,7 +710,8 @@ int LiveShow::run() {
     await_simulation(t);
     const long k = stats_.frames;
     frame(t);
-    if (mapping_.take_takeover_news()) tell_takeover_waits();  // (between frames)
+    if (mapping_.take_takeover_news()) takeover_pending_ = true;
+    if (takeover_pending_) takeover_pending_ = tell_takeover_waits(t);  // (between frames)
     if (late_.timed()) {  // the frame against its deadline, on the show clock (loop/late_input.h)
       const int64_t e = pacer_.epoch();
       auto show_ns = [&](double us) { return int64_t(us * 1e3) - e; };

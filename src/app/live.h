@@ -139,7 +139,10 @@ class LiveShow : private LedSink {
 
   void apply_settings();
   void feedback();
-  void tell_takeover_waits();  ///< between frames: each binding's first wait for soft takeover, once
+  /// Between frames at show time `t_ns`: a binding still waiting for soft takeover a second
+  /// after its first wait is said, once. Returns whether any is still to be decided.
+  bool tell_takeover_waits(int64_t t_ns);
+  bool takeover_pending_ = false;
   bool send(uint16_t device, std::span<const uint8_t> message) override;  ///< a light (LedSink)
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up

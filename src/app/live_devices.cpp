@@ -106,12 +106,23 @@ bool LiveShow::send(uint16_t device, std::span<const uint8_t> message) {
   return false;
 }
 
-void LiveShow::tell_takeover_waits() {
-  // A control that has not picked its target up yet does nothing until it gets there: said once
-  // per binding, with where to move it (the HUD shows it while it waits). No allocation.
+bool LiveShow::tell_takeover_waits(int64_t t_ns) {
+  // A control that has not picked its target up yet does nothing until it gets there. One that
+  // is still waiting a second after its first wait is said once, with where to move it (a fader
+  // on its way through the target picks it up sooner and is not). The HUD shows it while it
+  // waits. No allocation.
+  bool pending = false;
   for (size_t i = 0; i < mapping_.binding_count(); ++i) {
     Binding& b = mapping_.bindings()[i];
     if (b.takeover_told != 1) continue;
+    if (b.engaged) {
+      b.takeover_told = 2;
+      continue;
+    }
+    if (t_ns - b.takeover_since < 1'000'000'000) {
+      pending = true;
+      continue;
+    }
     b.takeover_told = 2;
     if (opt_.quiet) continue;
     const double at = mapping_.takeover_at(i);
@@ -122,6 +133,7 @@ void LiveShow::tell_takeover_waits() {
                   show_.path.c_str(), b.line, b.control.text.c_str(), b.target_text.c_str(), at < 0 ? 0.0 : at * 100);
     std::fputs(line, stderr);
   }
+  return pending;
 }
 
 void LiveShow::feedback() {

@@ -6,7 +6,6 @@
 #include "app/live.h"
 #include "app/simulate.h"
 #include "firmware_sim/sim_device.h"
-#include "output/frame_ring.h"
 
 #include <SDL.h>
 

@@ -290,8 +290,9 @@ void Mapping::absolute(Binding& b, double n, int64_t t) {
     b.last_norm = n;
     if (!crossed && std::fabs(n - cur) > 1.0 / 127) {
       ++stats_.takeover_waits;
-      if (!b.takeover_told) {  // said once, between frames (take_takeover_news)
+      if (!b.takeover_told) {  // said once, between frames, if it is still waiting a second later
         b.takeover_told = 1;
+        b.takeover_since = t;
         takeover_news_ = true;
       }
       return;

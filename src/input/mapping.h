@@ -89,7 +89,8 @@ struct Binding {
   int led = -1;              ///< its control's light when lit: -1 the profile's, -2 none (app/loop/leds.h)
   // state
   bool engaged = false;      ///< soft takeover has picked the target up
-  uint8_t takeover_told = 0; ///< 1: it has waited for soft takeover, not yet said; 2: said
+  uint8_t takeover_told = 0; ///< 1: it has waited for soft takeover, not yet said; 2: said (or picked up)
+  int64_t takeover_since = 0; ///< the event time of its first wait
   double last_norm = -1;     ///< previous normalised control value (-1: none yet)
   bool toggled = false, pressed = false;
   int before = 0;            ///< momentary swap: the member shown before the press
