@@ -182,6 +182,13 @@ std::span<const uint8_t> DeviceSet::description(size_t i) const {
   return p.slots[p.polled].info;
 }
 
+std::span<const uint8_t> DeviceSet::last_sysex(size_t i, uint64_t& count) const {
+  count = 0;
+  if (i >= ports_.size() || !ports_[i]->polled_once) return {};
+  const Port& p = *ports_[i];
+  return p.slots[p.polled].dec->last_sysex(count);
+}
+
 DeviceSet::Status DeviceSet::status(size_t i) const {
   const Port& p = *ports_[i];
   Status s;

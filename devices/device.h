@@ -192,6 +192,9 @@ class DeviceSet {
   /// and the serialized DecoderConfig of that connection (recordings store it).
   bool take_connected(size_t i);
   std::span<const uint8_t> description(size_t i) const;
+  /// Frame thread: source `i`'s last whole SysEx this connection and how many it has sent (0:
+  /// none, or not connected yet). Valid until the next decode().
+  std::span<const uint8_t> last_sysex(size_t i, uint64_t& count) const;
   size_t size() const { return ports_.size(); }
   Backend& backend(size_t i) { return *ports_[i]->b; }
   const Backend& backend(size_t i) const { return *ports_[i]->b; }

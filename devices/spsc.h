@@ -19,6 +19,8 @@ class SpscRing {
     head_.store(h + 1, std::memory_order_release);
     return true;
   }
+  /// Producer: how many push() calls will succeed now (at least; the consumer may free more).
+  size_t room() const { return N - (head_.load(std::memory_order_relaxed) - tail_.load(std::memory_order_acquire)); }
   bool pop(T& v) {
     const size_t t = tail_.load(std::memory_order_relaxed);
     if (t == head_.load(std::memory_order_acquire)) return false;

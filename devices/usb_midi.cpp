@@ -22,6 +22,7 @@ namespace mar {
 namespace {
 
 constexpr int kInTransfers = 4, kInSize = 512;
+constexpr size_t kMaxSysex = 512;  ///< the longest SysEx sent (3 bytes a packet, within the ring)
 
 class UsbMidiBackend final : public Backend {
  public:
@@ -56,7 +57,7 @@ class UsbMidiBackend final : public Backend {
   std::atomic<int> in_flight_{0};
   std::atomic<bool> failed_{false}, stop_{false};
   SpscRing<WireRecord, 256> in_ring_;                 ///< I/O thread -> frame
-  SpscRing<std::array<uint8_t, 4>, 128> out_ring_;    ///< frame -> I/O thread (USB-MIDI packets)
+  SpscRing<std::array<uint8_t, 4>, 256> out_ring_;    ///< frame -> I/O thread (USB-MIDI packets)
   std::thread io_;
 };
 
@@ -239,14 +240,15 @@ void UsbMidiBackend::start_out() {
 }
 
 bool UsbMidiBackend::send_midi(std::span<const uint8_t> bytes) {
-  // One message: a packet, or a SysEx in packets of three bytes (the last one ends it).
+  // One message: a packet, or a SysEx in packets of three bytes (the last one ends it), whole
+  // or not at all (a Korg scene is 402 bytes: 134 packets).
   if (!h_ || !out_ || bytes.empty()) return false;
   std::array<uint8_t, 4> p;
   if (bytes[0] != 0xF0) {
     if (usb_midi_encode(0, bytes, p.data()) != UsbMidiEncodeError::None) return false;
     return out_ring_.push(p);
   }
-  if (bytes.back() != 0xF7 || bytes.size() > 3 * 32) return false;
+  if (bytes.back() != 0xF7 || bytes.size() > kMaxSysex || out_ring_.room() < (bytes.size() + 2) / 3) return false;
   for (size_t at = 0; at < bytes.size(); at += 3) {
     const auto chunk = bytes.subspan(at, std::min<size_t>(3, bytes.size() - at));
     if (usb_midi_encode(0, chunk, p.data()) != UsbMidiEncodeError::None || !out_ring_.push(p)) return false;

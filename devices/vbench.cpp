@@ -1,5 +1,7 @@
 #include "devices/vbench_impl.h"
 
+#include "input/usb_midi.h"
+
 #include <filesystem>
 
 namespace mar {
@@ -282,8 +284,28 @@ void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch, bool lockstep) {
   // One player thread per call: the bench is small (a device or two per test).
   ++p_->playing;
   std::atomic<int64_t>& written = p_->written.emplace_back(-1);
-  p_->players.emplace_back([this, dev, &sim, epoch, lockstep, &written] {
+  // A MIDI controller answers what it is sent (a Korg scene request), so its player hears the
+  // device's USB OUT and goes on after its timeline, until it is stopped.
+  const bool hears = sim.wire() == WireKind::UsbMidi && p_->devs[size_t(dev)]->kind == BenchKind::Usb;
+  p_->players.emplace_back([this, dev, &sim, epoch, lockstep, &written, hears] {
+    UsbMidiDecoder sent;
+    size_t seen = 0;
+    auto hear = [&] {
+      if (!hears) return;
+      std::vector<uint8_t> out;
+      {
+        BenchDev& d = *p_->devs[size_t(dev)];
+        std::lock_guard lock(d.m);
+        if (d.out_bytes.size() > seen) out.assign(d.out_bytes.begin() + long(seen), d.out_bytes.end());
+        seen += out.size();
+      }
+      sent.feed(out, [&](uint8_t, const MidiMessage& m) {
+        if (m.is_sysex()) sim.receive(m.sysex);
+        else sim.receive(std::span<const uint8_t>(m.bytes, m.size));
+      });
+    };
     int64_t now = -1;
+    bool ended = false;
     while (!p_->stop.load()) {
       if (lockstep) {
         p_->allowed.wait(now, std::memory_order_acquire);  // until the show moves on (or stops)
@@ -294,13 +316,22 @@ void VirtualBench::play(int dev, SimDevice& sim, int64_t epoch, bool lockstep) {
         clock_gettime(CLOCK_MONOTONIC, &ts);
         now = int64_t(ts.tv_sec) * 1000000000 + ts.tv_nsec - epoch;
       }
+      hear();
       sim.drain(now, [&](const WireRecord& r) { write(dev, r, epoch); });
-      written.store(now, std::memory_order_release);
-      if (now > sim.end_ns()) break;
-      if (!lockstep) std::this_thread::sleep_for(std::chrono::microseconds(500));
+      if (!ended) written.store(now, std::memory_order_release);
+      if (!ended && now > sim.end_ns()) {
+        ended = true;
+        written.store(INT64_MAX, std::memory_order_release);
+        --p_->playing;
+        if (!hears) return;
+      }
+      if (!lockstep || ended) std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
-    written.store(INT64_MAX, std::memory_order_release);
-    --p_->playing;
+    hear();  // (what was sent before it stopped)
+    if (!ended) {
+      written.store(INT64_MAX, std::memory_order_release);
+      --p_->playing;
+    }
   });
 }
 

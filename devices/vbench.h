@@ -85,7 +85,8 @@ class VirtualBench {
   /// Plays `sim` into `dev` on a background thread (show time 0 = `epoch_mono_ns`): in real
   /// time, or in lockstep with a virtual clock — then it writes, as fast as it can, what the
   /// script does through the time allow_through() last gave, and waits for more. Stops with
-  /// stop_playing() or the bench.
+  /// stop_playing() or the bench. A USB-MIDI simulator also hears what the host sends the
+  /// device (SimDevice::receive) and its answers are written at once, until it is stopped.
   void play(int dev, SimDevice& sim, int64_t epoch_mono_ns, bool lockstep = false);
   /// Lockstep players may write through show time `t` (never goes back).
   void allow_through(int64_t t);

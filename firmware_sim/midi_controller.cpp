@@ -136,7 +136,8 @@ bool MidiControllerSim::receive(std::span<const uint8_t> m) {
   const int value = note_off ? 0 : m.size() >= 3 ? m[2] : 0;
   switch (model_->leds) {
     case LedProtocol::NanoKontrol2: {  // CCs on channel 1 to the buttons, in External LED mode only
-      if (!cc || ch != 0 || !external_leds_) break;
+      if (m[0] == 0xF0) return korg(m);
+      if (!cc || ch != 0 || !external_leds()) break;
       const int i = find(false, m[1], 0);
       if (i >= 0 && cs[size_t(i)].name.rfind("fader", 0) != 0 && cs[size_t(i)].name.rfind("knob", 0) != 0) return set_led(i, value, ch);
       break;
@@ -183,6 +184,31 @@ bool MidiControllerSim::receive(std::span<const uint8_t> m) {
   }
   ++ignored_;
   return false;
+}
+
+bool MidiControllerSim::korg(std::span<const uint8_t> m) {
+  // As the unit: a search is answered on any channel, the rest only on its global channel.
+  uint8_t out[korg::kSceneMessage];
+  korg::Scene in{};
+  const korg::Message q = korg::parse(m, &in);
+  const int ch = stored_[0] & 0x0F;
+  size_t n = 0;
+  if (q.kind == korg::Kind::SearchRequest) n = korg::search_reply(ch, q.echo, out);
+  else if (q.kind != korg::Kind::Other && q.channel != ch) n = 0;
+  else if (q.kind == korg::Kind::DumpRequest) n = korg::scene_data(ch, scene_, out);
+  else if (q.kind == korg::Kind::SceneData) {
+    const bool ok = in[korg::kLedModeAt] <= 1 && in[1] <= 5;  // (an LED or control mode it has not: NAK)
+    if (ok) scene_ = in;
+    n = korg::answer(ok ? korg::Kind::Ack : korg::Kind::Nak, ch, out);
+  } else if (q.kind == korg::Kind::WriteRequest) {
+    stored_ = scene_;
+    n = korg::answer(korg::Kind::WriteDone, ch, out);
+  }
+  if (n == 0) {
+    ++ignored_;
+    return false;
+  }
+  return reply_midi(std::span<const uint8_t>(out, n));
 }
 
 int MidiControllerSim::led(const std::string& name) const {
@@ -233,7 +259,7 @@ Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>&
   }
   if (w.size() == 2 && w[0] == "ledmode" && model_->leds == LedProtocol::NanoKontrol2) {  // the stored scene's
     if (w[1] != "external" && w[1] != "internal") return R::failure("expected 'ledmode external' or 'ledmode internal'");
-    external_leds_ = w[1] == "external";
+    stored_[korg::kLedModeAt] = scene_[korg::kLedModeAt] = w[1] == "external";
     return R::success(true);
   }
   if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]', 'press CONTROL [for S]' or 'clock BPM'");

@@ -4,8 +4,10 @@
 //                      48-55, rec 64-71, transport (play 41, stop 42, rewind 43, forward 44, record
 //                      45, cycle 46, marker set 60 / prev 61 / next 62, track prev 58 / next 59),
 //                      channel 1. Its LEDs follow CCs on the same numbers only in the External LED
-//                      mode, a stored scene setting (the script's `ledmode external` stands for a
-//                      unit set so in the Korg Kontrol Editor).
+//                      mode, a byte of its scene (input/korg_scene.h). It answers Korg's search
+//                      device, scene dump request, scene data (ACK) and scene write request as the
+//                      unit does; the script's `ledmode external` stands for a unit whose stored
+//                      scene was set so in the Korg Kontrol Editor.
 //   apc_mini_mk2       Akai APC mini mk2: an 8x8 pad grid, notes 0-63 (0 bottom left; named
 //                      pad_rRcC from the top left), track 1-8 notes 100-107, scene 1-8 notes
 //                      112-119, shift 122, faders 1-8 CC 48-55 and master CC 56, channel 1. A pad
@@ -44,6 +46,7 @@
 #pragma once
 
 #include "firmware_sim/sim_device.h"
+#include "input/korg_scene.h"
 
 #include <span>
 #include <string>
@@ -92,6 +95,9 @@ class MidiControllerSim : public SimDevice {
   /// APC mini mk2's pads, led_channel() is the brightness channel it came on.
   int led(const std::string& name) const;
   int led_channel(const std::string& name) const;
+  /// nanoKONTROL2: whether its current scene's LED mode is External, and its stored one's.
+  bool external_leds() const { return scene_[korg::kLedModeAt] == 1; }
+  bool stored_external_leds() const { return stored_[korg::kLedModeAt] == 1; }
   /// "name=value ..." of every LED set, in layout order (rings: ringN).
   std::string leds() const override;
   uint64_t ignored() const { return ignored_; }
@@ -105,7 +111,8 @@ class MidiControllerSim : public SimDevice {
   const MidiModel* model_;
   int position_[16][128] = {};  ///< last value sent per channel and CC
   std::vector<int> led_, led_channel_;  ///< per control (layout order), then the rings
-  bool external_leds_ = false;  ///< nanoKONTROL2: its scene's LED mode is External
+  bool korg(std::span<const uint8_t> sysex);  ///< nanoKONTROL2: a scene request, answered
+  korg::Scene scene_ = korg::factory_scene(), stored_ = scene_;  ///< nanoKONTROL2: current and written scene
   uint64_t ignored_ = 0;
 };
 

@@ -1,5 +1,7 @@
 #include "firmware_sim/sim_device.h"
 
+#include "input/usb_midi.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -84,6 +86,25 @@ void SimDevice::emit(int64_t t_ns, std::span<const uint8_t> bytes) {
     return;
   }
   timeline_.push_back(WireRecord::make(t_ns, wire(), bytes));
+}
+
+bool SimDevice::reply_midi(std::span<const uint8_t> message) {
+  // Packets first (to know it fits), then as many records as they fill.
+  uint8_t packets[kReplyRecords * WireRecord::kMax];
+  size_t n = 0;
+  for (size_t at = 0; at < message.size();) {
+    const size_t len = message[0] == 0xF0 ? std::min<size_t>(3, message.size() - at) : message.size();
+    if (n + 4 > sizeof packets || usb_midi_encode(0, message.subspan(at, len), packets + n) != UsbMidiEncodeError::None) return false;
+    n += 4;
+    at += len;
+  }
+  size_t used = replies_used_;
+  for (size_t at = 0; at < n; at += WireRecord::kMax) {
+    if (used == replies_.size()) return false;
+    replies_[used++] = WireRecord::make(0, wire(), std::span<const uint8_t>(packets + at, std::min(WireRecord::kMax, n - at)));
+  }
+  replies_used_ = used;
+  return true;
 }
 
 }  // namespace mar

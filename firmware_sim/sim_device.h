@@ -54,9 +54,16 @@ class SimDevice {
   static constexpr double kMaxSeconds = 1e5, kMinLoopSeconds = 0.01;
   static constexpr size_t kMaxRecords = 250000;
 
-  /// Calls `on(const WireRecord&)` for records with time <= now_ns, in time order.
+  /// Calls `on(const WireRecord&)` for records with time <= now_ns, in time order: first its
+  /// answers to what it was sent since the last call (at now_ns), then its timeline.
   template <class F>
   void drain(int64_t now_ns, F&& on) {
+    for (size_t i = 0; i < replies_used_; ++i) {
+      WireRecord out = replies_[i];
+      out.t_ns = now_ns;
+      on(static_cast<const WireRecord&>(out));
+    }
+    replies_used_ = 0;
     while (!timeline_.empty()) {
       if (next_ == timeline_.size()) {
         if (loop_ns_ <= 0) return;
@@ -85,12 +92,18 @@ class SimDevice {
   /// One script line's action at time `t` (seconds), `w` = words after the time.
   virtual Result<bool> action(double t, const std::vector<std::string>& w) = 0;
   void emit(int64_t t_ns, std::span<const uint8_t> bytes);
+  /// Queues an answer (a whole MIDI message, as USB-MIDI packets on cable 0) for the next
+  /// drain(). Allocation-free; false when the queue (kReplyRecords) is full: then it is dropped.
+  bool reply_midi(std::span<const uint8_t> message);
+  static constexpr size_t kReplyRecords = 8;  ///< 8 x 96 bytes: a 576-byte SysEx
   std::vector<WireRecord> timeline_;
   bool too_many_ = false;  ///< emit() refused records past kMaxRecords
 
  private:
   size_t next_ = 0;
   int64_t loop_ns_ = 0, offset_ns_ = 0;
+  std::array<WireRecord, kReplyRecords> replies_{};
+  size_t replies_used_ = 0;
 };
 
 /// Makes a simulated device by kind. `descriptor` is a HID report descriptor file (.hex

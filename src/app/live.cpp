@@ -13,6 +13,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 
@@ -712,6 +713,9 @@ int LiveShow::run() {
     frame(t);
     if (mapping_.take_takeover_news()) takeover_pending_ = true;
     if (takeover_pending_) takeover_pending_ = tell_takeover_waits(t);  // (between frames)
+    uint16_t news_of = 0;
+    for (const char* news = nullptr; leds_.take_news(news_of, news);)  // a controller's setup (loop/korg_setup.h)
+      if (!opt_.quiet) std::fprintf(stderr, "note: device '%s': %s\n", show_.devices[news_of].name.c_str(), news);
     if (late_.timed()) {  // the frame against its deadline, on the show clock (loop/late_input.h)
       const int64_t e = pacer_.epoch();
       auto show_ns = [&](double us) { return int64_t(us * 1e3) - e; };

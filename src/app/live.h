@@ -144,6 +144,7 @@ class LiveShow : private LedSink {
   bool tell_takeover_waits(int64_t t_ns);
   bool takeover_pending_ = false;
   bool send(uint16_t device, std::span<const uint8_t> message) override;  ///< a light (LedSink)
+  std::span<const uint8_t> last_sysex(uint16_t device, uint64_t& count) override;  ///< an answer (LedSink)
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up
   double sim_max_wait_ms_ = 0;

@@ -106,6 +106,12 @@ bool LiveShow::send(uint16_t device, std::span<const uint8_t> message) {
   return false;
 }
 
+std::span<const uint8_t> LiveShow::last_sysex(uint16_t device, uint64_t& count) {
+  count = 0;
+  if (!devices_ || device >= devices_->size()) return {};
+  return devices_->last_sysex(device, count);
+}
+
 bool LiveShow::tell_takeover_waits(int64_t t_ns) {
   // A control that has not picked its target up yet does nothing until it gets there. One that
   // is still waiting a second after its first wait is said once, with where to move it (a fader

@@ -47,6 +47,9 @@ struct ShowDevice {
   std::string script;           ///< timeline script text
   std::vector<DeviceLed> leds;  ///< its profile's lights
   std::vector<std::vector<uint8_t>> init;  ///< its profile's messages on connecting (a mode for its LEDs)
+  /// Its profile's `setup = "korg_external_leds"`: on connecting, its scene's LED mode is set to
+  /// External (input/korg_scene.h) before any light is sent.
+  bool korg_external_leds = false;
   double bounce_ms = 0, debounce_ms = 0;
   uint32_t seed = 1;
   int line = 0;

@@ -131,7 +131,13 @@ void read_hardware_profile(const std::string& file, const std::string& name, Sho
   }
   check_keys(file, root, {"device", "controls", "leds"}, "a device profile");
   if (const toml::table* t = root["device"].as_table()) {
-    check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor", "init"}, "[device]");
+    check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor", "init", "setup"},
+               "[device]");
+    if (const toml::node* n = t->get("setup")) {
+      if (text(file, *n, "setup") != "korg_external_leds")
+        throw ShowError{at(file, *n) + ": setup must be \"korg_external_leds\" (the only one there is)"};
+      d.korg_external_leds = true;
+    }
     if (const toml::node* n = t->get("init")) {
       const toml::array* a = n->as_array();
       if (!a) throw ShowError{at(file, *n) + ": init must be a list of messages (hex bytes)"};

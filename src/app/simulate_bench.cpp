@@ -5,12 +5,10 @@
 #include "devices/vbench.h"
 #include "firmware_sim/hid_device.h"
 #include "input/hid_usages.h"
-#include "input/usb_midi.h"
 
 #include <linux/input.h>
 
 #include <atomic>
-#include <map>
 #include <algorithm>
 #include <chrono>
 #include <deque>
@@ -115,18 +113,9 @@ class BenchSimulation final : public HardwareSimulation {
   void allow(int64_t t) override { bench_.allow_through(t); }
 
   void deliver_sent() override {
-    for (const Played& p : played_) {
-      if (p.as_evdev || p.sim->wire() != WireKind::UsbMidi) continue;
-      const std::vector<uint8_t> out = bench_.usb_out(p.dev);
-      Sent& d = sent_[p.dev];
-      if (out.size() <= d.seen) continue;
-      if (!d.decoder) d.decoder = std::make_unique<UsbMidiDecoder>();
-      d.decoder->feed(std::span<const uint8_t>(out).subspan(d.seen), [&](uint8_t, const MidiMessage& m) {
-        if (m.is_sysex()) p.sim->receive(m.sysex);
-        else p.sim->receive(std::span<const uint8_t>(m.bytes, m.size));
-      });
-      d.seen = out.size() - out.size() % 4;
-    }
+    // The players hear what the show sends as it goes (a nanoKONTROL2 answers its scene
+    // requests); stopping them delivers the rest.
+    stop();
   }
 
   int64_t written_through() const override {
@@ -152,11 +141,6 @@ class BenchSimulation final : public HardwareSimulation {
     SimDevice* sim;
     bool as_evdev;
   };
-  struct Sent {
-    size_t seen = 0;                          ///< bytes of its USB OUT already delivered
-    std::unique_ptr<UsbMidiDecoder> decoder;  ///< what the show sent it, as MIDI
-  };
-  std::map<int, Sent> sent_;                  ///< per USB-MIDI bench device
   VirtualBench bench_;
   std::vector<Played> played_;
   std::vector<std::thread> feeders_;

@@ -91,6 +91,12 @@ class Decoder {
     for (size_t i = 0; i < s.n; ++i) on(static_cast<const Event&>(buf[i]));
   }
   const WireStats& stats() const { return stats_; }
+  /// The last whole SysEx decoded (MIDI; empty for other kinds), and how many there have been:
+  /// a device's answer to a request (app/loop/leds.h). Valid until the next feed().
+  virtual std::span<const uint8_t> last_sysex(uint64_t& count) const {
+    count = 0;
+    return {};
+  }
   WireKind kind() const { return kind_; }
   uint16_t source() const { return source_; }
 

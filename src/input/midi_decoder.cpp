@@ -6,6 +6,7 @@
 #include "input/usb_midi.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace mar {
@@ -20,7 +21,11 @@ class MidiDecoder final : public Decoder {
     const uint64_t before = dropped();
     auto on = [&](const MidiMessage& m) {
       Event e;
-      if (midi_to_event(m, r.t_ns, source(), e)) {
+      if (m.is_sysex()) {
+        sysex_len_ = std::min(m.sysex.size(), sysex_.size());
+        std::copy_n(m.sysex.begin(), sysex_len_, sysex_.begin());
+        ++sysex_count_;
+      } else if (midi_to_event(m, r.t_ns, source(), e)) {
         out.push(e);
       } else if (!m.is_sysex() && m.bytes[0] >= 0xF8 && clock_.feed(m.bytes[0], r.t_ns) && clock_.locked()) {
         // Where the beat is, on the fitted line at this tick: the tick's own jitter left out.
@@ -43,10 +48,17 @@ class MidiDecoder final : public Decoder {
     else stream_.feed(r.bytes(), on);
     if (dropped() != before) malformed();
   }
+  std::span<const uint8_t> last_sysex(uint64_t& count) const override {
+    count = sysex_count_;
+    return {sysex_.data(), sysex_len_};
+  }
   uint64_t dropped() const { return kind() == WireKind::UsbMidi ? usb_.dropped_bytes() : stream_.stats().dropped_bytes; }
   UsbMidiDecoder usb_;
   MidiStreamDecoder stream_;
   MidiClock clock_;
+  std::array<uint8_t, 1024> sysex_{};  ///< (the stream decoders' cap)
+  size_t sysex_len_ = 0;
+  uint64_t sysex_count_ = 0;
 };
 
 }  // namespace

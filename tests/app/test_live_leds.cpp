@@ -1,5 +1,5 @@
 // Controllers that light up from the show's state (app/loop/leds.h): simulated APC mini mk2,
-// X-Touch Mini and MIDImix units, each named by its profile, are pressed and turned by their
+// X-Touch Mini, MIDImix and nanoKONTROL2 units, each named by its profile, are pressed and turned by their
 // scripts; what their simulators show is what the show is doing: a toggled trigger lit while on,
 // the swapped-in member lit in its colour and the others dark, the current pose's button lit,
 // an encoder's ring following the handle it moves. Echoes of the lights are dropped.
@@ -56,6 +56,10 @@ name = "mix"
 type = "sim"
 profile = "midimix"
 script = "0.3 press mute1"
+[[device]]
+name = "korg"
+type = "sim"
+profile = "nanokontrol2"
 [[pose]]
 name = "up"
 handles = { left-hand = [60.0, 40.0] }
@@ -90,6 +94,10 @@ device = "xtouch"
 control = "button2"
 target = "pose.down"
 [[binding]]
+device = "korg"
+control = "solo1"
+target = "pose.up"
+[[binding]]
 device = "mix"
 control = "mute1"
 target = "trigger.blink"
@@ -113,6 +121,8 @@ button = "toggle"
   EXPECT_EQ(lights(j, "apc")["pad_r1c1"], 5);   // blush on: red
   EXPECT_EQ(lights(j, "xtouch")["button1"], 1); // pose "up" is current
   EXPECT_EQ(lights(j, "mix")["mute1"], 127);    // blink toggled on
+  EXPECT_EQ(lights(j, "korg")["solo1"], 127);   // pose "up": the nanoKONTROL2, set to External LEDs first
+  EXPECT_EQ(j["leds"]["korg_led_mode"], "switched");
   j = run_to(0.6);
   EXPECT_EQ(lights(j, "apc")["pad_r1c2"], 45);  // mouth-o shows: blue
   EXPECT_EQ(lights(j, "apc")["pad_r1c3"], 0);
@@ -130,6 +140,7 @@ button = "toggle"
   j = run_to(1.8);
   EXPECT_EQ(lights(j, "xtouch")["button1"], 0);  // another pose is current
   EXPECT_EQ(lights(j, "xtouch")["button2"], 1);
+  EXPECT_EQ(lights(j, "korg")["solo1"], 0);
   EXPECT_GT(j["leds"]["sent"].get<int>(), 10);
   EXPECT_EQ(j["leds"]["failed"], 0);
   EXPECT_EQ(j["leds"]["init_messages"], 9);  // the X-Touch Mini: standard mode, eight fan rings

@@ -67,8 +67,12 @@ TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
     EXPECT_GT(d["events"], 0) << d.dump();
     EXPECT_EQ(d["malformed"], 0) << d.dump();
   }
-  const std::vector<long> want = scripted_records((test::source_dir() / kHardwareShow).string());
+  std::vector<long> want = scripted_records((test::source_dir() / kHardwareShow).string());
   ASSERT_EQ(want.size(), 4u);
+  // The nanoKONTROL2 also answers the three scene requests that set its LED mode: a search reply,
+  // its scene (402 bytes: 134 packets in six records) and an ACK.
+  want[0] += 1 + 6 + 1;
+  EXPECT_EQ(j["leds"]["korg_led_mode"], "switched");
   for (size_t i = 0; i < 4; ++i) {
     if (want[i] >= 0) {
       EXPECT_EQ(j["devices"][i]["records"].get<long>(), want[i]) << j["devices"][i].dump();
@@ -174,8 +178,8 @@ TEST(RunSimulate, RecordedHardwareShowReplaysToTheSameHash) {
 }
 
 // The lights reach a controller through libusb as USB-MIDI packets (a SysEx in several): the
-// emulated APC mini mk2 and BeatStep show what the show's state lit, as their in-process
-// simulators do.
+// emulated APC mini mk2, BeatStep and nanoKONTROL2 show what the show's state lit, as their
+// in-process simulators do; the nanoKONTROL2 answers the scene requests that set its LED mode.
 TEST(RunSimulate, LightsReachTheEmulatedControllersThroughLibusb) {
   const std::string rig = (test::source_dir() / "config/rigs/singer.toml").string();
   const std::string show = test::write_temp("leds_simulate.toml", "[show]\nrig = \"" + rig + R"("
@@ -191,6 +195,14 @@ script = """
 name = "steps"
 profile = "beatstep"
 script = "0.3 press pad1"
+[[device]]
+name = "korg"
+profile = "nanokontrol2"
+script = "0.4 press solo2"
+[[binding]]
+device = "korg"
+control = "solo2"
+target = "swap.eyes.eyes-shut"
 [[binding]]
 device = "apc"
 control = "pad_r1c1"
@@ -219,6 +231,10 @@ button = "toggle"
   EXPECT_NE((" " + apc + " ").find(" pad_r2c1=21 "), std::string::npos) << apc;  // mouth-a shows: green
   EXPECT_NE((" " + steps + " ").find(" pad1=1 "), std::string::npos) << steps;   // blink on (a SysEx)
   EXPECT_EQ((" " + steps + " ").find(" pad2="), std::string::npos) << steps;     // unbound: never sent
+  // The nanoKONTROL2 answered its scene requests through libusb and took the External LED mode.
+  EXPECT_EQ(j["leds"]["korg_led_mode"], "switched");
+  const std::string korg = j["leds"]["simulators_show"].value("korg", "");
+  EXPECT_NE((" " + korg + " ").find(" solo2=127 "), std::string::npos) << korg;  // eyes shut (a swap stays)
 }
 
 }  // namespace

@@ -12,7 +12,14 @@ void LedFeedback::prepare(const ShowConfig& show, const Mapping& m) {
   lights_.clear();
   inits_.clear();
   for (size_t d = 0; d < show.devices.size(); ++d)
-    if (!show.devices[d].init.empty()) inits_.push_back({uint16_t(d), show.devices[d].init, false});
+    if (!show.devices[d].init.empty() || show.devices[d].korg_external_leds) {
+      Init in;
+      in.device = uint16_t(d);
+      in.messages = show.devices[d].init;
+      in.korg = show.devices[d].korg_external_leds;
+      inits_.push_back(std::move(in));
+    }
+  waiting_.assign(show.devices.size(), 0);
   for (size_t i = 0; i < m.binding_count(); ++i) {
     const Binding& b = m.binding(i);
     if (b.led == -2 || b.control.device >= show.devices.size()) continue;
@@ -62,22 +69,28 @@ void LedFeedback::frame(int64_t t_ns, const Mapping& m, std::span<const int> swa
   // A device that (re)connects: its init messages, then every light again.
   for (Init& in : inits_) {
     if (!connected(in.device)) {
-      in.done = false;
+      in.sent = in.done = false;
+      in.setup.reset();
       continue;
     }
     if (in.done) continue;
-    for (const auto& msg : in.messages) {
-      if (out.send(in.device, msg)) ++init_sent_;
-      else ++failed_;
+    if (!in.sent) {
+      for (const auto& msg : in.messages) {
+        if (out.send(in.device, msg)) ++init_sent_;
+        else ++failed_;
+      }
+      in.sent = true;
     }
+    waiting_[in.device] = in.korg && in.setup.step(t_ns, in.device, out);
+    if (waiting_[in.device]) continue;
     in.done = true;
     for (Light& L : lights_)
       if (L.device == in.device) L.sent = -1;
   }
   int budget = kPerFrame;
   for (Light& L : lights_) {
-    if (!connected(L.device)) {
-      L.sent = -1;  // (sent again when it is back)
+    if (!connected(L.device) || waiting_[L.device]) {
+      L.sent = -1;  // (sent again when it is back, or set up)
       continue;
     }
     switch (L.source) {
@@ -130,9 +143,23 @@ bool LedFeedback::echo(const Event& e, int64_t t_ns) {
   return false;
 }
 
+bool LedFeedback::take_news(uint16_t& device, const char*& text) {
+  for (Init& in : inits_)
+    if (in.korg && (text = in.setup.take_news())) {
+      device = in.device;
+      return true;
+    }
+  return false;
+}
+
 void LedFeedback::add_stats(nlohmann::json& stats) const {
   stats["leds"] = {{"lights", lights_.size()}, {"sent", sent_}, {"deferred", deferred_}, {"failed", failed_},
                    {"echoes_dropped", echoes_}, {"init_messages", init_sent_}};
+  for (const Init& in : inits_) {
+    if (!in.korg) continue;
+    static const char* const names[] = {"start", "searching", "reading", "loading", "switched", "already", "no answer", "refused"};
+    stats["leds"]["korg_led_mode"] = names[int(in.setup.phase())];
+  }
 }
 
 }  // namespace mar

@@ -12,11 +12,14 @@
 // next frame), so a controller's input is never flooded. The frame only hands the message to
 // the device's backend, whose own thread writes it (USB-MIDI: a lock-free ring to its I/O
 // thread); an in-process simulator takes it at once. A device that connects (or reconnects)
-// gets its profile's init messages, then every light again. A controller that echoes what it
+// gets its profile's init messages (and a nanoKONTROL2 its External LED mode: app/loop/
+// korg_setup.h), then every light again. A controller that echoes what it
 // is sent (MIDI thru) would press its own buttons: an incoming note or CC equal to a light's
 // message sent within the last 100 ms is dropped and counted. Allocation-free after prepare().
 #pragma once
 
+#include "app/loop/korg_setup.h"
+#include "app/loop/led_sink.h"
 #include "app/show.h"
 #include "devices/device.h"
 #include "input/event.h"
@@ -31,14 +34,6 @@
 
 namespace mar {
 
-/// Where the lights go: a device's backend, or an in-process simulator.
-class LedSink {
- public:
-  virtual ~LedSink() = default;
-  /// Hands `message` to show device `device`; false when it could not be taken (counted).
-  virtual bool send(uint16_t device, std::span<const uint8_t> message) = 0;
-};
-
 class LedFeedback {
  public:
   static constexpr int64_t kMinInterval = 20'000'000, kEchoWindow = 100'000'000;
@@ -52,6 +47,8 @@ class LedFeedback {
              std::span<const DeviceState> states, LedSink& out);
   /// Whether event `e` is the echo of a light sent within the echo window (then it is dropped).
   bool echo(const Event& e, int64_t t_ns);
+  /// How a device's setup ended, once: true with its show device and a sentence.
+  bool take_news(uint16_t& device, const char*& text);
   /// Adds "leds" (lights, sent, deferred, failed, echoes, inits) to the --stats object.
   void add_stats(nlohmann::json& stats) const;
   uint64_t sent() const { return sent_; }
@@ -72,8 +69,11 @@ class LedFeedback {
   struct Init {
     uint16_t device = 0;
     std::vector<std::vector<uint8_t>> messages;
-    bool done = false;
+    bool korg = false;  ///< then its LED mode is set (korg_setup.h) after its messages
+    KorgLedSetup setup;
+    bool sent = false, done = false;
   };
+  std::vector<char> waiting_;  ///< per show device: its lights wait for its setup
   std::vector<Light> lights_;
   std::vector<Init> inits_;
   uint64_t sent_ = 0, deferred_ = 0, failed_ = 0, echoes_ = 0, init_sent_ = 0;

@@ -2,6 +2,8 @@
 // (the last state wins), at most 32 a frame; a device that reconnects gets its init messages and
 // every light again; an echo of a light within 100 ms is recognised, nothing else is.
 #include "app/loop/leds.h"
+#include "firmware_sim/midi_controller.h"
+#include "input/usb_midi.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -132,6 +134,121 @@ TEST(LedFeedback, OnlyAnEchoOfALightWithin100msIsAnEcho) {
   f.add_stats(j);
   EXPECT_EQ(j["leds"]["echoes_dropped"], 2);
   EXPECT_EQ(j["leds"]["lights"], 2);
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// A sink wired to a simulated nanoKONTROL2 (or to nothing that answers): what the frame sends
+// reaches the simulator, and its answers come back as the decoder's last SysEx would.
+struct KorgUnit : LedSink {
+  MidiControllerSim sim{"nanokontrol2"};
+  bool answers = true;
+  UsbMidiDecoder dec;
+  std::vector<uint8_t> last;
+  uint64_t count = 0;
+  int led_messages = 0;
+  bool send(uint16_t, std::span<const uint8_t> m) override {
+    if (m[0] != 0xF0) ++led_messages;
+    if (answers) sim.receive(m);
+    return true;
+  }
+  std::span<const uint8_t> last_sysex(uint16_t, uint64_t& n) override {
+    sim.drain(0, [&](const WireRecord& r) {
+      dec.feed(r.bytes(), [&](uint8_t, const MidiMessage& m) {
+        if (!m.is_sysex()) return;
+        last.assign(m.sysex.begin(), m.sysex.end());
+        ++count;
+      });
+    });
+    n = count;
+    return last;
+  }
+};
+
+Lights korg_lights() {
+  Lights s(2);
+  s.show.devices[0].init.clear();
+  s.show.devices[0].korg_external_leds = true;
+  return s;
+}
+
+TEST(LedFeedback, ANanoKontrol2IsPutInExternalLedModeBeforeItsLightsAndAgainOnReconnecting) {
+  Lights s = korg_lights();
+  LedFeedback f;
+  f.prepare(s.show, s.m);
+  KorgUnit unit;
+  std::vector<char> on{1, 0};
+  std::vector<DeviceState> state{DeviceState::Connected};
+  uint16_t dev = 9;
+  const char* news = nullptr;
+  int64_t t = 0;
+  auto frame = [&] {
+    f.frame(t, s.m, {}, on, state, unit);
+    t += 8 * kMs;
+  };
+  frame();  // search device
+  EXPECT_EQ(unit.led_messages, 0);
+  frame();  // its reply: the dump request
+  frame();  // its scene: sent back with the LED mode External
+  EXPECT_TRUE(unit.sim.external_leds());
+  EXPECT_EQ(unit.led_messages, 0) << "no light before the unit has said it took the scene";
+  frame();  // ACK: the lights
+  EXPECT_FALSE(unit.sim.stored_external_leds()) << "nothing written to the unit's memory";
+  EXPECT_EQ(unit.led_messages, 2);
+  EXPECT_EQ(unit.sim.led("b0"), -1);  // (the test's lights are notes; the unit's are CCs)
+  ASSERT_TRUE(f.take_news(dev, news));
+  EXPECT_EQ(dev, 0);
+  EXPECT_NE(std::string(news).find("External"), std::string::npos) << news;
+  EXPECT_FALSE(f.take_news(dev, news)) << "said once";
+  nlohmann::json j;
+  f.add_stats(j);
+  EXPECT_EQ(j["leds"]["korg_led_mode"], "switched");
+  // Unplugged (its scene is the stored one again) and back: set up again, then every light.
+  state[0] = DeviceState::Unplugged;
+  frame();
+  unit.sim = MidiControllerSim("nanokontrol2");
+  state[0] = DeviceState::Connected;
+  for (int i = 0; i < 4; ++i) frame();
+  EXPECT_TRUE(unit.sim.external_leds());
+  EXPECT_EQ(unit.led_messages, 4);
+  // A unit whose scene says External already is only read.
+  Lights s2 = korg_lights();
+  LedFeedback g;
+  g.prepare(s2.show, s2.m);
+  KorgUnit set;
+  ASSERT_TRUE(set.sim.load_script("0 ledmode external").ok());
+  t = 0;
+  for (int i = 0; i < 3; ++i, t += 8 * kMs) g.frame(t, s2.m, {}, on, state, set);
+  EXPECT_EQ(set.led_messages, 2);
+  ASSERT_TRUE(g.take_news(dev, news));
+  EXPECT_NE(std::string(news).find("already"), std::string::npos) << news;
+}
+
+TEST(LedFeedback, ANanoKontrol2ThatDoesNotAnswerIsSaidAndItsLightsAreSentAnyway) {
+  Lights s = korg_lights();
+  LedFeedback f;
+  f.prepare(s.show, s.m);
+  KorgUnit unit;
+  unit.answers = false;
+  std::vector<char> on{1, 0};
+  std::vector<DeviceState> state{DeviceState::Connected};
+  uint16_t dev = 0;
+  const char* news = nullptr;
+  int64_t t = 0;
+  for (; t < 990 * kMs; t += 10 * kMs) f.frame(t, s.m, {}, on, state, unit);
+  EXPECT_EQ(unit.led_messages, 0) << "waiting for its answer, up to a second";
+  EXPECT_FALSE(f.take_news(dev, news));
+  for (; t < 1030 * kMs; t += 10 * kMs) f.frame(t, s.m, {}, on, state, unit);
+  EXPECT_EQ(unit.led_messages, 2);
+  ASSERT_TRUE(f.take_news(dev, news));
+  EXPECT_NE(std::string(news).find("Korg Kontrol Editor"), std::string::npos) << news;
+  nlohmann::json j;
+  f.add_stats(j);
+  EXPECT_EQ(j["leds"]["korg_led_mode"], "no answer");
 }
 
 }  // namespace
