@@ -261,6 +261,7 @@ bool LiveShow::open_output(std::string* err) {
     wo.screen = sh.kiosk.enabled ? sh.kiosk.display : sh.screen;
     wo.screen_name = sh.kiosk.enabled ? std::string() : sh.screen_name;
     wo.transparent = background_.a < 1;
+    wo.vsync = sh.vsync;
     std::string note;
     auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
     if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] " << note << "\n";
@@ -658,6 +659,7 @@ std::string LiveShow::begin() {
   }
   late_.configure(late_timed, (opt_.late_input < 0 ? show_.late_input : opt_.late_input > 0), period * 1e6,
                   show_.late_input_margin_ms * 1e3);
+  if (canvas_->is_window()) late_.set_display(canvas_->vsync(), canvas_->refresh_hz());
   pacer_.start();
   started_ = true;
   return {};

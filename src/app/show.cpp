@@ -61,12 +61,13 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   if (const toml::node* dn = root.get("display")) {
     const toml::table* d = dn->as_table();
     if (!d) throw ShowError{at(path, *dn) + ": [display] must be a table"};
-    check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background", "screen"}, "[display]");
+    check_keys(path, *d, {"width", "height", "fullscreen", "hud", "background", "screen", "vsync"}, "[display]");
     if (auto* n = d->get("width")) s.width = integer(path, *n, "width", 16, 8192);
     if (auto* n = d->get("height")) s.height = integer(path, *n, "height", 16, 8192);
     if (s.width < 16 || s.height < 16 || s.width > 8192 || s.height > 8192)
       throw ShowError{at(path, *dn) + ": display size must be 16..8192"};
     if (auto* n = d->get("fullscreen")) s.fullscreen = boolean(path, *n, "fullscreen");
+    if (auto* n = d->get("vsync")) s.vsync = boolean(path, *n, "vsync");
     if (auto* n = d->get("hud")) s.hud = boolean(path, *n, "hud");
     if (auto* n = d->get("background")) {
       s.background = text(path, *n, "background");

@@ -99,6 +99,9 @@ struct ShowConfig {
   double late_input_margin_ms = 0;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
+  /// [display] vsync: a window's present waits for the display's refresh (no tearing; the show's
+  /// rate should be the display's), and --stats estimates input to photon.
+  bool vsync = false;
   /// [display] screen: the screen a window or fullscreen show opens on (-1: SDL's choice), or
   /// a substring of its name (screen_name, matched when the window opens).
   int screen = -1;

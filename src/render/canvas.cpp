@@ -122,14 +122,19 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
   // present. SDL turns batching off when a render driver is named (SDL_RENDER_DRIVER), which
   // would send every glyph of the HUD to the driver on its own.
   SDL_SetHint(SDL_HINT_RENDER_BATCHING, "1");
-  c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, o.software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED);
-  if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE);
+  const Uint32 sync = o.vsync ? SDL_RENDERER_PRESENTVSYNC : 0;
+  c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, (o.software ? SDL_RENDERER_SOFTWARE : SDL_RENDERER_ACCELERATED) | sync);
+  if (!c->wrenderer_ && !o.software) c->wrenderer_ = SDL_CreateRenderer(c->window_, -1, SDL_RENDERER_SOFTWARE | sync);
   if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");  // (an OpenGL renderer re-creates the window)
   if (!c->wrenderer_) return R::failure(std::string("cannot create renderer: ") + SDL_GetError());
   c->premultiplied_ = SDL_ComposeCustomBlendMode(SDL_BLENDFACTOR_ONE, SDL_BLENDFACTOR_ONE_MINUS_SRC_ALPHA, SDL_BLENDOPERATION_ADD,
                                                  SDL_BLENDFACTOR_ONE, SDL_BLENDFACTOR_ONE_MINUS_SRC_ALPHA, SDL_BLENDOPERATION_ADD);
-  // The GPU draws the canvas where the renderer is an accelerated one with render targets.
   SDL_RendererInfo info;
+  // (SDL's software renderer on X11 says PRESENTVSYNC even when it was not asked for and does not wait.)
+  if (SDL_GetRendererInfo(c->wrenderer_, &info) == 0) c->vsync_ = o.vsync && (info.flags & SDL_RENDERER_PRESENTVSYNC) != 0;
+  if (o.vsync && !c->vsync_ && note)
+    *note += std::string(note->empty() ? "" : "; ") + "vsync: the " + info.name + " renderer presents without waiting for the refresh";
+  // The GPU draws the canvas where the renderer is an accelerated one with render targets.
   if (o.gpu && SDL_GetRendererInfo(c->wrenderer_, &info) == 0 && !(info.flags & SDL_RENDERER_SOFTWARE) &&
       SDL_RenderTargetSupported(c->wrenderer_)) {
     c->target_ = SDL_CreateTexture(c->wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_TARGET, width, height);
@@ -391,6 +396,12 @@ void Canvas::place() {
   const double s = std::min(double(ww_) / width_, double(wh_) / height_);
   const int w = std::max(1, int(std::lround(width_ * s))), h = std::max(1, int(std::lround(height_ * s)));
   shown_ = {(ww_ - w) / 2, (wh_ - h) / 2, w, h};
+}
+
+int Canvas::refresh_hz() const {
+  SDL_DisplayMode m;
+  if (!window_ || SDL_GetWindowDisplayMode(window_, &m) != 0) return 0;
+  return m.refresh_rate;
 }
 
 void Canvas::present() {

@@ -44,6 +44,8 @@ struct WindowOptions {
   /// over `fallback` instead (the canvas itself stays transparent) and `note` says so.
   bool transparent = false;
   Rgba fallback{0, 1, 0, 1};
+  /// present() waits for the display's refresh (no tearing); where the renderer cannot, `note` says so.
+  bool vsync = false;
 };
 
 /// A screen SDL sees.
@@ -97,6 +99,10 @@ class Canvas {
   /// Shows the frame (window) — no-op offscreen.
   void present();
   SDL_Renderer* window_renderer() { return wrenderer_; }
+  /// Whether present() waits for the refresh (the renderer said so), and the display's refresh
+  /// rate in Hz (0: not known).
+  bool vsync() const { return vsync_; }
+  int refresh_hz() const;
   SDL_Window* sdl_window() { return window_; }
   /// The window's drawable size, and where the canvas shows in it.
   int window_width() const { return ww_; }
@@ -124,6 +130,7 @@ class Canvas {
   SDL_Texture* gpu_texture_for(const Texture* t, bool premultiplied);
   void place();  ///< where the canvas shows in the window
   bool gpu_ = false;
+  bool vsync_ = false;
   SDL_Texture* target_ = nullptr;  ///< the canvas on the GPU (gpu_)
   std::unordered_map<const Texture*, SDL_Texture*> gpu_textures_[2];  ///< straight, premultiplied
   std::vector<std::uint8_t> upload_;  ///< a texture being premultiplied

@@ -322,6 +322,46 @@ TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
   EXPECT_EQ(ja["run_hash"], jb["run_hash"]);
 }
 
+// [display] vsync: in a window (SDL's software renderer under Xvfb, which waits for a 60 Hz
+// refresh it emulates), present waits for the refresh, the show says so in --stats, and the
+// newest input's age is estimated to the photon: at least its age at frame-ready, plus half a
+// refresh. Xvfb gives SDL no refresh rate, so it is measured from the presents. Without vsync
+// the estimate says why there is none.
+TEST(Live, WithVsyncTheStatsEstimateInputToPhoton) {
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const auto dir = test::temp_dir("vsync");
+  std::ifstream base(test::source_dir() / "tests/data/shows/bench_live.toml");
+  std::string text((std::istreambuf_iterator<char>(base)), {});
+  text.replace(text.find("rate = 120"), 10, "rate = 60");
+  text.replace(text.find("../../../config"), 15, (test::source_dir() / "config").string());
+  for (bool vsync : {true, false}) {
+    SCOPED_TRACE(vsync);
+    std::string t = text;
+    if (vsync) t.replace(t.find("[display]"), 9, "[display]\nvsync = true");
+    const auto show = dir / (vsync ? "vsync.toml" : "free.toml");
+    std::ofstream(show) << t;
+    const auto stats = dir / (vsync ? "vsync.json" : "free.json");
+    const std::string cmd = "SDL_RENDER_DRIVER=software ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+                            std::string(MARIONETTE_BINARY) + "' run '" + show.string() + "' --frames 120 --stats '" +
+                            stats.string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
+    ASSERT_EQ(std::system(cmd.c_str()), 0);
+    std::ifstream in(stats);
+    const auto j = nlohmann::json::parse(in)["late_input"];
+    EXPECT_EQ(j["display"]["vsync"], vsync) << j.dump();
+    const auto& photon = j["newest_input_to_photon_us_estimate"];
+    if (!vsync) {
+      EXPECT_EQ(photon, "not estimated: no vsync ([display] vsync = true)");
+      continue;
+    }
+    EXPECT_EQ(j["display"]["refresh_from"], "present intervals") << j.dump();
+    const double hz = j["display"]["refresh_hz"].get<double>();
+    EXPECT_GT(hz, 10) << j.dump();
+    EXPECT_LT(hz, 240) << j.dump();
+    ASSERT_TRUE(photon.is_object()) << j.dump();
+    EXPECT_GE(photon["p50"].get<double>(), j["newest_input_to_ready_us"]["p50"].get<double>() + 0.5e6 / hz - 1) << j.dump();
+  }
+}
+
 // The window shows the canvas and, over it, the HUD's text; the canvas itself (what dumps and
 // outputs use) never has the HUD. For both window renderers, SDL's software one and OpenGL
 // (Mesa under Xvfb): below the HUD, the window's pixels equal the canvas's of the same frame.

@@ -13,6 +13,14 @@
 // input's age when the frame read), read -> frame ready (the frame's work up to its picture),
 // frame ready -> present returned, and the newest input's age at the tick that shows the frame
 // (the first deadline at or after present returned). Adding never allocates.
+//
+// In a window with vsync ([display] vsync) present returns at the display's flip, so a frame's
+// cost is read -> frame ready (present's wait for the refresh is not work) and a miss is a frame
+// not ready by its deadline; and the newest input's age is estimated to the photon: its age when
+// present returned plus half a refresh, the scanout's way to the middle of the screen (a
+// compositor may add a refresh more: not counted, so an estimate from below). The refresh is the
+// display's as SDL gives it, or, where it gives none (Xvfb), measured: the 10th percentile of
+// the intervals between present returns, which vsync holds to the refresh.
 #pragma once
 
 #include "app/stats.h"
@@ -31,6 +39,9 @@ class LateInput {
   /// starting margin.
   void configure(bool timed, bool on, double period_us, double margin_us);
   bool timed() const { return timed_; }
+  /// The window: present waits for the refresh (`vsync`), at `refresh_hz` (0: not known; then
+  /// it is measured from the presents).
+  void set_display(bool vsync, int refresh_hz);
   bool on() const { return on_; }
   /// How long before its deadline the next frame wakes (us): the whole period until a frame
   /// was measured (it reads right after the last one), 0 when late input is off.
@@ -45,12 +56,15 @@ class LateInput {
   void add_stats(nlohmann::json& stats) const;
 
  private:
-  bool timed_ = false, on_ = false;
+  bool timed_ = false, on_ = false, vsync_ = false;
+  int refresh_hz_ = 0;
   double period_us_ = 0, base_margin_us_ = 500, margin_us_ = 500;
   std::array<double, 64> recent_{};  ///< the last frames' compute (read -> present returned), us
   size_t n_ = 0, at_ = 0;
   long since_miss_ = 0, misses_ = 0, frames_ = 0;
   Histogram lead_, device_to_read_, read_to_ready_, ready_to_present_, newest_to_ready_, newest_to_tick_;
+  Histogram newest_to_present_, present_interval_;  ///< with vsync: the photon estimate's parts
+  int64_t last_presented_ = -1;
 };
 
 }  // namespace mar

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <tuple>
+
 namespace mar {
 namespace {
 
@@ -143,6 +145,56 @@ TEST(LateInput, WarmUpFramesTeachThePredictionButAreNotCounted) {
   EXPECT_EQ(l.misses(), 0);
   EXPECT_DOUBLE_EQ(l.margin_us(), 500);
   EXPECT_DOUBLE_EQ(l.lead_us(), 8333);  // 9000 + 500, at most a period
+}
+
+// With vsync, present returns at the flip: its wait is not the frame's work (not a miss, not
+// in the prediction), and the newest input is estimated to the photon: its age when present
+// returned plus half a refresh. Without vsync it says why not; without the display's refresh rate
+// it is measured from the intervals between presents.
+TEST(LateInput, WithVsyncThePhotonIsEstimatedAndPresentsWaitIsNotWork) {
+  LateInput l;
+  l.configure(true, true, 16667, 500);
+  l.set_display(true, 60);
+  const int64_t ms = 1'000'000;
+  for (int k = 1; k <= 4; ++k) {
+    const int64_t deadline = k * 16667 * 1000, read = deadline - 3 * ms, ready = read + 1 * ms;
+    const int64_t presented = deadline + 6 * ms;  // present waited for a flip after the deadline
+    l.frame(deadline, read, ready, presented, read - ms, true);
+  }
+  nlohmann::json j;
+  l.add_stats(j);
+  const auto& s = j["late_input"];
+  EXPECT_EQ(s["missed_deadlines"], 0);
+  EXPECT_NEAR(l.lead_us(), 1000 + 500, 1);  // read -> ready, plus the margin
+  EXPECT_EQ(s["display"]["vsync"], true);
+  EXPECT_EQ(s["display"]["refresh_hz"], 60);
+  EXPECT_EQ(s["display"]["refresh_from"], "display");
+  // 1 ms before the read, presented 3 + 6 ms after the read: 10 ms, and half of 16.7 ms
+  EXPECT_NEAR(s["newest_input_to_photon_us_estimate"]["p50"].get<double>(), 10000 + 8333, 30);
+  for (const auto& [vsync, hz, why] : {std::tuple{false, 60, "no vsync"}, std::tuple{true, 0, "not known yet"}}) {
+    LateInput m;
+    m.configure(true, true, 16667, 500);
+    m.set_display(vsync, hz);
+    m.frame(16667000, 16000000, 16500000, 16600000, 15000000, true);
+    nlohmann::json k;
+    m.add_stats(k);
+    const auto& e = k["late_input"]["newest_input_to_photon_us_estimate"];
+    ASSERT_TRUE(e.is_string()) << e.dump();
+    EXPECT_NE(e.get<std::string>().find(why), std::string::npos) << e;
+  }
+  // No rate from the display: presents every 20 ms (a 50 Hz refresh; two of them late by one).
+  LateInput m;
+  m.configure(true, true, 20000, 500);
+  m.set_display(true, 0);
+  for (int k = 1; k <= 30; ++k) {
+    const int64_t presented = int64_t(k) * 20 * ms + (k == 7 || k == 19 ? 20 * ms : 0);
+    m.frame(presented - 5 * ms, presented - 8 * ms, presented - 7 * ms, presented, presented - 10 * ms, true);
+  }
+  nlohmann::json k;
+  m.add_stats(k);
+  EXPECT_EQ(k["late_input"]["display"]["refresh_from"], "present intervals");
+  EXPECT_NEAR(k["late_input"]["display"]["refresh_hz"].get<double>(), 50, 1);
+  EXPECT_NEAR(k["late_input"]["newest_input_to_photon_us_estimate"]["p50"].get<double>(), 10000 + 10000, 100);
 }
 
 }  // namespace
