@@ -40,7 +40,7 @@ void Backend::read_taken() const {
 
 std::string Backend::denied_hint(const std::string& path) {
   return "permission denied on " + path + ": install " + std::string(kUdevRule) +
-         " and add yourself to the 'marionette' group (see README, Devices)";
+         " and add yourself to the 'marionette' group (see docs/devices.md, udev rule)";
 }
 
 DeviceSet::DeviceSet(int64_t epoch) : epoch_ns_(epoch) {}

@@ -1,5 +1,5 @@
 // Show files (TOML, config/shows/): which character and rig, which devices, how controls
-// bind to targets, display and frame rate. See README "Show files" for every key.
+// bind to targets, display and frame rate. See docs/show-files.md for every key.
 #pragma once
 
 #include "devices/device.h"

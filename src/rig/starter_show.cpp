@@ -94,7 +94,7 @@ Result<std::string> starter_show(const AutoRig& a, const Character& ch, const st
   const int h = 640, w = std::clamp(int(std::lround(640.0 * ch.width / std::max(1e-9, ch.height))), 160, 1920);
   o << "# Starter show (marionette rig --show) for " << rig_path << " on a " << device << ".\n"
     << "# It runs at once with the device's simulator (the script below); for the real device,\n"
-    << "# replace the [[device]] table's sim and script as README's Devices section shows.\n"
+    << "# replace the [[device]] table's sim and script as docs/devices.md shows.\n"
     << "[show]\nrig = \"" << rig_path << "\"\nrate = 60\niterations = 8\n\n[display]\nwidth = " << w << "\nheight = " << h << "\n";
   // A group per chain: its handle turns about the chain's first hinge.
   auto groups = [&](size_t count) {

@@ -26,7 +26,7 @@
 // factor grows with w (bottle of 2,288 nodes: 50 k non-zeros at w = 1, 657 k at w = 9, and each
 // back-substitution with it), while with s ≈ w / 2 it stays near 50 k at every w. Overlapping by
 // more than half, the sparser regions bend a figure within 2 % of the every-node ones (test
-// StridedRegions...; pictures in README).
+// StridedRegions...; pictures in docs/solvers.md).
 // The junction term E_s ties curves to the grid over the junction triangles, one of:
 //  - "mvc", seed 003's Eq. 4: Σ_{v∈V} |v − Σ_j λ_vj v_j|² + Σ_{edges ij} |(v_i − v_j) − l̄_ij u_ij|²,
 //    λ the rest mean-value coordinates of the vertices whose one-ring is all junction
