@@ -327,11 +327,18 @@ int cmd_pose(const PoseArgs& a) {
   std::vector<double> energies(static_cast<size_t>(iterations) + 1);
   p.solver->initial_guess(targets);
   if (FeatureFrameMethod* ff = p.feature_frame()) {
-    ff->core().solve(targets, iterations, energies);  // with the energy of every iteration
-  } else {
-    p.solver->solve(targets, iterations);
+    ff->core().solve(targets, iterations, energies);  // with the energy of every accepted iterate
+  } else {  // one iteration at a time, as the same solve would go, with its energy after each
+    energies[0] = p.solver->energy(targets);
+    for (int it = 1; it <= iterations; ++it) {
+      p.solver->solve(targets, 1);
+      energies[size_t(it)] = p.solver->energy(targets);
+    }
   }
   p.reconstruct();
+  // A handle's residual is where the drawing it is bound to is against its target (a rigid
+  // grid's handle on a stroke is the stroke's point: solve/rigid_grid.h).
+  auto residual = [&](size_t h) { return (p.solver->handle_point(h) - targets[h]).norm(); };
   if (!a.dump.empty()) {
     nlohmann::ordered_json j;
     nlohmann::ordered_json subs = nlohmann::ordered_json::array();
@@ -349,7 +356,7 @@ int cmd_pose(const PoseArgs& a) {
     j["energy_per_iteration"] = std::vector<double>(energies.begin() + 1, energies.end());
     nlohmann::ordered_json res = nlohmann::ordered_json::object();
     for (size_t h = 0; h < p.solver->handle_count(); ++h) {
-      res[p.rig.handles[h].name] = (p.solver->handle_point(h) - targets[h]).norm();
+      res[p.rig.handles[h].name] = residual(h);
     }
     j["handle_residuals"] = res;
     std::ofstream out(a.dump);
@@ -368,7 +375,7 @@ int cmd_pose(const PoseArgs& a) {
   }
   if (a.dump.empty() && a.output.empty()) {
     for (size_t h = 0; h < p.solver->handle_count(); ++h) {
-      std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(), (p.solver->handle_point(h) - targets[h]).norm());
+      std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(), residual(h));
     }
   }
   return kExitOk;

@@ -326,4 +326,12 @@ double OutlineArap::energy() const {
   return e;
 }
 
+double OutlineArap::energy(std::span<const Vec2> targets) const {
+  double e = energy();
+  const size_t m = std::min(targets.size(), handles_.size());
+  for (size_t h = 0; h < m; ++h)
+    if (targets[h].allFinite()) e += position_ * handle_w(h) * (eval(handles_[h]) - targets[h]).squaredNorm();
+  return e;
+}
+
 }  // namespace mar

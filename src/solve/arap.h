@@ -38,6 +38,8 @@ class OutlineArap final : public Solver {
   std::span<const std::array<int, 3>> triangles() const { return tris_; }
   /// The ARAP energy of the current pose (without the handle term).
   double energy() const;
+  /// With the handle term for `targets` (Solver::energy).
+  double energy(std::span<const Vec2> targets) const override;
 
  private:
   /// A point of the rest mesh as barycentric coordinates in one triangle.

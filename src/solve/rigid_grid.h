@@ -106,7 +106,7 @@ class RigidGrid final : public Solver {
 
   /// The energy of the current pose with the best rotations and edge directions
   /// for it, plus the handle term for `targets`.
-  double energy(std::span<const Vec2> targets) const;
+  double energy(std::span<const Vec2> targets) const override;
 
   /// Region sums Σ_{j∈R_r} f_j for every region r (one value per node in, one
   /// per region out), by the fast summation or by visiting every member; and

@@ -9,6 +9,8 @@
 #include <map>
 #include <numeric>
 
+#include <Eigen/Dense>
+
 #include "geom/polygon.h"
 #include "geom/triangulate.h"
 
@@ -206,8 +208,18 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   grid_count_ = rest_.size();
 
   // --- Boundary curves: every contour resampled at about a cell, every contour point a node;
-  // coincident points of different contours share their node (stick figures).
+  // coincident points of different contours share their node (stick figures). A stroke that
+  // ends on another contour between its points (an arm drawn from the middle of a spine, a neck
+  // ending on a head's ring) puts its end into that contour as a point, so the two share it too.
   const double q = 1e-7 * std::max(diag, 1e-300);
+  Points stroke_ends;
+  for (const SubShape& s : ch.shapes)
+    for (const Contour& c : s.contours)
+      if (c.count >= 2 && !(c.closed && c.count >= 3)) {
+        stroke_ends.push_back(s.points[size_t(c.begin)]);
+        stroke_ends.push_back(s.points[size_t(c.begin + c.count - 1)]);
+      }
+  const double touch = 0.25 * h_;  // an end this near a contour is on it
   std::map<Key, int> curve_node_at;
   curves_.clear();
   cnode_.clear();
@@ -220,9 +232,32 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     for (const Contour& c : s.contours) {
       if (c.count < 2) continue;
       const bool cl = c.closed && c.count >= 3;
+      // The contour with the stroke ends that touch it between its points (T-junctions).
+      Points pts;
+      std::vector<int> orig;  ///< per contour point: its index in pts
+      for (int k = 0; k < c.count; ++k) {
+        const Vec2 &a = s.points[size_t(c.begin + k)];
+        orig.push_back(int(pts.size()));
+        pts.push_back(a);
+        if (k + 1 == c.count && !cl) break;
+        const Vec2& b = s.points[size_t(c.begin + (k + 1) % c.count)];
+        const Vec2 ab = b - a;
+        const double len2 = ab.squaredNorm();
+        if (len2 <= 0) continue;
+        std::vector<std::pair<double, Vec2>> on;
+        for (const Vec2& e : stroke_ends) {
+          const double t = (e - a).dot(ab) / len2;
+          if (t <= 1e-6 || t >= 1 - 1e-6 || (a + t * ab - e).norm() > touch) continue;
+          if ((e - a).norm() <= touch || (e - b).norm() <= touch) continue;  // (at a point: shared already, or near enough)
+          on.emplace_back(t, e);
+        }
+        std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (const auto& [t, e] : on)
+          if ((e - pts.back()).squaredNorm() > q * q) pts.push_back(e);
+      }
       std::vector<int> at;
       double spacing = h_;
-      const Points r = refine(std::span(s.points).subspan(size_t(c.begin), size_t(c.count)), cl, h_, at, spacing);
+      const Points r = refine(pts, cl, h_, at, spacing);
       const int first = int(cnode_.size());
       for (const Vec2& p : r) {
         auto [it, added] = curve_node_at.try_emplace(key(p, q), int(rest_.size()));
@@ -233,7 +268,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
         if (!cl) on_open[size_t(it->second) - grid_count_] = 1;
         cnode_.push_back(it->second);
       }
-      for (int k = 0; k < c.count; ++k) binds_[si][size_t(c.begin + k)].v[0] = cnode_[size_t(first + at[size_t(k)])];
+      for (int k = 0; k < c.count; ++k) binds_[si][size_t(c.begin + k)].v[0] = cnode_[size_t(first + at[size_t(orig[size_t(k)])])];
       curves_.push_back({first, int(r.size()), cl, spacing});
     }
   }
@@ -398,7 +433,9 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     // rig is probably wrong.
     double near = INFINITY;
     for (const Vec2& node : rest_) near = std::min(near, (node - p).norm());
-    if (near > 1.5 * h_) {
+    const bool in_cell = cell_inside(int(std::floor((p.x() - origin_.x()) / h_)), int(std::floor((p.y() - origin_.y()) / h_)));
+    const bool in_ring = e.n == 4 && !in_cell;  // inside a stroked ring (a head): the ring carries it
+    if (near > 1.5 * h_ && !in_ring) {
       char msg[200];
       std::snprintf(msg, sizeof msg,
                     "rigid_grid: handle %zu at (%.1f, %.1f) is %.1f units off the figure; it moves the nearest part as "
@@ -439,8 +476,7 @@ RigidGrid::Embed RigidGrid::embed(const Vec2& p) const {
     e.w[0] = (1 - u) * (1 - v), e.w[1] = u * (1 - v), e.w[2] = (1 - u) * v, e.w[3] = u * v;
     return e;
   }
-  // Barycentric in the mesh triangle holding it (outside every one, the nearest, extrapolated: a
-  // stroke's point beyond the mesh keeps its offset).
+  // Barycentric in the mesh triangle holding it.
   double best = INFINITY;
   for (const auto& t : tris_) {
     const Vec2 &a = rest_[size_t(t[0])], &b = rest_[size_t(t[1])], &c = rest_[size_t(t[2])];
@@ -453,10 +489,53 @@ RigidGrid::Embed RigidGrid::embed(const Vec2& p) const {
       e.n = 3;
       e.v[0] = t[0], e.v[1] = t[1], e.v[2] = t[2];
       e.w[0] = u, e.w[1] = v, e.w[2] = w;
-      if (out == 0) break;
+      if (out == 0) return e;
     }
   }
-  if (!std::isfinite(best)) {  // no triangle at all: the nearest node
+  // Off the mesh. Inside a closed curve that is not filled (a stroked circle for a head): the
+  // whole ring carries it, as the affine combination of four nodes spread around it with the
+  // least weights. Else on or beside a stroke (a stick figure's hand, where the mesh has no
+  // triangle): the nearest point of the nearest curve, if no triangle is as near. Else the
+  // nearest triangle, extrapolated (a point beyond the mesh keeps its offset to it).
+  double ring_area = INFINITY;
+  for (const Curve& c : curves_) {
+    if (!c.closed || c.count < 4) continue;
+    Points ring(size_t(c.count));
+    for (int k = 0; k < c.count; ++k) ring[size_t(k)] = rest_[size_t(cnode_[size_t(c.first + k)])];
+    const double area = std::abs(signed_area(ring));
+    if (winding_number(ring, p) == 0 || area >= ring_area) continue;
+    Eigen::Matrix<double, 3, 4> A;
+    int v[4];
+    for (int k = 0; k < 4; ++k) {
+      v[k] = cnode_[size_t(c.first + k * c.count / 4)];
+      A.col(k) << rest_[size_t(v[k])].x(), rest_[size_t(v[k])].y(), 1.0;
+    }
+    const Eigen::Matrix3d M = A * A.transpose();
+    if (std::abs(M.determinant()) < 1e-12 * std::pow(h_, 4)) continue;  // (four nodes in a line)
+    const Eigen::Vector4d wts = A.transpose() * M.ldlt().solve(Eigen::Vector3d(p.x(), p.y(), 1.0));
+    ring_area = area;
+    e.n = 4;
+    for (int k = 0; k < 4; ++k) e.v[k] = v[k], e.w[k] = wts[k];
+  }
+  if (std::isfinite(ring_area)) return e;
+  double seg = INFINITY;
+  Embed on_curve;
+  for (const Curve& c : curves_)
+    for (int k = 0; k + (c.closed ? 0 : 1) < c.count; ++k) {
+      const int a = cnode_[size_t(c.first + k)], b = cnode_[size_t(c.first + (k + 1) % c.count)];
+      const Vec2 ab = rest_[size_t(b)] - rest_[size_t(a)];
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - rest_[size_t(a)]).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      const double d = (rest_[size_t(a)] + t * ab - p).norm();
+      if (d < seg) {
+        seg = d;
+        on_curve.n = 2;
+        on_curve.v[0] = a, on_curve.v[1] = b;
+        on_curve.w[0] = 1 - t, on_curve.w[1] = t;
+      }
+    }
+  if (seg <= best) return on_curve;
+  if (!std::isfinite(best)) {  // no triangle and no curve: the nearest node
     size_t k = 0;
     for (size_t i = 1; i < rest_.size(); ++i)
       if ((rest_[i] - p).squaredNorm() < (rest_[k] - p).squaredNorm()) k = i;

@@ -57,6 +57,10 @@ class Solver {
   virtual void grab(const Vec2& rest_point) = 0;
   virtual void release() = 0;
   virtual bool grabbing() const = 0;
+
+  /// The energy the method minimises, of the current pose for `targets` (rigidity and handle
+  /// terms, with the best rotations for the pose); for `pose --dump`, tests and benchmarks.
+  virtual double energy(std::span<const Vec2> targets) const = 0;
 };
 
 /// A mesh solver's pose reset (`motion` absent) or moved by the best rigid motion of the
@@ -91,6 +95,7 @@ class FeatureFrameMethod final : public Solver {
   void grab(const Vec2& rest_point) override { s_.set_extra_handle(bind_point(frame_, *character_, rest_point)); }
   void release() override { s_.clear_extra_handle(); }
   bool grabbing() const override { return s_.has_extra_handle(); }
+  double energy(std::span<const Vec2> targets) const override { return s_.energy(targets); }
 
   const FeatureFrame& frame() const { return frame_; }
   std::span<const ShapeParam> bindings() const { return bindings_; }

@@ -297,6 +297,67 @@ TEST(RigidGrid, StickFigureStrokesShareTheirJointAndKeepTheirLength) {
   }
 }
 
+// The shipped stick figure (config/characters/stick.svg: polylines and a ring, no fill). A
+// handle binds to the stroke it is drawn on, so a hand sent anywhere within reach is drawn
+// there and the strokes it is not on stay; the head's handle, inside the ring, moves the ring.
+// (Before, a handle off the mesh's joint triangles was extrapolated from the nearest one: the
+// hand stayed 70-106 units from its target and the leg moved instead.)
+TEST(RigidGrid, AStickFiguresHandleMovesTheStrokeItIsDrawnOn) {
+  auto ch = load_character((test::characters_dir() / "stick.svg").string());
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  Character c = *ch.value;
+  Rig r = grid_rig(6, 3);
+  const std::vector<Vec2> rest{{150, 58}, {150, 250}, {100, 212}, {200, 212}, {115, 352}, {185, 352}};
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, r, rest, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(s.grid_nodes(), 0u);
+  EXPECT_TRUE(c.warnings.empty()) << c.warnings[0];
+  auto index = [&](const char* id) {
+    for (size_t i = 0; i < c.shapes.size(); ++i)
+      if (c.shapes[i].id == id) return i;
+    ADD_FAILURE() << id;
+    return size_t(0);
+  };
+  auto pose = [&](const std::vector<Vec2>& t) {
+    s.reset_to_rest();
+    s.initial_guess(t);
+    double last = s.energy(t);
+    for (int it = 0; it < 40; ++it) {
+      s.solve(t, 1);
+      const double e = s.energy(t);
+      EXPECT_LE(e, last * (1 + 1e-9)) << "iteration " << it;
+      last = e;
+    }
+    std::vector<Points> out;
+    for (const SubShape& sh : c.shapes) out.push_back(sh.points);
+    s.shape_points(out);
+    return out;
+  };
+  const size_t arm = index("arm-right"), leg_l = index("leg-left"), leg_r = index("leg-right"), head = index("head");
+  for (const Vec2& to : {Vec2(180, 60), Vec2(245, 110), Vec2(230, 250)}) {
+    SCOPED_TRACE(to.transpose());
+    std::vector<Vec2> t = rest;
+    t[3] = to;
+    const auto out = pose(t);
+    EXPECT_LT((out[arm].back() - to).norm(), 2.0) << "the drawn hand";
+    EXPECT_LT((s.handle_point(3) - out[arm].back()).norm(), 0.5) << "the handle is the drawn hand";
+    for (size_t leg : {leg_l, leg_r})  // strokes it is not on stay
+      for (size_t k = 0; k < out[leg].size(); ++k) EXPECT_LT((out[leg][k] - c.shapes[leg].points[k]).norm(), 3.0);
+  }
+  // The head's handle at the ring's centre carries the ring, whole.
+  std::vector<Vec2> t = rest;
+  t[0] = Vec2(172, 66);
+  const auto out = pose(t);
+  Vec2 centre = Vec2::Zero(), rest_centre = Vec2::Zero();
+  for (size_t k = 0; k < out[head].size(); ++k) centre += out[head][k], rest_centre += c.shapes[head].points[k];
+  centre /= double(out[head].size());
+  rest_centre /= double(out[head].size());
+  EXPECT_LT((centre - t[0]).norm(), 2.0) << centre.transpose();
+  for (size_t k = 0; k < out[head].size(); ++k)  // a ring still: every point at its radius
+    EXPECT_NEAR((out[head][k] - centre).norm(), (c.shapes[head].points[k] - rest_centre).norm(), 1.5);
+}
+
 TEST(RigidGrid, AGrabPullsItsPointAndReleasingItGivesThePoseWithoutIt) {
   Figure f, never;
   ASSERT_TRUE(f.ok && never.ok);
