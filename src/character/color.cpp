@@ -8,6 +8,12 @@
 #include <string>
 
 namespace mar {
+
+std::string_view trim_space(std::string_view s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
+  return s;
+}
 namespace {
 
 struct Named {
@@ -173,15 +179,10 @@ int hexval(char c) {
   return -1;
 }
 
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 // One rgb() component: number (0..255) or percentage; returns value in [0, 1].
 std::optional<float> component(std::string_view s, bool alpha) {
-  s = trim(s);
+  s = trim_space(s);
   if (s.empty()) return std::nullopt;
   bool pct = false;
   if (s.back() == '%') {
@@ -205,7 +206,7 @@ std::optional<Rgba> parse_background_color(std::string_view text) {
 }
 
 std::optional<Rgba> parse_color(std::string_view text) {
-  std::string_view s = trim(text);
+  std::string_view s = trim_space(text);
   if (s.empty()) return std::nullopt;
   if (s[0] == '#') {
     s.remove_prefix(1);
@@ -243,12 +244,12 @@ std::optional<Rgba> parse_color(std::string_view text) {
       body = cut == std::string_view::npos ? std::string_view{} : body.substr(cut + 1);
     }
     if (count == 1) {  // space-separated CSS Color 4 form: rgb(255 0 0)
-      std::string_view one = trim(parts[0]);
+      std::string_view one = trim_space(parts[0]);
       count = 0;
       while (!one.empty() && count < 4) {
         const size_t sp = one.find(' ');
         parts[count++] = one.substr(0, sp);
-        one = sp == std::string_view::npos ? std::string_view{} : trim(one.substr(sp));
+        one = sp == std::string_view::npos ? std::string_view{} : trim_space(one.substr(sp));
       }
     }
     if (count != 3 && count != 4) return std::nullopt;

@@ -9,6 +9,9 @@
 
 namespace mar {
 
+/// `s` without leading and trailing white space (std::isspace).
+std::string_view trim_space(std::string_view s);
+
 std::optional<Rgba> parse_color(std::string_view text);
 
 /// A stage background: "transparent", a chroma-key preset ("chroma-green" #00ff00,

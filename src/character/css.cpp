@@ -1,16 +1,12 @@
 #include "character/css.h"
 
+#include "character/color.h"
+
 #include <algorithm>
 #include <cctype>
 
 namespace mar::css {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 std::string strip_comments(std::string_view text) {
   std::string out;
@@ -32,7 +28,7 @@ bool ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || 
 
 // One compound selector without combinators; false when unsupported.
 bool parse_selector(std::string_view s, Selector& out) {
-  s = trim(s);
+  s = trim_space(s);
   if (s.empty()) return false;
   size_t i = 0;
   auto ident = [&]() {
@@ -77,11 +73,11 @@ std::vector<std::pair<std::string, std::string>> parse_declarations(
     body = semi == std::string_view::npos ? std::string_view{} : body.substr(semi + 1);
     const size_t colon = decl.find(':');
     if (colon == std::string_view::npos) continue;
-    std::string key(trim(decl.substr(0, colon)));
-    std::string_view val = trim(decl.substr(colon + 1));
+    std::string key(trim_space(decl.substr(0, colon)));
+    std::string_view val = trim_space(decl.substr(colon + 1));
     bool imp = false;
     if (const size_t p = val.find("!important"); p != std::string_view::npos) {
-      val = trim(val.substr(0, p));
+      val = trim_space(val.substr(0, p));
       imp = true;
     }
     std::transform(key.begin(), key.end(), key.begin(),
@@ -97,7 +93,7 @@ void parse(std::string_view text, Sheet& sheet) {
   std::string_view s = clean;
   int order = static_cast<int>(sheet.rules.size());
   while (true) {
-    s = trim(s);
+    s = trim_space(s);
     if (s.empty()) break;
     if (s[0] == '@') {
       // @import, @media, @font-face ...: skip the statement or its block.
@@ -133,8 +129,8 @@ void parse(std::string_view text, Sheet& sheet) {
       Selector sel;
       if (parse_selector(one, sel)) {
         sheet.rules.push_back({std::move(sel), decls, important, order++});
-      } else if (!trim(one).empty()) {
-        sheet.unsupported.emplace_back(trim(one));
+      } else if (!trim_space(one).empty()) {
+        sheet.unsupported.emplace_back(trim_space(one));
       }
       if (comma == std::string_view::npos) break;
       pos = comma + 1;

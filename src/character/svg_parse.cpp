@@ -290,7 +290,7 @@ std::vector<Vec2> parse_points(std::string_view s, bool* odd) {
 }
 
 namespace {
-std::string_view trim(std::string_view s) {
+std::string_view trim_ws(std::string_view s) {
   while (!s.empty() && is_ws(s.front())) s.remove_prefix(1);
   while (!s.empty() && is_ws(s.back())) s.remove_suffix(1);
   return s;
@@ -298,7 +298,7 @@ std::string_view trim(std::string_view s) {
 }  // namespace
 
 std::optional<double> parse_number(std::string_view v) {
-  v = trim(v);
+  v = trim_ws(v);
   size_t pos = 0;
   auto r = read_number(v, pos);
   if (!r || !std::isfinite(*r)) return std::nullopt;
@@ -306,7 +306,7 @@ std::optional<double> parse_number(std::string_view v) {
 }
 
 double parse_opacity(std::string_view v, double fallback) {
-  v = trim(v);
+  v = trim_ws(v);
   const bool pct = !v.empty() && v.back() == '%';
   if (pct) v.remove_suffix(1);
   auto r = parse_number(v);
@@ -315,11 +315,11 @@ double parse_opacity(std::string_view v, double fallback) {
 }
 
 std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h) {
-  v = trim(v);
+  v = trim_ws(v);
   size_t pos = 0;
   auto r = read_number(v, pos);
   if (!r) return std::nullopt;
-  const std::string_view unit = trim(v.substr(pos));
+  const std::string_view unit = trim_ws(v.substr(pos));
   double k = 1;
   if (unit.empty() || unit == "px") {
     k = 1;
@@ -352,7 +352,7 @@ bool system_language_matches(std::string_view l) {
   size_t pos = 0;
   while (pos <= l.size()) {
     const size_t comma = l.find(',', pos);
-    const std::string_view tag = trim(l.substr(pos, comma == std::string_view::npos ? l.npos : comma - pos));
+    const std::string_view tag = trim_ws(l.substr(pos, comma == std::string_view::npos ? l.npos : comma - pos));
     if (tag == "en" || tag.rfind("en-", 0) == 0) return true;
     if (comma == std::string_view::npos) break;
     pos = comma + 1;

@@ -10,12 +10,6 @@
 namespace mar {
 namespace {
 
-// A part no handle reaches is pulled toward where it is with this share of its vertices'
-// stiffness: enough to keep the factorisation well conditioned (1e-8 left the part's
-// translation to rounding: it drifted by 0.02 units per iteration), too little to resist
-// the part's own deformation.
-constexpr double kFreePull = 1e-4;
-
 // Interior points on a square lattice of spacing h (one lattice for the whole character,
 // so overlapping parts share them), added to every closed, filled part as one-point
 // contours: vertices of the solver's mesh and of the part's fill, so a deformation (and a

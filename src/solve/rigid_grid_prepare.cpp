@@ -17,7 +17,6 @@
 namespace mar {
 namespace {
 
-constexpr double kFreePull = 1e-4;  // as the ARAP baseline: parts no handle reaches stay put
 
 
 // Inside the filled region (the union of the filled, closed sub-shapes, each even-odd over its

@@ -69,6 +69,12 @@ class Solver {
 void rigid_pose(std::span<const Vec2> handle_rest, std::span<const Vec2> targets, std::span<const Vec2> rest, std::span<Vec2> x,
                 std::span<double> c, std::span<double> s);
 
+/// A part no handle reaches (mesh solvers) is pulled toward where it is with this share of
+/// its vertices' stiffness: enough to keep the factorisation well conditioned (1e-8 left the
+/// part's translation to rounding: it drifted by 0.02 units per iteration), too little to
+/// resist the part's own deformation.
+constexpr double kFreePull = 1e-4;
+
 /// The methods a rig may name.
 bool solver_known(std::string_view name);
 /// A new solver for `name` ("feature_frame"); nullptr for an unknown name.
