@@ -86,6 +86,16 @@ TEST(RunSimulate, HardwareShowRunsOnTheBenchWithEveryBackend) {
   EXPECT_EQ(j["clock"]["simulation_timeouts"], 0);
 }
 
+// The shipped profiles use only what ships: the hardware show under --simulate, with no shared
+// corpus anywhere, says nothing of one (its ps4 profile named a corpus descriptor, and warned).
+TEST(RunSimulate, TheHardwareShowNeedsNoCorpus) {
+  const auto r = test::run_cli("run '" + (test::source_dir() / kHardwareShow).string() + "' --headless --simulate --frames 30",
+                               "MARIONETTE_CORPUS_DIR=/nonexistent");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("corpus"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+}
+
 // The same show on a loaded machine (more busy threads than cores) gives what it gives on an
 // idle one, frame for frame: one run_hash, every record, every detent and grab.
 TEST(RunSimulate, HardwareShowGivesOneRunHashIdleAndLoaded) {
