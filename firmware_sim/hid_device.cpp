@@ -1,5 +1,7 @@
 #include "firmware_sim/hid_device.h"
 
+#include "input/read_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -10,21 +12,27 @@ namespace mar {
 
 Result<std::vector<uint8_t>> read_descriptor_file(const std::string& path) {
   using R = Result<std::vector<uint8_t>>;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return R::failure(path + ": cannot open the report descriptor");
-  std::vector<uint8_t> raw((std::istreambuf_iterator<char>(in)), {});
+  Result<std::string> file = read_file(path, kMaxDescriptorBytes, "a report descriptor");
+  if (!file.ok()) return R::failure(file.error);
+  std::vector<uint8_t> raw(file.value->begin(), file.value->end());
   const auto ends = [&](const char* s) {
     const std::string e = s;
     return path.size() >= e.size() && path.compare(path.size() - e.size(), e.size(), e) == 0;
   };
   if (!ends(".hex") && !ends(".txt")) return R::success(std::move(raw));
   std::vector<uint8_t> out;
-  std::istringstream text(std::string(raw.begin(), raw.end()));
-  for (std::string tok; text >> tok;) {
-    char* end = nullptr;
-    const unsigned long v = std::strtoul(tok.c_str(), &end, 16);
-    if (*end != '\0' || v > 0xFF) return R::failure(path + ": '" + tok + "' is not a hex byte");
-    out.push_back(uint8_t(v));
+  // Hex bytes separated by white space; '#' starts a comment to the end of its line.
+  std::istringstream lines(std::string(raw.begin(), raw.end()));
+  int line_no = 0;
+  for (std::string line; std::getline(lines, line);) {
+    ++line_no;
+    std::istringstream text(line.substr(0, line.find('#')));
+    for (std::string tok; text >> tok;) {
+      char* end = nullptr;
+      const unsigned long v = std::strtoul(tok.c_str(), &end, 16);
+      if (*end != '\0' || v > 0xFF) return R::failure(path + ":" + std::to_string(line_no) + ": '" + tok + "' is not a hex byte");
+      out.push_back(uint8_t(v));
+    }
   }
   return R::success(std::move(out));
 }

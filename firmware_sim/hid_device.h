@@ -20,7 +20,8 @@ constexpr uint32_t XTilt = hid_usage(0x0D, 0x3D), YTilt = hid_usage(0x0D, 0x3E);
 constexpr uint32_t button(int n) { return hid_usage(0x09, uint16_t(n)); }
 }  // namespace usage
 
-/// Reads a descriptor file: whitespace-separated hex (.hex, .txt) or raw bytes.
+/// Reads a descriptor file: whitespace-separated hex (.hex, .txt; `#` comments to the end of a
+/// line) or raw bytes.
 Result<std::vector<uint8_t>> read_descriptor_file(const std::string& path);
 
 class HidDeviceSim : public SimDevice {

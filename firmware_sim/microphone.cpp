@@ -1,5 +1,7 @@
 #include "firmware_sim/microphone.h"
 
+#include "input/read_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -38,9 +40,9 @@ std::vector<int16_t> resample(const std::vector<int16_t>& in, int from, int to) 
 
 Result<std::vector<int16_t>> read_wav(const std::string& path, int& rate) {
   using R = Result<std::vector<int16_t>>;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return R::failure(path + ": cannot open the WAV file");
-  std::vector<char> b((std::istreambuf_iterator<char>(in)), {});
+  Result<std::string> file = read_file(path, kMaxWavBytes, "a WAV file");
+  if (!file.ok()) return R::failure(file.error);
+  const std::string& b = *file.value;
   if (b.size() < 12 || std::memcmp(b.data(), "RIFF", 4) != 0 || std::memcmp(b.data() + 8, "WAVE", 4) != 0)
     return R::failure(path + ": not a WAV file (no RIFF/WAVE header)");
   uint16_t format = 0, channels = 0, bits = 0;

@@ -1,5 +1,7 @@
 #include "app/keys.h"
 
+#include "input/read_file.h"
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -25,9 +27,10 @@ Result<std::vector<Points>> solve_keys(Puppet& p) {
   for (const RigKey& k : p.rig.keys) {
     if (!k.frame.empty()) {
       const std::filesystem::path f = p.rig.beside(k.frame);
-      std::ifstream in(f);
-      nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
-      if (!in || j.is_discarded() || !j.contains("frame_vertices") || !j["frame_vertices"].is_array())
+      Result<std::string> file_text = read_file(f.string(), kMaxScriptBytes, "a key's frame");
+      if (!file_text.ok()) return R::failure(where(k) + ": " + file_text.error);
+      nlohmann::json j = nlohmann::json::parse(*file_text.value, nullptr, false);
+      if (j.is_discarded() || !j.contains("frame_vertices") || !j["frame_vertices"].is_array())
         return R::failure(where(k) + ": cannot read frame_vertices from " + f.string());
       Points v;
       for (const auto& e : j["frame_vertices"]) {

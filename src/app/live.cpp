@@ -76,7 +76,7 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
 std::string LiveShow::validate(const std::string& path) {
   std::unique_ptr<Puppet> puppet;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto p = load_puppet(header.character, header.rig, "", true);
+    auto p = load_puppet(header.character, header.rig, "", true, header.images_anywhere);
     if (!p.ok()) return Result<ShowRig>::failure(p.error);
     puppet = std::move(*p.value);
     return Result<ShowRig>::success(show_rig(*puppet, header));
@@ -97,7 +97,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   // against the loaded puppet: its handles and the settings a binding may drive.
   std::vector<SolverParameter> params;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto puppet = load_puppet(header.character, header.rig, "", true);
+    auto puppet = load_puppet(header.character, header.rig, "", true, header.images_anywhere);
     if (!puppet.ok()) return Result<ShowRig>::failure(puppet.error);
     s->puppet_ = std::move(*puppet.value);
     const Puppet& p = *s->puppet_;

@@ -42,13 +42,14 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path, bool physics) {
+                                            const std::string& mask_path, bool physics, bool images_anywhere) {
   Result<Rig> rig = load_rig(rig_path);
   if (!rig.ok()) return Result<std::unique_ptr<Puppet>>::failure(rig.error);
-  return load_puppet(character_path, std::move(*rig.value), mask_path, physics);
+  return load_puppet(character_path, std::move(*rig.value), mask_path, physics, images_anywhere);
 }
 
-Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path, bool physics) {
+Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path, bool physics,
+                                            bool images_anywhere) {
   using R = Result<std::unique_ptr<Puppet>>;
   auto p = std::make_unique<Puppet>();
   p->rig = std::move(rig);
@@ -60,6 +61,7 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   const std::string path = character_path.empty() ? p->rig.character_path() : character_path;
   LoadOptions lo;
   lo.mask_path = mask_path;
+  lo.images_anywhere = images_anywhere;
   if (mask_path.empty()) {  // the rig's mask goes with the rig's character
     std::error_code ec;
     const bool own = character_path.empty() || std::filesystem::weakly_canonical(character_path, ec) ==

@@ -63,10 +63,11 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
 /// `mask_path`: a PNG character's mask (non-black = figure); empty: the rig's `mask` when the
 /// character is the rig's own file, else the PNG's alpha.
 /// `physics`: the rig's [[physics]] chains get their handles (a show's motion stage drives them).
+/// `images_anywhere`: an SVG character may name images outside its folder ([show] images).
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path = "", bool physics = false);
+                                            const std::string& mask_path = "", bool physics = false, bool images_anywhere = false);
 /// The same with a rig already read (a bench or tool that changes its solver first).
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path = "",
-                                            bool physics = false);
+                                            bool physics = false, bool images_anywhere = false);
 
 }  // namespace mar

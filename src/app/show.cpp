@@ -19,12 +19,10 @@ namespace {
 using namespace showtoml;
 
 toml::table parse_file(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw ShowError{path + ": cannot open the show file"};
-  std::stringstream ss;
-  ss << in.rdbuf();
+  Result<std::string> file_text = read_file(path, kMaxTomlBytes, "a show file");
+  if (!file_text.ok()) throw ShowError{file_text.error};
   try {
-    return toml::parse(ss.str(), path);
+    return toml::parse(*file_text.value, path);
   } catch (const toml::parse_error& e) {
     throw ShowError{path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
   }
@@ -35,7 +33,14 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
-  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations", "late_input", "late_input_margin_ms"}, "[show]");
+  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations", "late_input", "late_input_margin_ms", "images"},
+             "[show]");
+  if (auto* n = t.get("images")) {
+    const std::string v = text(path, *n, "images");
+    if (v != "beside" && v != "anywhere")
+      throw ShowError{at(path, *n) + ": images must be \"beside\" (the character's folder and below) or \"anywhere\""};
+    s.images_anywhere = v == "anywhere";
+  }
   if (auto* n = t.get("character")) s.character = resolve(path, text(path, *n, "character"));
   if (auto* n = t.get("rig")) s.rig = resolve(path, text(path, *n, "rig"));
   else throw ShowError{at(path, *sn) + ": [show] needs a rig"};

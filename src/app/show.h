@@ -97,6 +97,9 @@ struct ShowConfig {
   /// reads its inputs then (app/loop/late_input.h); false: it reads when it is due.
   bool late_input = false;
   double late_input_margin_ms = 0;
+  /// [show] images = "anywhere": an SVG character may name images outside its own folder
+  /// (default "beside": such an image is skipped with a warning).
+  bool images_anywhere = false;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
   /// [display] vsync: a window's present waits for the display's refresh (no tearing; the show's

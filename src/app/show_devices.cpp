@@ -124,8 +124,10 @@ std::string find_profile(const std::string& show_path, const std::string& name) 
 
 void read_hardware_profile(const std::string& file, const std::string& name, ShowDevice& d) {
   toml::table root;
+  Result<std::string> file_text = read_file(file, kMaxTomlBytes, "a device profile");
+  if (!file_text.ok()) throw ShowError{file_text.error};
   try {
-    root = toml::parse_file(file);
+    root = toml::parse(*file_text.value, file);
   } catch (const toml::parse_error& e) {
     throw ShowError{file + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
   }
@@ -309,8 +311,10 @@ std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     if (e.path().extension() != ".toml") continue;
+    Result<std::string> file_text = read_file(e.path().string(), kMaxTomlBytes, "a device profile");
+    if (!file_text.ok()) continue;  // (not a profile to match against: a folder, a FIFO, too large)
     try {
-      const toml::table t = toml::parse_file(e.path().string());
+      const toml::table t = toml::parse(*file_text.value, e.path().string());
       ProfileId p;
       p.name = e.path().stem().string();
       // A VID or PID that is not a 16-bit whole number matches nothing (-1).

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "character/config_toml.h"
+#include "input/read_file.h"
 
 #include <cmath>
 #include <filesystem>
@@ -41,12 +42,10 @@ inline std::string resolve(const std::string& show_path, const std::string& p) {
 /// The text of a `script_file` (resolved against the show file); refused with the key's line.
 inline std::string read_script_file(const std::string& show_path, const toml::node& n, std::string* resolved = nullptr) {
   const std::string f = resolve(show_path, text(show_path, n, "script_file"));
-  std::ifstream in(f);
-  if (!in) throw ShowError{at(show_path, n) + ": cannot open script file " + f};
-  std::stringstream ss;
-  ss << in.rdbuf();
+  Result<std::string> t = read_file(f, kMaxScriptBytes, "a script");
+  if (!t.ok()) throw ShowError{at(show_path, n) + ": script file " + t.error};
   if (resolved) *resolved = f;
-  return ss.str();
+  return std::move(*t.value);
 }
 
 }  // namespace mar::showtoml

@@ -2,7 +2,9 @@
 
 #include "character/raster_loader.h"
 #include "character/svg_loader.h"
+#include "input/read_file.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -16,6 +18,10 @@ Result<Character> load_character(const std::string& path, const LoadOptions& opt
     ro.tolerance = options.raster_tolerance;
     return load_layers(path, ro);
   }
+  // A character is a regular file (or a folder): a FIFO, a device or /dev/zero is refused before
+  // a byte is read, and so is a file past the largest a character may be.
+  if (std::string why = file_problem(path, std::max(kMaxPngBytes, kMaxSvgBytes), "a character"); !why.empty())
+    return Result<Character>::failure(why);
   std::ifstream in(path, std::ios::binary);
   if (!in) return Result<Character>::failure(path + ": cannot open file");
   char sig[8] = {};
@@ -38,6 +44,7 @@ Result<Character> load_character(const std::string& path, const LoadOptions& opt
   }
   SvgOptions so;
   so.tolerance = options.svg_tolerance;
+  so.images_anywhere = options.images_anywhere;
   return load_svg_file(path, so);
 }
 

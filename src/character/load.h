@@ -12,6 +12,8 @@ struct LoadOptions {
   double svg_tolerance = 0.1;    ///< curve flattening tolerance, output units
   std::string mask_path;         ///< PNG characters: mask image (non-black = figure)
   double raster_tolerance = 0.75;
+  /// An SVG's <image> may name a file outside the SVG's folder (default: skipped with a warning).
+  bool images_anywhere = false;
 };
 
 /// Chooses the loader by content (a folder: its PNG layers; a PNG signature; else SVG/XML). Every failure is

@@ -2,6 +2,7 @@
 
 #include "geom/marching_squares.h"
 #include "geom/polygon.h"
+#include "input/read_file.h"
 
 #include <stb/stb_image.h>
 #include <toml++/toml.h>
@@ -15,14 +16,18 @@ namespace mar {
 
 Result<Texture> read_png(const std::string& path) {
   int w = 0, h = 0, n = 0;
+  Result<std::string> file = read_file(path, kMaxPngBytes, "an image");
+  if (!file.ok()) return Result<Texture>::failure(file.error);
+  const auto* bytes = reinterpret_cast<const stbi_uc*>(file.value->data());
+  const int size = int(file.value->size());
   // The header first: a few bytes can declare an image of gigabytes.
-  if (stbi_info(path.c_str(), &w, &h, &n) &&
+  if (stbi_info_from_memory(bytes, size, &w, &h, &n) &&
       (w > kMaxImageSide || h > kMaxImageSide || size_t(w) * size_t(h) > kMaxImagePixels)) {
     return Result<Texture>::failure(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
                                     "; the limit is " + std::to_string(kMaxImageSide) + " pixels a side and " +
                                     std::to_string(kMaxImagePixels / 1'000'000) + " million pixels");
   }
-  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &n, 4);
   if (!data) {
     const char* why = stbi_failure_reason();
     return Result<Texture>::failure(path + ": cannot read image: " + (why ? why : "unknown error"));
@@ -147,8 +152,10 @@ Result<Character> load_layers(const std::string& folder, const RasterOptions& op
   const fs::path order_file = fs::path(folder) / "layers.toml";
   if (fs::exists(order_file, ec)) {
     toml::table root;
+    Result<std::string> file_text = read_file(order_file.string(), kMaxTomlBytes, "a layer order");
+    if (!file_text.ok()) return R::failure(file_text.error);
     try {
-      root = toml::parse_file(order_file.string());
+      root = toml::parse(*file_text.value, order_file.string());
     } catch (const toml::parse_error& e) {
       return R::failure(order_file.string() + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
     }

@@ -1,6 +1,7 @@
 #include "character/rig.h"
 
 #include "character/config_toml.h"
+#include "input/read_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -384,11 +385,9 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
 }
 
 Result<Rig> load_rig(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return Result<Rig>::failure(path + ": cannot open rig file");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  return parse_rig(ss.str(), path);
+  Result<std::string> file_text = read_file(path, kMaxTomlBytes, "a rig");
+  if (!file_text.ok()) return Result<Rig>::failure(file_text.error);
+  return parse_rig(*file_text.value, path);
 }
 
 std::string key_toml(const RigKey& k) {

@@ -1,13 +1,15 @@
 #include "character/svg_parse.h"
 
+#include "character/raster_loader.h"
+#include "input/read_file.h"
+
 #include <stb/stb_image.h>
 
 #include <filesystem>
-#include <fstream>
 
 namespace mar::svg {
 
-std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir,
+std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir, bool anywhere,
                                                  std::string& problem) {
   std::vector<unsigned char> bytes;
   std::string label;
@@ -34,13 +36,34 @@ std::shared_ptr<const Texture> decode_image_href(std::string_view href, const st
       problem = "nested SVG images are not supported";
       return nullptr;
     }
-    std::ifstream in(p, std::ios::binary);
-    if (!in) {
-      problem = "image file '" + p.string() + "' not found";
+    // Beside the drawing only, unless the show says otherwise: an href that climbs out of the
+    // character's folder (or a link that leads out of it) could name any file on the machine.
+    std::error_code ec;
+    const std::filesystem::path dir = std::filesystem::weakly_canonical(base_dir.empty() ? "." : base_dir, ec);
+    const std::filesystem::path real = std::filesystem::weakly_canonical(p, ec);
+    const std::filesystem::path rel = real.lexically_relative(dir);
+    if (!anywhere && (ec || rel.empty() || *rel.begin() == "..")) {
+      problem = "image file '" + p.string() + "' is outside the character's folder ([show] images = \"anywhere\" allows it)";
       return nullptr;
     }
-    bytes.assign(std::istreambuf_iterator<char>(in), {});
+    Result<std::string> read = read_file(p.string(), kMaxPngBytes, "an image");
+    if (!read.ok()) {
+      problem = "image file " + read.error;
+      return nullptr;
+    }
+    bytes.assign(read.value->begin(), read.value->end());
     label = p.string();
+  }
+  // The header first: a few bytes can declare an image of gigabytes.
+  {
+    int w = 0, h = 0, comp = 0;
+    if (!bytes.empty() && bytes.size() <= (1u << 30) &&
+        stbi_info_from_memory(bytes.data(), static_cast<int>(bytes.size()), &w, &h, &comp) &&
+        (w > kMaxImageSide || h > kMaxImageSide || size_t(w) * size_t(h) > kMaxImagePixels)) {
+      problem = label + " is " + std::to_string(w) + "x" + std::to_string(h) + "; at most " + std::to_string(kMaxImageSide) +
+                " pixels a side and " + std::to_string(kMaxImagePixels / 1'000'000) + " million pixels";
+      return nullptr;
+    }
   }
   int w = 0, h = 0, comp = 0;
   stbi_uc* px = bytes.empty() || bytes.size() > (1u << 30)

@@ -4,6 +4,7 @@
 #include "character/css.h"
 #include "character/svg_parse.h"
 #include "geom/polygon.h"
+#include "input/read_file.h"
 
 #include <pugixml.hpp>
 
@@ -61,12 +62,6 @@ struct Ctx {
   bool hidden = false; // inside an alternative hidden with display: none (see alternative())
   int depth = 0;
 };
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
-  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.remove_suffix(1);
-  return s;
-}
 
 class SvgLoader {
  public:
@@ -165,12 +160,12 @@ class SvgLoader {
   }
 
   pugi::xml_node lookup_iri(std::string_view ref) const {
-    ref = trim(ref);
+    ref = trim_space(ref);
     if (ref.rfind("url(", 0) == 0) {
       ref.remove_prefix(4);
       const size_t close = ref.find(')');
       if (close != std::string_view::npos) ref = ref.substr(0, close);
-      ref = trim(ref);
+      ref = trim_space(ref);
       if (!ref.empty() && (ref.front() == '\'' || ref.front() == '"')) ref = ref.substr(1, ref.size() - 2);
     }
     if (ref.empty() || ref[0] != '#') return {};
@@ -247,7 +242,7 @@ class SvgLoader {
   }
 
   std::optional<Paint> parse_paint(std::string_view v, const pugi::xml_node& n) {
-    v = trim(v);
+    v = trim_space(v);
     Paint p;
     if (v == "none") return Paint{};
     if (v == "currentColor") {
@@ -259,7 +254,7 @@ class SvgLoader {
       const size_t close = v.find(')');
       p.url = std::string(v.substr(0, close == std::string_view::npos ? v.size() : close + 1));
       if (close != std::string_view::npos) {
-        std::string_view fb = trim(v.substr(close + 1));
+        std::string_view fb = trim_space(v.substr(close + 1));
         if (fb == "none") {
           p.has_fallback = p.fallback_none = true;
         } else if (auto c = parse_color(fb)) {
@@ -293,7 +288,7 @@ class SvgLoader {
   Style compute_style(const pugi::xml_node& n, const Style& parent) {
     Style s = parent;
     const Decls d = declarations(n);
-    auto is_inherit = [](std::string_view v) { return trim(v) == "inherit"; };
+    auto is_inherit = [](std::string_view v) { return trim_space(v) == "inherit"; };
     if (auto v = prop(d, "color"); v && !is_inherit(*v)) {
       if (auto c = parse_color(*v)) s.color = *c;
     }
@@ -309,21 +304,21 @@ class SvgLoader {
     if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = svg::parse_opacity(*v, 1);
     if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = svg::parse_opacity(*v, 1);
     if (auto v = prop(d, "fill-rule"); v) {
-      if (trim(*v) == "evenodd") s.fill_rule = FillRule::EvenOdd;
-      if (trim(*v) == "nonzero") s.fill_rule = FillRule::NonZero;
+      if (trim_space(*v) == "evenodd") s.fill_rule = FillRule::EvenOdd;
+      if (trim_space(*v) == "nonzero") s.fill_rule = FillRule::NonZero;
     }
     if (auto v = prop(d, "stroke-width"); v && !is_inherit(*v)) {
       Viewport vp = current_vp_;
       if (auto w = svg::parse_length(*v, 2, vp.w, vp.h); w && *w >= 0) s.stroke_width = *w;
     }
     if (auto v = prop(d, "stroke-linejoin"); v) {
-      const std::string_view j = trim(*v);
+      const std::string_view j = trim_space(*v);
       if (j == "miter" || j == "miter-clip" || j == "arcs") s.join = LineJoin::Miter;
       if (j == "round") s.join = LineJoin::Round;
       if (j == "bevel") s.join = LineJoin::Bevel;
     }
     if (auto v = prop(d, "stroke-linecap"); v) {
-      const std::string_view j = trim(*v);
+      const std::string_view j = trim_space(*v);
       if (j == "butt") s.cap = LineCap::Butt;
       if (j == "round") s.cap = LineCap::Round;
       if (j == "square") s.cap = LineCap::Square;
@@ -332,17 +327,17 @@ class SvgLoader {
       if (auto m = svg::parse_number(*v); m && *m >= 1) s.miter_limit = *m;
     }
     if (auto v = prop(d, "visibility"); v) {
-      const std::string_view j = trim(*v);
+      const std::string_view j = trim_space(*v);
       if (j == "hidden" || j == "collapse") s.visible = false;
       if (j == "visible") s.visible = true;
     }
     if (auto v = prop(d, "opacity"); v) s.group_opacity *= svg::parse_opacity(*v, 1);
-    if (auto v = prop(d, "stroke-dasharray"); v && trim(*v) != "none") {
+    if (auto v = prop(d, "stroke-dasharray"); v && trim_space(*v) != "none") {
       warn(n, "stroke-dasharray is not supported; drawn solid");
     }
-    if (auto v = prop(d, "filter"); v && trim(*v) != "none") warn(n, "filter ignored");
-    if (auto v = prop(d, "mask"); v && trim(*v) != "none") warn(n, "mask ignored");
-    if (auto v = prop(d, "clip-path"); v && trim(*v) != "none") warn(n, "clip-path ignored");
+    if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") warn(n, "filter ignored");
+    if (auto v = prop(d, "mask"); v && trim_space(*v) != "none") warn(n, "mask ignored");
+    if (auto v = prop(d, "clip-path"); v && trim_space(*v) != "none") warn(n, "clip-path ignored");
     return s;
   }
 
@@ -360,7 +355,7 @@ class SvgLoader {
 
   bool visible_element(const pugi::xml_node& n) {
     const Decls d = declarations(n);
-    if (auto v = prop(d, "display"); v && trim(*v) == "none") return false;
+    if (auto v = prop(d, "display"); v && trim_space(*v) == "none") return false;
     return true;
   }
 
@@ -381,7 +376,7 @@ class SvgLoader {
           const Decls d = declarations(s);
           Rgba c{0, 0, 0, 1};
           if (auto v = prop(d, "stop-color")) {
-            if (trim(*v) == "currentColor") {
+            if (trim_space(*v) == "currentColor") {
               c = st.color;
             } else if (auto pc = parse_color(*v)) {
               c = *pc;
@@ -658,7 +653,7 @@ class SvgLoader {
     const std::string key(href);
     if (auto it = images_.find(key); it != images_.end()) return it->second;
     std::string problem;
-    auto tex = svg::decode_image_href(href, std::filesystem::path(name_).parent_path().string(), problem);
+    auto tex = svg::decode_image_href(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, problem);
     if (!tex) warn(n, problem + "; skipped");
     return images_[key] = tex;
   }
@@ -666,7 +661,7 @@ class SvgLoader {
   // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
   void image(const pugi::xml_node& n, const Ctx& ctx) {
     if (!ctx.style.visible) return;
-    const std::string_view href = trim(href_of(n));
+    const std::string_view href = trim_space(href_of(n));
     if (href.empty()) return;
     std::shared_ptr<const Texture> tex = load_image(n, href);
     if (!tex) return;
@@ -817,15 +812,9 @@ Result<Character> load_svg_string(std::string_view text, const std::string& name
 }
 
 Result<Character> load_svg_file(const std::string& path, const SvgOptions& options) {
-  std::ifstream in(path, std::ios::binary | std::ios::ate);
-  if (!in) return Result<Character>::failure(path + ": cannot open file");
-  if (const std::streamoff size = in.tellg(); size > std::streamoff(options.max_bytes))
-    return Result<Character>::failure(path + ": " + std::to_string(size >> 20) + " MB; an SVG character may have at most " +
-                                      std::to_string(options.max_bytes >> 20) + " MB");
-  in.seekg(0);
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  const std::string text = ss.str();
+  Result<std::string> read = read_file(path, options.max_bytes, "an SVG character");
+  if (!read.ok()) return Result<Character>::failure(read.error);
+  const std::string& text = *read.value;
   if (text.empty()) return Result<Character>::failure(path + ":1: empty file");
   return load_svg_string(text, path, options);
 }

@@ -17,6 +17,9 @@ struct SvgOptions {
   size_t max_points = 4'000'000;
   /// Upper bound on the file's size in bytes (64 MB).
   size_t max_bytes = size_t(64) << 20;
+  /// An <image> may name a file outside the SVG's own folder (and below it); by default such an
+  /// image is skipped with a warning (a drawing cannot make the loader read /dev or ~/.ssh).
+  bool images_anywhere = false;
 };
 
 /// Loads an SVG file. Errors (unreadable file, malformed XML, root not <svg>, too

@@ -90,9 +90,12 @@ std::vector<PathCmd> ellipse_path(double cx, double cy, double rx, double ry);
 std::vector<unsigned char> base64_decode(std::string_view in);
 
 /// Decodes the raster image an <image> href names: a base64 data URI or a file relative
-/// to `base_dir` (PNG, JPEG, GIF, BMP via stb_image). nullptr with `problem` set when it
-/// cannot (remote, nested SVG, missing, undecodable). Defined in svg_image.cpp.
-std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir,
+/// to `base_dir` (PNG, JPEG, GIF, BMP via stb_image), read as every outside file is
+/// (input/read_file.h), its size checked from its header before decoding. A file outside
+/// `base_dir` and its subfolders (after following links) is refused unless `anywhere`.
+/// nullptr with `problem` set when it cannot (remote, nested SVG, outside the folder,
+/// missing, not a file, too large, undecodable). Defined in svg_image.cpp.
+std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir, bool anywhere,
                                                  std::string& problem);
 
 /// One flattened contour in output units.

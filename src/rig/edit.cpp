@@ -1,5 +1,7 @@
 #include "rig/edit.h"
 
+#include "input/read_file.h"
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -56,11 +58,9 @@ std::string write_atomically(const std::string& path, const std::string& text) {
 }
 
 std::string append_atomically(const std::string& path, const std::string& text) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return path + ": cannot read it";
-  std::ostringstream all;
-  all << in.rdbuf();
-  std::string now = all.str();
+  Result<std::string> read = read_file(path, kMaxTomlBytes, "a rig");
+  if (!read.ok()) return read.error;
+  std::string now = std::move(*read.value);
   if (!now.empty() && now.back() != '\n') now += '\n';
   return write_atomically(path, now + text);
 }

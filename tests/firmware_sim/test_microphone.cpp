@@ -68,7 +68,7 @@ TEST(Microphone, WhatItRefusesItSaysWithTheFileOrTheLine) {
       {write_wav("eight.wav", 22050, 100, 1, 8), "8-bit samples"},
       {write_wav("fast.wav", 96000, 100), "a sample rate of 96000 Hz"},
       {write_wav("slow.wav", 4000, 100), "a sample rate of 4000 Hz"},
-      {(test::temp_dir("wav") / "missing.wav").string(), "cannot open the WAV file"},
+      {(test::temp_dir("wav") / "missing.wav").string(), "missing.wav: cannot open: No such file"},
       {test::write_temp("text.wav", "not a wav at all"), "not a WAV file"},
   };
   for (const Case& c : cases) {

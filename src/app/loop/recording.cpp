@@ -1,5 +1,7 @@
 #include "app/loop/recording.h"
 
+#include "input/read_file.h"
+
 #include <cstring>
 
 namespace mar {
@@ -55,6 +57,9 @@ void Recorder::flush() { std::fflush(f_); }
 
 Result<std::unique_ptr<Playback>> Playback::open(const std::string& path) {
   using R = Result<std::unique_ptr<Playback>>;
+  // A take is read as it plays: checked first as every outside file is, so a FIFO or a device
+  // named as a take is refused rather than waited on.
+  if (std::string why = file_problem(path, kMaxTakeBytes, "a take"); !why.empty()) return R::failure(why);
   std::FILE* f = std::fopen(path.c_str(), "rb");
   char magic[8] = {};
   if (!f || std::fread(magic, 1, 8, f) != 8 || std::memcmp(magic, kMagic, 6) != 0) {

@@ -2,6 +2,7 @@
 
 #include "character/load.h"
 #include "geom/triangulate.h"
+#include "input/read_file.h"
 #include "rig/auto_rig.h"
 #include "rig/edit.h"
 
@@ -39,11 +40,9 @@ Result<std::unique_ptr<Studio>> Studio::open(const std::string& character, const
   std::error_code ec;
   std::string text;
   if (fs::exists(rig_path, ec)) {
-    std::ifstream in(rig_path, std::ios::binary);
-    if (!in) return R::failure(rig_path + ": cannot read");
-    std::ostringstream o;
-    o << in.rdbuf();
-    text = o.str();
+    Result<std::string> read = read_file(rig_path, kMaxTomlBytes, "a rig");
+    if (!read.ok()) return R::failure(read.error);
+    text = std::move(*read.value);
     s->saved_ = text;
     s->on_disk_ = true;
   } else {
