@@ -1,0 +1,202 @@
+// The SVG loader's geometry (svg_loader_impl.h): shapes to contours, images to textured
+// rectangles, layers and unique ids.
+#include "character/svg_loader_impl.h"
+
+#include "geom/polygon.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+namespace mar::svg_load {
+
+void SvgLoader::shape(const pugi::xml_node& n, const Ctx& ctx) {
+  const std::string_view name = local_name(n);
+  std::vector<PathCmd> cmds;
+  auto move = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Move, p)); };
+  auto line = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Line, p)); };
+  auto close = [&](Vec2 p) { cmds.push_back(PathCmd::to(PathCmd::Close, p)); };
+  const Viewport& vp = ctx.vp;
+  if (name == "path") {
+    svg::PathData pd = svg::parse_path(n.attribute("d").value(), points_left());
+    if (pd.too_long) {
+      return too_complex(n);
+    }
+    if (!pd.error.empty()) {
+      warn(n, "path data error at character " + std::to_string(pd.error_pos) + ": " + pd.error +
+                  " (drawn up to there)");
+    }
+    cmds = std::move(pd.cmds);
+  } else if (name == "rect") {
+    const double x = length_attr(n, "x", 0, vp, 0), y = length_attr(n, "y", 1, vp, 0);
+    const double w = length_attr(n, "width", 0, vp, 0), h = length_attr(n, "height", 1, vp, 0);
+    if (!(w > 0) || !(h > 0)) return;
+    double rx = -1, ry = -1;
+    if (n.attribute("rx")) rx = length_attr(n, "rx", 0, vp, -1);
+    if (n.attribute("ry")) ry = length_attr(n, "ry", 1, vp, -1);
+    if (rx < 0 && ry >= 0) rx = ry;
+    if (ry < 0 && rx >= 0) ry = rx;
+    cmds = svg::rect_path(x, y, w, h, std::clamp(rx, 0.0, w / 2), std::clamp(ry, 0.0, h / 2));
+  } else if (name == "circle" || name == "ellipse") {
+    const double cx = length_attr(n, "cx", 0, vp, 0), cy = length_attr(n, "cy", 1, vp, 0);
+    double rx, ry;
+    if (name == "circle") {
+      rx = ry = length_attr(n, "r", 2, vp, 0);
+    } else {
+      rx = length_attr(n, "rx", 0, vp, -1);
+      ry = length_attr(n, "ry", 1, vp, -1);
+      if (rx < 0 && ry > 0) rx = ry;  // SVG 2 "auto"
+      if (ry < 0 && rx > 0) ry = rx;
+    }
+    if (!(rx > 0) || !(ry > 0)) return;
+    cmds = svg::ellipse_path(cx, cy, rx, ry);
+  } else if (name == "line") {
+    move({length_attr(n, "x1", 0, vp, 0), length_attr(n, "y1", 1, vp, 0)});
+    line({length_attr(n, "x2", 0, vp, 0), length_attr(n, "y2", 1, vp, 0)});
+  } else {  // polyline, polygon
+    bool odd = false;
+    const std::vector<Vec2> pts = svg::parse_points(n.attribute("points").value(), &odd);
+    if (odd) warn(n, "odd number of coordinates in points; last one dropped");
+    if (pts.size() < 2) return;
+    move(pts[0]);
+    for (size_t i = 1; i < pts.size(); ++i) line(pts[i]);
+    if (name == "polygon") close(pts[0]);
+  }
+  emit(n, ctx, cmds);
+}
+
+std::shared_ptr<const Texture> SvgLoader::load_image(const pugi::xml_node& n, std::string_view href) {
+  const std::string key(href);
+  if (auto it = images_.find(key); it != images_.end()) return it->second;
+  std::string problem;
+  auto tex = svg::decode_image_href(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, problem);
+  if (!tex) warn(n, problem + "; skipped");
+  return images_[key] = tex;
+}
+
+// <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
+void SvgLoader::image(const pugi::xml_node& n, const Ctx& ctx) {
+  if (!ctx.style.visible) return;
+  const std::string_view href = trim_space(href_of(n));
+  if (href.empty()) return;
+  std::shared_ptr<const Texture> tex = load_image(n, href);
+  if (!tex) return;
+  const double x = length_attr(n, "x", 0, ctx.vp, 0), y = length_attr(n, "y", 1, ctx.vp, 0);
+  double w = length_attr(n, "width", 0, ctx.vp, 0), h = length_attr(n, "height", 1, ctx.vp, 0);
+  if (!n.attribute("width") && !n.attribute("height")) {
+    w = tex->width;
+    h = tex->height;
+  } else if (!n.attribute("width")) {
+    w = h * tex->width / tex->height;
+  } else if (!n.attribute("height")) {
+    h = w * tex->height / tex->width;
+  }
+  if (!(w > 0) || !(h > 0)) return;
+  // Placement of the whole image inside the viewport (x, y, w, h).
+  const Affine2 place = svg::viewbox_transform({0, 0, static_cast<double>(tex->width), static_cast<double>(tex->height)},
+                                          w, h, n.attribute("preserveAspectRatio").value());
+  const Vec2 i0 = place.apply({0, 0}), i1 = place.apply({static_cast<double>(tex->width), static_cast<double>(tex->height)});
+  // The drawn rectangle is the image clipped to its viewport.
+  const double x0 = x + std::max(0.0, i0.x()), y0 = y + std::max(0.0, i0.y());
+  const double x1 = x + std::min(w, i1.x()), y1 = y + std::min(h, i1.y());
+  if (!(x1 > x0) || !(y1 > y0)) return;
+  std::vector<PathCmd> cmds{PathCmd::to(PathCmd::Move, {x0, y0}), PathCmd::to(PathCmd::Line, {x1, y0}),
+                            PathCmd::to(PathCmd::Line, {x1, y1}), PathCmd::to(PathCmd::Line, {x0, y1}),
+                            PathCmd::to(PathCmd::Close, {x0, y0})};
+  const double det = ctx.ctm.det();
+  if (!std::isfinite(det) || std::abs(det) < 1e-12) return;
+  // character point -> user point -> image pixels -> [0, 1]
+  const Affine2 uv = Affine2::scale(1.0 / tex->width, 1.0 / tex->height) * place.inverse() *
+                     Affine2::translate(-x, -y) * ctx.ctm.inverse();
+  Ctx img_ctx = ctx;
+  img_ctx.style.fill = Paint{Paint::Color, Rgba{1, 1, 1, 1}, {}, false, {}, false};
+  img_ctx.style.fill_opacity = 1;
+  img_ctx.style.stroke = Paint{};
+  const size_t before = ch_.shapes.size();
+  emit(n, img_ctx, cmds);
+  if (ch_.shapes.size() > before) {
+    ch_.shapes.back().fill.texture = tex;
+    ch_.shapes.back().fill.uv_from_point = uv;
+  }
+}
+
+void SvgLoader::too_complex(const pugi::xml_node& n) {
+  fatal_ = where(n) + ": more than " + std::to_string(opt_.max_points) + " points after flattening; file too complex";
+}
+
+void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds) {
+  const Style& st = ctx.style;
+  if (!st.visible || cmds.empty()) return;
+  bool over = false;
+  const std::vector<svg::FlatContour> flat = svg::flatten_path(cmds, ctx.ctm, opt_.tolerance, points_left(), &over);
+  if (over) return too_complex(n);
+  SubShape s;
+  s.element = std::string(local_name(n));
+  s.line = line_of(n);
+  const char* id = n.attribute("id").value();
+  s.id = ctx.id_prefix + (*id ? std::string(id) : s.element + "-L" + std::to_string(s.line));
+  s.label = n.attribute("inkscape:label").value();
+  s.group = ctx.group;
+  s.group_key = ctx.group_key;
+  s.hidden = ctx.hidden;
+  for (const svg::FlatContour& fc : flat) {
+    Points pts = fc.points;
+    for (Vec2& p : pts) {
+      if (!p.allFinite()) p = Vec2::Zero();
+    }
+    remove_duplicate_points(pts, fc.closed);
+    if (pts.size() < 2) continue;
+    s.contours.push_back({static_cast<int>(s.points.size()), static_cast<int>(pts.size()), fc.closed});
+    s.points.insert(s.points.end(), pts.begin(), pts.end());
+  }
+  if (s.points.empty()) return;
+  total_points_ += s.points.size();
+  if (total_points_ > opt_.max_points) return too_complex(n);
+  const double op = st.group_opacity;
+  if (auto c = resolve(st.fill, n, st)) {
+    // Lines never fill; other open sub-paths are filled as if closed (SVG rules).
+    bool fillable = s.element != "line";
+    if (fillable) {
+      s.fill.enabled = true;
+      s.fill.color = *c;
+      s.fill.opacity = static_cast<float>(st.fill_opacity * op);
+      s.fill.rule = st.fill_rule;
+    }
+  }
+  if (auto c = resolve(st.stroke, n, st); c && st.stroke_width > 0) {
+    s.stroke.enabled = true;
+    s.stroke.color = *c;
+    s.stroke.opacity = static_cast<float>(st.stroke_opacity * op);
+    // Non-uniform scale: use the geometric mean (strokes are not re-shaped per axis).
+    s.stroke.width = st.stroke_width * std::sqrt(std::abs(ctx.ctm.det()));
+    s.stroke.join = st.join;
+    s.stroke.cap = st.cap;
+    s.stroke.miter_limit = st.miter_limit;
+  }
+  if (!s.fill.enabled && !s.stroke.enabled) return;
+  if (s.fill.enabled && s.fill.opacity * s.fill.color.a <= 0 &&
+      (!s.stroke.enabled || s.stroke.opacity * s.stroke.color.a <= 0)) {
+    return;  // fully transparent
+  }
+  s.layer = layer_index(ctx);
+  ch_.shapes.push_back(std::move(s));
+}
+
+int SvgLoader::layer_index(const Ctx& ctx) {
+  auto [it, fresh] = layer_ids_.try_emplace(ctx.layer_key, static_cast<int>(ch_.layers.size()));
+  if (fresh) ch_.layers.push_back(ctx.layer_name);
+  return it->second;
+}
+
+void SvgLoader::make_ids_unique() {
+  std::map<std::string, int> seen;
+  for (SubShape& s : ch_.shapes) {
+    const int k = ++seen[s.id];
+    if (k > 1) {
+      s.id.push_back('.');
+      s.id.append(std::to_string(k));
+    }
+  }
+}
+
+}  // namespace mar::svg_load

@@ -1,0 +1,179 @@
+// The SVG loader's private parts (character/svg_loader.h is its interface): the style a
+// traversal carries and the loader itself, one stage per file —
+//   svg_loader.cpp    parsing, bookkeeping, viewports and the traversal (use, nested svg);
+//   svg_style.cpp     the cascade: presentation attributes, CSS, paint and visibility;
+//   svg_geometry.cpp  shapes to contours, images to textured rectangles, layers and ids.
+#pragma once
+
+#include "character/color.h"
+#include "character/css.h"
+#include "character/svg_loader.h"
+#include "character/svg_parse.h"
+
+#include <pugixml.hpp>
+
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace mar::svg_load {
+
+using svg::PathCmd;
+
+struct Paint {
+  enum Kind { None, Color, CurrentColor, Url } kind = None;
+  Rgba color;
+  std::string url;
+  bool has_fallback = false;
+  Rgba fallback;
+  bool fallback_none = false;
+};
+
+// Inherited properties, plus the accumulated (non-inherited) opacity of ancestors.
+struct Style {
+  Paint fill{Paint::Color, Rgba{0, 0, 0, 1}, {}, false, {}, false};
+  double fill_opacity = 1;
+  FillRule fill_rule = FillRule::NonZero;
+  Paint stroke;
+  double stroke_opacity = 1;
+  double stroke_width = 1;
+  LineJoin join = LineJoin::Miter;
+  LineCap cap = LineCap::Butt;
+  double miter_limit = 4;
+  Rgba color{0, 0, 0, 1};
+  bool visible = true;
+  double group_opacity = 1;  // product of ancestors' opacity
+};
+
+struct Viewport {
+  double w = 100, h = 100;
+};
+
+struct Ctx {
+  Affine2 ctm;
+  Style style;
+  Viewport vp;
+  int layer_key = -1;  // offset of the layer's <g>, -1 = root
+  std::string layer_name = "(root)";
+  std::string id_prefix;
+  std::string group;  // the enclosing groups' names (label, else id), outermost first, '/' between
+  int group_key = -1; // offset of the innermost <g>, -1 = none
+  bool hidden = false; // inside an alternative hidden with display: none (see alternative())
+  int depth = 0;
+};
+
+class SvgLoader {
+ public:
+  SvgLoader(const std::string& name, const SvgOptions& opt) : name_(name), opt_(opt) {}
+
+  Result<Character> run(std::string_view text);
+
+ private:
+  // ---- bookkeeping -------------------------------------------------------------------
+  int line_of(size_t offset) const;
+  int line_of(const pugi::xml_node& n) const;
+  std::string where(const pugi::xml_node& n) const;
+  void warn(const pugi::xml_node& n, const std::string& msg);
+
+  void detect_svg_prefix(const pugi::xml_node& root);
+  // Element name without the SVG namespace prefix; foreign-namespace names keep theirs.
+  std::string_view local_name(const pugi::xml_node& n) const;
+
+  void index_ids(const pugi::xml_node& root);
+
+  pugi::xml_node lookup_iri(std::string_view ref) const;
+
+  static const char* href_of(const pugi::xml_node& n);
+
+  // ---- properties ------------------------------------------------------------------
+  using Decls = std::vector<std::pair<std::string, std::string>>;
+
+  // Cascade: presentation attributes < CSS rules (by specificity, then order) < the style
+  // attribute < CSS !important. The last declaration of a property wins in prop().
+  Decls declarations(const pugi::xml_node& n) const;
+
+  void collect_style_sheets(const pugi::xml_node& root);
+
+  static std::optional<std::string_view> prop(const Decls& d, std::string_view key);
+
+  std::optional<Paint> parse_paint(std::string_view v, const pugi::xml_node& n);
+
+  double length_attr(const pugi::xml_node& n, const char* attr, int axis, const Viewport& vp,
+                     double fallback);
+
+  Style compute_style(const pugi::xml_node& n, const Style& parent);
+
+  // A hidden child of a group of alternatives: an element with display: none whose parent is a
+  // group (not a layer) with a child that shows (a hand's poses, one visible). It is kept,
+  // hidden until a swap set shows it; other hidden content (a hidden layer, a sketch) is not.
+  bool alternative(const pugi::xml_node& n);
+
+  bool visible_element(const pugi::xml_node& n);
+
+  // Representative solid colour for a paint server, with a warning.
+  std::optional<Rgba> paint_server_color(const pugi::xml_node& server, const pugi::xml_node& user,
+                                         const Style& st);
+
+  std::string qualified(const char* local) const { return svg_prefix_ + local; }
+
+  // Resolves a paint to a colour (alpha included); nullopt = nothing drawn.
+  std::optional<Rgba> resolve(const Paint& p, const pugi::xml_node& user, const Style& st);
+
+  // ---- viewports ---------------------------------------------------------------------
+  Affine2 element_transform(const pugi::xml_node& n);
+
+  // ---- traversal ---------------------------------------------------------------------
+  void visit(const pugi::xml_node& n, const Ctx& parent);
+
+  bool passes_conditions(const pugi::xml_node& c);
+
+  // Nested <svg> (or a <symbol>/<svg> instanced by <use>): a new viewport.
+  void visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::xml_node& content,
+                        double use_w, double use_h, bool from_use);
+
+  void visit_use(const pugi::xml_node& n, Ctx ctx);
+
+  // ---- geometry ----------------------------------------------------------------------
+  void shape(const pugi::xml_node& n, const Ctx& ctx);
+
+  // ---- images ------------------------------------------------------------------------
+  std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href);
+
+  // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
+  void image(const pugi::xml_node& n, const Ctx& ctx);
+
+  // The point budget (SvgOptions::max_points): what is left of it, and the error past it.
+  size_t points_left() const { return opt_.max_points - std::min(opt_.max_points, total_points_); }
+  void too_complex(const pugi::xml_node& n);
+
+  void emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds);
+
+  int layer_index(const Ctx& ctx);
+
+  void make_ids_unique();
+
+  std::string name_;
+  SvgOptions opt_;
+  std::string_view text_;
+  std::vector<size_t> line_starts_{0};
+  pugi::xml_document doc_;
+  std::string svg_prefix_;
+  std::unordered_map<std::string, pugi::xml_node> ids_;
+  std::vector<pugi::xml_node> use_stack_;
+  std::set<std::string> warned_;
+  std::map<int, int> layer_ids_;
+  css::Sheet sheet_;
+  std::map<std::string, std::shared_ptr<const Texture>> images_;
+  Viewport current_vp_;
+  Character ch_;
+  size_t total_points_ = 0;
+  std::string fatal_;
+};
+
+}  // namespace mar::svg_load

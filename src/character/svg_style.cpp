@@ -1,0 +1,269 @@
+// The SVG loader's cascade (svg_loader_impl.h): presentation attributes, CSS rules and the
+// style attribute, paint, and what shows.
+#include "character/svg_loader_impl.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace mar::svg_load {
+
+// Cascade: presentation attributes < CSS rules (by specificity, then order) < the style
+// attribute < CSS !important. The last declaration of a property wins in prop().
+SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
+  Decls d;
+  static const char* kPresentation[] = {
+      "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity",
+      "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
+      "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
+      "mask", "clip-path"};
+  for (const char* p : kPresentation) {
+    if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
+  }
+  std::vector<const css::Rule*> matched;
+  if (!sheet_.rules.empty()) {
+    const std::string_view tag = local_name(n), id = n.attribute("id").value(),
+                           cls = n.attribute("class").value();
+    for (const css::Rule& r : sheet_.rules) {
+      if (css::matches(r.selector, tag, id, cls)) matched.push_back(&r);
+    }
+    std::stable_sort(matched.begin(), matched.end(), [](const css::Rule* a, const css::Rule* b) {
+      return a->selector.specificity != b->selector.specificity
+                 ? a->selector.specificity < b->selector.specificity
+                 : a->order < b->order;
+    });
+    for (const css::Rule* r : matched) d.insert(d.end(), r->declarations.begin(), r->declarations.end());
+  }
+  Decls important;
+  const Decls inline_decls = css::parse_declarations(n.attribute("style").value(), &important);
+  d.insert(d.end(), inline_decls.begin(), inline_decls.end());
+  for (const css::Rule* r : matched) d.insert(d.end(), r->important.begin(), r->important.end());
+  d.insert(d.end(), important.begin(), important.end());
+  return d;
+}
+
+void SvgLoader::collect_style_sheets(const pugi::xml_node& root) {
+  for (const pugi::xpath_node& xn : root.select_nodes("//*")) {
+    const pugi::xml_node n = xn.node();
+    if (local_name(n) != "style") continue;
+    const std::string_view type = n.attribute("type").value();
+    if (!type.empty() && type != "text/css") continue;
+    std::string text;
+    for (pugi::xml_node c : n.children()) {
+      if (c.type() == pugi::node_pcdata || c.type() == pugi::node_cdata) text += c.value();
+    }
+    const size_t before = sheet_.unsupported.size();
+    css::parse(text, sheet_);
+    for (size_t i = before; i < sheet_.unsupported.size(); ++i) {
+      warn(n, "CSS selector '" + sheet_.unsupported[i] + "' not supported; rule skipped");
+    }
+  }
+}
+
+std::optional<std::string_view> SvgLoader::prop(const Decls& d, std::string_view key) {
+  std::optional<std::string_view> v;
+  for (const auto& [k, val] : d) {
+    if (k == key) v = val;
+  }
+  return v;
+}
+
+std::optional<Paint> SvgLoader::parse_paint(std::string_view v, const pugi::xml_node& n) {
+  v = trim_space(v);
+  Paint p;
+  if (v == "none") return Paint{};
+  if (v == "currentColor") {
+    p.kind = Paint::CurrentColor;
+    return p;
+  }
+  if (v.rfind("url(", 0) == 0) {
+    p.kind = Paint::Url;
+    const size_t close = v.find(')');
+    p.url = std::string(v.substr(0, close == std::string_view::npos ? v.size() : close + 1));
+    if (close != std::string_view::npos) {
+      std::string_view fb = trim_space(v.substr(close + 1));
+      if (fb == "none") {
+        p.has_fallback = p.fallback_none = true;
+      } else if (auto c = parse_color(fb)) {
+        p.has_fallback = true;
+        p.fallback = *c;
+      }
+    }
+    return p;
+  }
+  if (auto c = parse_color(v)) {
+    p.kind = Paint::Color;
+    p.color = *c;
+    return p;
+  }
+  warn(n, "cannot parse paint '" + std::string(v) + "'; ignored");
+  return std::nullopt;
+}
+
+double SvgLoader::length_attr(const pugi::xml_node& n, const char* attr, int axis, const Viewport& vp,
+                              double fallback) {
+  pugi::xml_attribute a = n.attribute(attr);
+  if (!a) return fallback;
+  auto v = svg::parse_length(a.value(), axis, vp.w, vp.h);
+  if (!v) {
+    warn(n, std::string("bad length ") + attr + "=\"" + a.value() + "\"");
+    return fallback;
+  }
+  return *v;
+}
+
+Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
+  Style s = parent;
+  const Decls d = declarations(n);
+  auto is_inherit = [](std::string_view v) { return trim_space(v) == "inherit"; };
+  if (auto v = prop(d, "color"); v && !is_inherit(*v)) {
+    if (auto c = parse_color(*v)) s.color = *c;
+  }
+  if (auto v = prop(d, "fill"); v && !is_inherit(*v)) {
+    if (auto p = parse_paint(*v, n)) s.fill = *p;
+  }
+  if (auto v = prop(d, "stroke"); v && !is_inherit(*v)) {
+    if (auto p = parse_paint(*v, n)) s.stroke = *p;
+  }
+  // currentColor is resolved where it is specified (inherited as a colour).
+  if (s.fill.kind == Paint::CurrentColor) s.fill = Paint{Paint::Color, s.color, {}, false, {}, false};
+  if (s.stroke.kind == Paint::CurrentColor) s.stroke = Paint{Paint::Color, s.color, {}, false, {}, false};
+  if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = svg::parse_opacity(*v, 1);
+  if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = svg::parse_opacity(*v, 1);
+  if (auto v = prop(d, "fill-rule"); v) {
+    if (trim_space(*v) == "evenodd") s.fill_rule = FillRule::EvenOdd;
+    if (trim_space(*v) == "nonzero") s.fill_rule = FillRule::NonZero;
+  }
+  if (auto v = prop(d, "stroke-width"); v && !is_inherit(*v)) {
+    Viewport vp = current_vp_;
+    if (auto w = svg::parse_length(*v, 2, vp.w, vp.h); w && *w >= 0) s.stroke_width = *w;
+  }
+  if (auto v = prop(d, "stroke-linejoin"); v) {
+    const std::string_view j = trim_space(*v);
+    if (j == "miter" || j == "miter-clip" || j == "arcs") s.join = LineJoin::Miter;
+    if (j == "round") s.join = LineJoin::Round;
+    if (j == "bevel") s.join = LineJoin::Bevel;
+  }
+  if (auto v = prop(d, "stroke-linecap"); v) {
+    const std::string_view j = trim_space(*v);
+    if (j == "butt") s.cap = LineCap::Butt;
+    if (j == "round") s.cap = LineCap::Round;
+    if (j == "square") s.cap = LineCap::Square;
+  }
+  if (auto v = prop(d, "stroke-miterlimit"); v) {
+    if (auto m = svg::parse_number(*v); m && *m >= 1) s.miter_limit = *m;
+  }
+  if (auto v = prop(d, "visibility"); v) {
+    const std::string_view j = trim_space(*v);
+    if (j == "hidden" || j == "collapse") s.visible = false;
+    if (j == "visible") s.visible = true;
+  }
+  if (auto v = prop(d, "opacity"); v) s.group_opacity *= svg::parse_opacity(*v, 1);
+  if (auto v = prop(d, "stroke-dasharray"); v && trim_space(*v) != "none") {
+    warn(n, "stroke-dasharray is not supported; drawn solid");
+  }
+  if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") warn(n, "filter ignored");
+  if (auto v = prop(d, "mask"); v && trim_space(*v) != "none") warn(n, "mask ignored");
+  if (auto v = prop(d, "clip-path"); v && trim_space(*v) != "none") warn(n, "clip-path ignored");
+  return s;
+}
+
+// A hidden child of a group of alternatives: an element with display: none whose parent is a
+// group (not a layer) with a child that shows (a hand's poses, one visible). It is kept,
+// hidden until a swap set shows it; other hidden content (a hidden layer, a sketch) is not.
+bool SvgLoader::alternative(const pugi::xml_node& n) {
+  const pugi::xml_node g = n.parent();
+  if (local_name(g) != "g" || std::string_view(g.attribute("inkscape:groupmode").value()) == "layer") return false;
+  if (std::string_view(n.attribute("inkscape:groupmode").value()) == "layer") return false;
+  for (pugi::xml_node c : g.children())
+    if (c != n && c.type() == pugi::node_element && local_name(c).find(':') == std::string_view::npos && visible_element(c)) return true;
+  return false;
+}
+
+bool SvgLoader::visible_element(const pugi::xml_node& n) {
+  const Decls d = declarations(n);
+  if (auto v = prop(d, "display"); v && trim_space(*v) == "none") return false;
+  return true;
+}
+
+// Representative solid colour for a paint server, with a warning.
+std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, const pugi::xml_node& user,
+                                                  const Style& st) {
+  const std::string_view kind = local_name(server);
+  if (kind == "linearGradient" || kind == "radialGradient") {
+    pugi::xml_node g = server;
+    for (int hops = 0; hops < 16 && g; ++hops) {
+      if (g.child(qualified("stop").c_str())) break;
+      g = lookup_iri(href_of(g));
+    }
+    std::vector<Rgba> stops;
+    if (g) {
+      for (pugi::xml_node s : g.children()) {
+        if (local_name(s) != "stop") continue;
+        const Decls d = declarations(s);
+        Rgba c{0, 0, 0, 1};
+        if (auto v = prop(d, "stop-color")) {
+          if (trim_space(*v) == "currentColor") {
+            c = st.color;
+          } else if (auto pc = parse_color(*v)) {
+            c = *pc;
+          }
+        }
+        if (auto v = prop(d, "stop-opacity")) c.a *= static_cast<float>(svg::parse_opacity(*v, 1));
+        stops.push_back(c);
+      }
+    }
+    if (stops.empty()) return std::nullopt;  // no stops: painted as none
+    Rgba mean{0, 0, 0, 0};
+    for (const Rgba& c : stops) {
+      mean.r += c.r;
+      mean.g += c.g;
+      mean.b += c.b;
+      mean.a += c.a;
+    }
+    const float k = 1.0f / static_cast<float>(stops.size());
+    mean = {mean.r * k, mean.g * k, mean.b * k, mean.a * k};
+    if (stops.size() > 1) {
+      warn(user, std::string(kind) + " '" + server.attribute("id").value() +
+                     "' drawn as its mean colour " + color_hex(mean));
+    }
+    return mean;
+  }
+  if (kind == "pattern") {
+    Rgba c{0.5f, 0.5f, 0.5f, 1};
+    for (const pugi::xpath_node& d : server.select_nodes(".//*[@fill]")) {
+      if (auto pc = parse_color(d.node().attribute("fill").value())) {
+        c = *pc;
+        break;
+      }
+    }
+    warn(user, std::string("pattern '") + server.attribute("id").value() + "' drawn as solid " +
+                   color_hex(c));
+    return c;
+  }
+  warn(user, "paint server <" + std::string(kind) + "> not supported; drawn as none");
+  return std::nullopt;
+}
+
+// Resolves a paint to a colour (alpha included); nullopt = nothing drawn.
+std::optional<Rgba> SvgLoader::resolve(const Paint& p, const pugi::xml_node& user, const Style& st) {
+  switch (p.kind) {
+    case Paint::None:
+      return std::nullopt;
+    case Paint::Color:
+      return p.color;
+    case Paint::CurrentColor:
+      return st.color;
+    case Paint::Url: {
+      pugi::xml_node server = lookup_iri(p.url);
+      if (!server) {
+        if (p.has_fallback && !p.fallback_none) return p.fallback;
+        if (!p.has_fallback) warn(user, "paint " + p.url + " not found; drawn as none");
+        return std::nullopt;
+      }
+      return paint_server_color(server, user, st);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace mar::svg_load
