@@ -14,31 +14,38 @@
 
 namespace mar {
 
-Result<Texture> read_png(const std::string& path) {
+Result<Texture> decode_png(std::string_view bytes, const std::string& name, size_t max_pixels) {
   int w = 0, h = 0, n = 0;
-  Result<std::string> file = read_file(path, kMaxPngBytes, "an image");
-  if (!file.ok()) return Result<Texture>::failure(file.error);
-  const auto* bytes = reinterpret_cast<const stbi_uc*>(file.value->data());
-  const int size = int(file.value->size());
+  const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
+  if (bytes.size() > size_t(INT32_MAX)) return Result<Texture>::failure(name + ": image file too large");
+  const int size = int(bytes.size());
   // The header first: a few bytes can declare an image of gigabytes.
-  if (stbi_info_from_memory(bytes, size, &w, &h, &n) &&
-      (w > kMaxImageSide || h > kMaxImageSide || size_t(w) * size_t(h) > kMaxImagePixels)) {
-    return Result<Texture>::failure(path + ": image is " + std::to_string(w) + "x" + std::to_string(h) +
-                                    "; the limit is " + std::to_string(kMaxImageSide) + " pixels a side and " +
-                                    std::to_string(kMaxImagePixels / 1'000'000) + " million pixels");
+  max_pixels = std::min(max_pixels, kMaxImagePixels);
+  if (stbi_info_from_memory(data_in, size, &w, &h, &n) &&
+      (w > kMaxImageSide || h > kMaxImageSide || size_t(w) * size_t(h) > max_pixels)) {
+    return Result<Texture>::failure(name + ": image is " + std::to_string(w) + "x" + std::to_string(h) + "; the limit is " +
+                                    std::to_string(kMaxImageSide) + " pixels a side and " +
+                                    (max_pixels >= 1'000'000 ? std::to_string(max_pixels / 1'000'000) + " million pixels"
+                                                             : std::to_string(max_pixels) + " pixels"));
   }
-  stbi_uc* data = stbi_load_from_memory(bytes, size, &w, &h, &n, 4);
+  stbi_uc* data = stbi_load_from_memory(data_in, size, &w, &h, &n, 4);
   if (!data) {
     const char* why = stbi_failure_reason();
-    return Result<Texture>::failure(path + ": cannot read image: " + (why ? why : "unknown error"));
+    return Result<Texture>::failure(name + ": cannot read image: " + (why ? why : "unknown error"));
   }
   Texture t;
-  t.name = path;
+  t.name = name;
   t.width = w;
   t.height = h;
   t.rgba.assign(data, data + static_cast<size_t>(w) * h * 4);
   stbi_image_free(data);
   return Result<Texture>::success(std::move(t));
+}
+
+Result<Texture> read_png(const std::string& path, size_t max_pixels) {
+  Result<std::string> file = read_file(path, kMaxPngBytes, "an image");
+  if (!file.ok()) return Result<Texture>::failure(file.error);
+  return decode_png(*file.value, path, max_pixels);
 }
 
 Result<Character> raster_character(std::shared_ptr<const Texture> image,
@@ -97,12 +104,12 @@ Result<Character> raster_character(std::shared_ptr<const Texture> image,
 }
 
 Result<Character> load_raster(const std::string& path, const RasterOptions& options) {
-  Result<Texture> img = read_png(path);
+  Result<Texture> img = read_png(path, options.max_pixels);
   if (!img.ok()) return Result<Character>::failure(img.error);
   auto tex = std::make_shared<const Texture>(std::move(*img.value));
   std::vector<std::uint8_t> mask;
   if (!options.mask_path.empty()) {
-    Result<Texture> m = read_png(options.mask_path);
+    Result<Texture> m = read_png(options.mask_path, options.max_pixels);
     if (!m.ok()) return Result<Character>::failure(m.error);
     if (m.value->width != tex->width || m.value->height != tex->height) {
       return Result<Character>::failure(

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 
 namespace mar {
 
@@ -13,6 +14,7 @@ struct RasterOptions {
   float threshold = 0.5f;   ///< alpha (or mask brightness) above this is figure
   double tolerance = 0.75;  ///< outline simplification, pixels
   double min_area = 8.0;    ///< regions and holes smaller than this (px^2) are dropped
+  size_t max_pixels = 16'000'000;  ///< larger images refused from the header (at most kMaxImagePixels)
 };
 
 /// Traces the figure outline (marching squares on alpha or mask, sub-pixel), simplifies
@@ -40,7 +42,10 @@ constexpr int kMaxLayers = 256;
 constexpr int kMaxImageSide = 8192;
 constexpr size_t kMaxImagePixels = 16'000'000;
 
-/// Reads a PNG as RGBA8.
-Result<Texture> read_png(const std::string& path);
+/// Decodes a PNG (or JPEG, GIF, BMP) in memory as RGBA8; an image over `max_pixels` (or the
+/// limits above) is refused from its header, before decoding. `name` starts the messages.
+Result<Texture> decode_png(std::string_view bytes, const std::string& name, size_t max_pixels = kMaxImagePixels);
+/// Reads a PNG as RGBA8 (input/read_file.h, then decode_png).
+Result<Texture> read_png(const std::string& path, size_t max_pixels = kMaxImagePixels);
 
 }  // namespace mar
