@@ -61,21 +61,15 @@ TEST(OutsideFiles, EveryLoaderRefusesWhatIsNotAFileAtOnce) {
     runs.emplace_back("a take", run("replay " + q(path) + " --show " + q(src / "config/shows/demo.toml")));
     const std::string rig_show = test::write_temp("rig_is.toml", "[show]\nrig = \"" + path + "\"\n");
     runs.emplace_back("a show's rig", run("run " + q(rig_show) + " --headless --frames 1"));
-    const std::string script_show = test::write_temp("script_is.toml", show_head + R"([[device]]
-name = "korg"
-sim = "nanokontrol2"
-script_file = ")" + path + "\"\n");
-    runs.emplace_back("a script", run("run " + q(script_show) + " --headless --frames 1"));
-    const std::string desc_show = test::write_temp("descriptor_is.toml", show_head + R"([[device]]
-name = "pad"
-sim = "gamepad"
-descriptor = ")" + path + "\"\n");
-    runs.emplace_back("a descriptor", run("run " + q(desc_show) + " --headless --frames 1"));
-    const std::string wav_show = test::write_temp("wav_is.toml", show_head + R"([[device]]
-name = "mic"
-sim = "microphone"
-file = ")" + path + "\"\n");
-    runs.emplace_back("a WAV", run("run " + q(wav_show) + " --headless --frames 1"));
+    // A simulated device whose `key` names the path.
+    auto device_show = [&](const char* what, const char* sim, const char* key) {
+      const std::string show = test::write_temp(std::string(sim) + "_" + key + ".toml", show_head + "[[device]]\nname = \"d\"\nsim = \"" +
+                                                                                             sim + "\"\n" + key + " = \"" + path + "\"\n");
+      runs.emplace_back(what, run("run " + q(show) + " --headless --frames 1"));
+    };
+    device_show("a script", "nanokontrol2", "script_file");
+    device_show("a descriptor", "gamepad", "descriptor");
+    device_show("a WAV", "microphone", "file");
     for (const auto& [what, r] : runs) {
       EXPECT_EQ(r.exit_code, 2) << what << "\n" << r.err;
       EXPECT_NE(r.err.find(kind), std::string::npos) << what << ": the message says what the path is\n" << r.err;
