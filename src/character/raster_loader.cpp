@@ -19,6 +19,12 @@ Result<Texture> decode_png(std::string_view bytes, const std::string& name, size
   const auto* data_in = reinterpret_cast<const stbi_uc*>(bytes.data());
   if (bytes.size() > size_t(INT32_MAX)) return Result<Texture>::failure(name + ": image file too large");
   const int size = int(bytes.size());
+  // Only the formats a character may hold, by their signatures: stb_image also reads PNM, PSD,
+  // TGA, HDR and PIC, and Debian 12's build of it reads outside a crafted PNM's buffer.
+  const auto starts = [&](std::string_view sig) { return bytes.substr(0, sig.size()) == sig; };
+  if (!starts("\x89PNG\r\n\x1a\n") && !starts("\xff\xd8\xff") && !starts("GIF87a") && !starts("GIF89a") && !starts("BM")) {
+    return Result<Texture>::failure(name + ": not a PNG, JPEG, GIF or BMP image");
+  }
   // The header first: a few bytes can declare an image of gigabytes.
   max_pixels = std::min(max_pixels, kMaxImagePixels);
   if (stbi_info_from_memory(data_in, size, &w, &h, &n) &&

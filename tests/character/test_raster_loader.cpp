@@ -116,6 +116,21 @@ TEST(load_character, AnImageOverThePixelLimitIsRefusedFromItsHeader) {
   EXPECT_EQ(small.error.find("the limit"), std::string::npos) << small.error;
 }
 
+// stb_image reads more than a character may hold; a PNM that fuzz_raster found reads outside
+// its buffer in Debian 12's stb. Only PNG, JPEG, GIF and BMP reach the decoder.
+TEST(decode_png, OnlyThePicturesACharacterMayHoldReachTheDecoder) {
+  for (std::string_view bytes : {std::string_view("P5\n8 8\n255\n"), std::string_view("8BPS\0\1"),
+                                  std::string_view("#?RADIANCE\n"), std::string_view("")}) {
+    auto r = decode_png(bytes, "odd.img");
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.error, "odd.img: not a PNG, JPEG, GIF or BMP image");
+  }
+  // A PNG's signature passes the check and fails as what it is, a truncated PNG.
+  auto png = decode_png(std::string_view("\x89PNG\r\n\x1a\n", 8), "cut.png");
+  ASSERT_FALSE(png.ok());
+  EXPECT_EQ(png.error.find("not a PNG"), std::string::npos) << png.error;
+}
+
 TEST(load_character, CorpusChildDrawingWithMask) {
   if (!test::have_corpus()) GTEST_SKIP() << "corpus not present";
   const auto dir = test::corpus_dir() / "raster" / "animated-drawings" / "char1";
