@@ -126,7 +126,7 @@ RigidMotion rigid_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
     re += q.x() * p.x() + q.y() * p.y();
     im += q.y() * p.x() - q.x() * p.y();
   }
-  const double len = std::hypot(re, im);
+  const double len = portable_hypot(re, im);
   if (len > 0 && std::isfinite(len)) m.c = re / len, m.s = im / len;
   return m;
 }

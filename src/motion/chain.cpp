@@ -94,7 +94,7 @@ void Chain::step(double h, const Vec2& anchor, double rotation, double spin, con
     }
     const double r1 = p_.model == ChainParams::Spring ? std::clamp(l.r + h * l.rdot, 0.25 * L, 4 * L) : L;
     const double reach = std::max(l.r, r1);
-    if (const double speed = std::hypot(l.omega * reach, l.rdot); p_.limit > 0 && speed > p_.limit) {
+    if (const double speed = portable_hypot(l.omega * reach, l.rdot); p_.limit > 0 && speed > p_.limit) {
       l.omega *= p_.limit / speed;
       l.rdot *= p_.limit / speed;
     }

@@ -114,7 +114,7 @@ void FeatureFrameSolver::apply_reach(std::span<const Vec2> targets) {
       re += q.x() * p.x() + q.y() * p.y();
       im += q.y() * p.x() - q.x() * p.y();
     }
-    const double len = std::hypot(re, im);
+    const double len = portable_hypot(re, im);
     const double c = len > 1e-300 ? re / len : 1.0, sn = len > 1e-300 ? im / len : 0.0;
     const Vec2 r = frame_->rest[static_cast<size_t>(a)] - cr;
     const Vec2 anchor = cv + Vec2(c * r.x() - sn * r.y(), sn * r.x() + c * r.y());
@@ -163,7 +163,7 @@ void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
       re += q.x() * p.x() + q.y() * p.y();
       im += q.y() * p.x() - q.x() * p.y();
     }
-    const double len = std::hypot(re, im);
+    const double len = portable_hypot(re, im);
     c = n >= 2 && len > 1e-300 ? re / len : 1.0;
     s = n >= 2 && len > 1e-300 ? im / len : 0.0;
     t = ct - Vec2(c * cp.x() - s * cp.y(), s * cp.x() + c * cp.y());
@@ -212,7 +212,7 @@ void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
         im += q.y() * p.x() - q.x() * p.y();
         moved += (targets[h] - rest_of(static_cast<int>(h))).squaredNorm();
       }
-      const double len = std::hypot(re, im);
+      const double len = portable_hypot(re, im);
       if (len > 1e-300 && std::isfinite(len)) {
         gc = re / len;
         gs = im / len;
@@ -302,7 +302,7 @@ void FeatureFrameSolver::align_parts(std::span<const Vec2> targets) {
           }
         }
         double c = body_c_[b], s = body_s_[b];
-        const double len = std::hypot(re, im);
+        const double len = portable_hypot(re, im);
         if (len > 1e-300 && std::isfinite(len)) {
           c = re / len;
           s = im / len;

@@ -80,7 +80,7 @@ bool OutlineArap::prepare(Character& ch, const Rig&, std::span<const Vec2> handl
   position_ = w.position;
   handle_w_ = w.handle_weights;
   const Bounds cb = ch.bounds();
-  add_interior_points(ch, std::hypot(cb.hi.x() - cb.lo.x(), cb.hi.y() - cb.lo.y()) / 48);
+  add_interior_points(ch, portable_hypot(cb.hi.x() - cb.lo.x(), cb.hi.y() - cb.lo.y()) / 48);
   Points pts;
   std::vector<Ring> rings;
   std::vector<char> closed;
@@ -246,7 +246,7 @@ void OutlineArap::local_step() {
       a += w * r.dot(e);
       s += w * (r.x() * e.y() - r.y() * e.x());
     }
-    const double len = std::hypot(a, s);
+    const double len = portable_hypot(a, s);
     if (len > 1e-300) {  // else: a collapsed ring keeps its rotation
       rc_[i] = a / len;
       rs_[i] = s / len;

@@ -450,7 +450,7 @@ void FeatureFrameSolver::follow_rigid_motion(std::span<const Vec2> before, std::
     im += q.y() * p.x() - q.x() * p.y();
     moved += (after[h] - before[h]).squaredNorm();
   }
-  const double len = std::hypot(re, im);
+  const double len = portable_hypot(re, im);
   if (!(len > 1e-300) || !std::isfinite(len) || !(moved > 1e-18 * frame_->diagonal * frame_->diagonal)) return;
   const double c = re / len, sn = im / len;
   double resid = 0;
@@ -480,7 +480,7 @@ void FeatureFrameSolver::align_to(std::span<const Vec2> targets) {
     re += t.x() * p.x() + t.y() * p.y();
     im += t.y() * p.x() - t.x() * p.y();
   }
-  const double len = std::hypot(re, im);
+  const double len = portable_hypot(re, im);
   const double c = len > 1e-300 ? re / len : 1.0, sn = len > 1e-300 ? im / len : 0.0;
   move_rigidly(c, sn, cp, ct);
 }

@@ -151,7 +151,7 @@ void RigidGrid::local_step() {
     const double m = reg_size_[r];
     const double a = g[4 * r] - pc.dot(sq) - sp.dot(qc) + m * pc.dot(qc);
     const double s = g[4 * r + 1] - cross(pc, sq) - cross(sp, qc) + m * cross(pc, qc);
-    const double len = std::hypot(a, s);
+    const double len = portable_hypot(a, s);
     if (len > 1e-300 && std::isfinite(len)) {
       rc_[r] = a / len;
       rs_[r] = s / len;
@@ -200,7 +200,7 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
         a += p.dot(d);
         sn += cross(p, d);
       }
-      const double len = std::hypot(a, sn);
+      const double len = portable_hypot(a, sn);
       const double c = len > 1e-300 ? a / len : 1, si = len > 1e-300 ? sn / len : 0;
       for (int q = 0; q < 3; ++q) {
         const int i = tris_[tt][size_t(q)], j = tris_[tt][size_t((q + 1) % 3)];
@@ -266,7 +266,7 @@ double RigidGrid::energy(std::span<const Vec2> targets) const {
       a += p.dot(q);
       s += cross(p, q);
     }
-    const double len = std::hypot(a, s);
+    const double len = portable_hypot(a, s);
     const double cs = len > 1e-300 ? a / len : 1, sn = len > 1e-300 ? s / len : 0;
     for (int j : region(r))
       e += reg_k_[r] * ((x_[size_t(j)] - x_[c]) - rotated(cs, sn, rest_[size_t(j)] - rest_[c])).squaredNorm();
@@ -279,7 +279,7 @@ double RigidGrid::energy(std::span<const Vec2> targets) const {
       a += (rest_[i] - rest_[j]).dot(x_[i] - x_[j]);
       sn += cross(rest_[i] - rest_[j], x_[i] - x_[j]);
     }
-    const double len = std::hypot(a, sn);
+    const double len = portable_hypot(a, sn);
     const double c = len > 1e-300 ? a / len : 1, si = len > 1e-300 ? sn / len : 0;
     for (int q = 0; q < 3; ++q) {
       const size_t i = size_t(tris_[t][size_t(q)]), j = size_t(tris_[t][size_t((q + 1) % 3)]);

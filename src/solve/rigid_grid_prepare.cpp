@@ -129,7 +129,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
     if (error) *error = "rigid_grid: the character has no points";
     return false;
   }
-  const double diag = std::hypot(bb.width(), bb.height());
+  const double diag = portable_hypot(bb.width(), bb.height());
   h_ = rig.grid_cell > 0 ? rig.grid_cell : diag / 40;
   if (!(h_ > 0) || !std::isfinite(h_)) h_ = 1;
   half_width_ = rig.grid_half_width;
