@@ -30,7 +30,9 @@ if(MARIONETTE_WITH_ALSA)
   pkg_check_modules(ALSA REQUIRED IMPORTED_TARGET alsa)
 endif()
 # The virtual bench (marionette-simulate and the device tests); never the shipping program.
-pkg_check_modules(UMOCKDEV REQUIRED IMPORTED_TARGET umockdev-1.0)
+if(MARIONETTE_WITH_VBENCH)
+  pkg_check_modules(UMOCKDEV REQUIRED IMPORTED_TARGET umockdev-1.0)
+endif()
 find_package(Threads REQUIRED)
 
 # CGAL is used in exactly one translation unit (src/geom/triangulate.cpp).

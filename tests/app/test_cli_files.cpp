@@ -62,9 +62,9 @@ TEST(OutsideFiles, EveryLoaderRefusesWhatIsNotAFileAtOnce) {
     const std::string rig_show = test::write_temp("rig_is.toml", "[show]\nrig = \"" + path + "\"\n");
     runs.emplace_back("a show's rig", run("run " + q(rig_show) + " --headless --frames 1"));
     // A simulated device whose `key` names the path.
-    auto device_show = [&](const char* what, const char* sim, const char* key) {
+    auto device_show = [&, target = path](const char* what, const char* sim, const char* key) {
       const std::string show = test::write_temp(std::string(sim) + "_" + key + ".toml", show_head + "[[device]]\nname = \"d\"\nsim = \"" +
-                                                                                             sim + "\"\n" + key + " = \"" + path + "\"\n");
+                                                                                             sim + "\"\n" + key + " = \"" + target + "\"\n");
       runs.emplace_back(what, run("run " + q(show) + " --headless --frames 1"));
     };
     device_show("a script", "nanokontrol2", "script_file");

@@ -5,7 +5,7 @@
 namespace mar {
 namespace {
 
-void expect_rgb(std::string_view text, int r, int g, int b, float a = 1.0f) {
+void expect_rgb(std::string_view text, double r, double g, double b, float a = 1.0f) {
   auto c = parse_color(text);
   ASSERT_TRUE(c) << text;
   EXPECT_NEAR(c->r * 255, r, 0.51) << text;

@@ -40,6 +40,7 @@ TEST(Voice, VisemesOfThreeVoicesAfterCalibration) {
     long voiced = 0, right = 0, silent = 0, closed = 0, right_default = 0;
     for (const auto& [pitch, speed] : {std::pair{35, 100}, std::pair{65, 130}}) {
       for (const auto& [v, ph] : kVowels) {
+        const Viseme vowel = v;  // clang 14 cannot capture a structured binding
         auto pcm = speak(voice, ph, pitch, speed, rate);
         VoiceAnalyzer a(rate, o), uncalibrated(rate, o);
         for (const auto& [cv, f] : cal) a.calibrate(cv, f.first, f.second);
@@ -57,8 +58,8 @@ TEST(Voice, VisemesOfThreeVoicesAfterCalibration) {
           quiet_hops = db < -60 ? quiet_hops + 1 : 0;
           if (db > o.gate_db + 6) {
             ++voiced;
-            right += f.viseme == v;
-            right_default += size_t(frame) < plain.size() && plain[size_t(frame)] == v;
+            right += f.viseme == vowel;
+            right_default += size_t(frame) < plain.size() && plain[size_t(frame)] == vowel;
           } else if (quiet_hops * o.hop_s >= 0.2) {
             ++silent;
             closed += f.viseme == Viseme::Closed;
