@@ -94,4 +94,21 @@ class CpuHog {
   std::vector<std::thread> threads_;
 };
 
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kSanitized = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+inline constexpr bool kSanitized = true;
+#else
+inline constexpr bool kSanitized = false;
+#endif
+#else
+inline constexpr bool kSanitized = false;
+#endif
+
+/// How many times a test repeats a run to show that it always gives one result: `n` in the
+/// Release suite, at most 2 in the sanitizer build, where a run costs several times more and
+/// the memory errors it looks for show in the first run as well as the fifth.
+inline int repeats(int n) { return kSanitized ? std::min(n, 2) : n; }
+
 }  // namespace mar::test

@@ -102,7 +102,7 @@ TEST(RunSimulate, HardwareShowGivesOneRunHashIdleAndLoaded) {
   const auto idle = run_hardware_show("idle");
   ASSERT_TRUE(idle.contains("run_hash"));
   test::CpuHog hog;
-  for (int k = 0; k < 5; ++k) {
+  for (int k = 0; k < test::repeats(5); ++k) {
     const auto j = run_hardware_show("loaded" + std::to_string(k));
     ASSERT_TRUE(j.contains("run_hash"));
     EXPECT_EQ(j["run_hash"], idle["run_hash"]) << "run " << k << " with " << hog.threads() << " busy threads";

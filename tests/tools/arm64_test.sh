@@ -24,44 +24,61 @@ binfmt=no
 if [ -r /proc/sys/fs/binfmt_misc/qemu-aarch64 ] && grep -q enabled /proc/sys/fs/binfmt_misc/qemu-aarch64; then
   binfmt=yes
 fi
-failed=()
-for t in "${subset[@]}"; do
-  echo "== $t (arm64, qemu-user)"
-  "$qemu" "$arm/tests/$t" --gtest_brief=1 || failed+=("$t")
-done
-for t in "${needs_binfmt[@]}"; do
-  if [ "$binfmt" = yes ]; then
-    echo "== $t (arm64, qemu-user through binfmt_misc)"
-    "$arm/tests/$t" --gtest_brief=1 || failed+=("$t")
-  else
-    echo "== $t skipped: it starts arm64 programs itself, and binfmt_misc has no qemu-aarch64 here"
-  fi
-done
-
-# The same show gives the same run_hash on both architectures.
+# Each program and each show is single-threaded under qemu-user: they run JOBS at a time (the
+# cores), each into its own log, printed when it fails.
+JOBS=${JOBS:-$(nproc)}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-hash_of() { # program show -> run_hash
-  local exe=$1 show=$2 out
-  out=$("${@:3}" "$exe" run "$show" --headless --frames 600 --stats "$work/stats.json" 2>"$work/err") || {
-    cat "$work/err" >&2; return 1; }
-  # A show with hardware devices runs on the wall clock: its run_hash differs from run to run
-  # on one machine too, so it is only played, not compared.
-  python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(j["run_hash"] if j["clock"]["mode"] == "virtual" else "wall-clock")' "$work/stats.json"
+export arm qemu work
+run_test() { # program [binfmt] -> prints one line; the log is kept in $work/NAME.log
+  local t=$1 how="qemu-user" cmd=("$qemu" "$arm/tests/$1")
+  [ "${2:-}" = binfmt ] && { how="qemu-user through binfmt_misc"; cmd=("$arm/tests/$1"); }
+  local s=$SECONDS
+  if "${cmd[@]}" --gtest_brief=1 >"$work/$t.log" 2>&1; then
+    echo "== $t (arm64, $how): $(grep -o '[0-9]* tests\? from .* ran' "$work/$t.log" | grep -o '^[0-9]*') tests passed in $((SECONDS - s)) s"
+  else
+    echo "== $t (arm64, $how): FAILED"; cat "$work/$t.log"; touch "$work/$t.failed"
+  fi
 }
-mismatch=0
-for f in "$root"/config/shows/*.toml; do
-  show=$(basename "$f" .toml)
-  a=$(hash_of "$native/marionette" "$f") || { failed+=("show $show (x86-64)"); continue; }
-  b=$(hash_of "$arm/marionette" "$f" "$qemu") || { failed+=("show $show (arm64)"); continue; }
+export -f run_test
+{
+  printf '%s\n' "${subset[@]}"
+  for t in "${needs_binfmt[@]}"; do
+    if [ "$binfmt" = yes ]; then printf '%s binfmt\n' "$t"
+    else echo "== $t skipped: it starts arm64 programs itself, and binfmt_misc has no qemu-aarch64 here" >&2; fi
+  done
+} | xargs -P "$JOBS" -L1 bash -c 'run_test "$@"' _
+failed=()
+for f in "$work"/*.failed; do [ -e "$f" ] && failed+=("$(basename "$f" .failed)"); done
+
+# The same show gives the same run_hash on both architectures, over 300 frames (the pinned
+# demo hash is a 300-frame one). A show with hardware devices runs on the wall clock: its
+# run_hash differs from run to run on one machine too, so it is played on both, not compared.
+export native
+compare_show() { # show file -> one line; "differs" or "failed" in $work/NAME.show on failure
+  local f=$1 show; show=$(basename "$1" .toml)
+  local a b
+  hash_of() { # stats file, program and its runner...
+    local stats=$1; shift
+    "$@" run "$f" --headless --frames 300 --stats "$stats" >/dev/null 2>"$stats.err" || { cat "$stats.err"; return 1; }
+    python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); print(j["run_hash"] if j["clock"]["mode"] == "virtual" else "wall-clock")' "$stats"
+  }
+  a=$(hash_of "$work/$show.x86.json" "$native/marionette") || { echo "== show $show (x86-64): FAILED"; echo "$a"; echo failed >"$work/$show.show"; return; }
+  b=$(hash_of "$work/$show.arm.json" "$qemu" "$arm/marionette") || { echo "== show $show (arm64): FAILED"; echo "$b"; echo failed >"$work/$show.show"; return; }
   if [ "$a" = wall-clock ] || [ "$b" = wall-clock ]; then
     echo "== show $show: played on both; not compared (it has hardware devices, so it runs on the wall clock)"
   elif [ "$a" = "$b" ]; then
     echo "== show $show: run_hash $a on x86-64 and arm64"
   else
-    echo "== show $show: run_hash differs: x86-64 $a, arm64 $b" >&2
-    mismatch=1
+    echo "== show $show: run_hash differs: x86-64 $a, arm64 $b"; echo differs >"$work/$show.show"
   fi
+}
+export -f compare_show
+printf '%s\n' "$root"/config/shows/*.toml | xargs -P "$JOBS" -I{} bash -c 'compare_show "$1"' _ {}
+mismatch=0
+for f in "$work"/*.show; do
+  [ -e "$f" ] || continue
+  if [ "$(cat "$f")" = differs ]; then mismatch=1; else failed+=("show $(basename "$f" .show)"); fi
 done
 [ $mismatch -eq 0 ] || failed+=("run_hash across architectures")
 if [ ${#failed[@]} -gt 0 ]; then
