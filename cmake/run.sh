@@ -117,7 +117,8 @@ case "$cmd" in
   fuzz)
     install_deps
     build_checked fuzzers
-    RUNS=${RUNS:-10000000} JOBS=$JOBS bash "$ROOT/tests/fuzz/run.sh" "$ROOT/build-sanitize" "${FUZZ_SECONDS:-600}" "${@:2}"
+    # A campaign: one harness at a time, in libFuzzer's fork mode on every core.
+    RUNS=${RUNS:-10000000} FORK=${FORK:-$JOBS} JOBS=1 bash "$ROOT/tests/fuzz/run.sh" "$ROOT/build-sanitize" "${FUZZ_SECONDS:-600}" "${@:2}"
     ;;
   soak)
     install_deps

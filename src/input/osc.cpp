@@ -20,10 +20,13 @@ bool osc_match(std::string_view p, std::string_view s) {
     next.reset();
     const char c = p[i];
     if (c == '*') {
+      // Every position from a reached one up to the next '/': one sweep (a pattern of stars
+      // against a long address was quadratic in the address per star).
+      bool reach = false;
       for (size_t k = 0; k <= s.size(); ++k) {
-        if (!cur.test(k)) continue;
-        next.set(k);
-        for (size_t j = k; j < s.size() && s[j] != '/'; ++j) next.set(j + 1);
+        reach = reach || cur.test(k);
+        if (reach) next.set(k);
+        if (k < s.size() && s[k] == '/') reach = false;
       }
       ++i;
     } else if (c == '[') {

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs the libFuzzer harnesses of a MARIONETTE_FUZZ build:
 #   tests/fuzz/run.sh BUILD_DIR SECONDS [HARNESS...]
-# SECONDS is each harness's time; RUNS=N also stops a harness after N executions.
+# SECONDS is each harness's time; RUNS=N also stops a harness after N executions; FORK=N runs
+# each harness in libFuzzer's fork mode on N cores (a campaign: then JOBS=1 suits).
 # Seeds come from config/ and the shared corpus (written into BUILD_DIR/fuzz/seeds at run
 # time); what a run finds grows BUILD_DIR/fuzz/work/NAME, kept for the next run. Every input
 # in tests/fuzz/regressions/NAME is run first. Harnesses run two at a time (JOBS). Prints one
@@ -50,20 +51,25 @@ run_one() {
   if [ -d "$reg" ] && ! "$exe" -timeout="$TIMEOUT" -rss_limit_mb=2048 "$reg"/* >"$F/logs/$name.regressions" 2>&1; then
     echo "$name: a regression input fails (see $F/logs/$name.regressions)"; return 1
   fi
-  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} -timeout="$TIMEOUT" -rss_limit_mb=2048 -max_len="$(max_len_of "$name")" \
-    -print_final_stats=1 -artifact_prefix="$F/artifacts/$name-" \
+  local started=$SECONDS
+  "$exe" -max_total_time="$SECONDS_EACH" ${RUNS:+-runs=$RUNS} ${FORK:+-fork=$FORK} -timeout="$TIMEOUT" -rss_limit_mb=2048 \
+    -max_len="$(max_len_of "$name")" -print_final_stats=1 -artifact_prefix="$F/artifacts/$name-" \
     "$F/work/$name" "$F/seeds/$name" >"$F/logs/$name.log" 2>&1
-  local rc=$?
+  local rc=$? took=$((SECONDS - started))
   local execs; execs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$F/logs/$name.log" | grep -o '[0-9]*$')
+  # Fork mode's parent prints its total as "#N: cov: ..." lines instead.
+  [ -n "$FORK" ] && execs=$(grep -oE '^#[0-9]+: cov' "$F/logs/$name.log" | tail -1 | grep -oE '[0-9]+')
   if [ $rc -ne 0 ]; then
     echo "$name: FAILED after ${execs:-?} executions ($(grep -m1 -oE 'SUMMARY: [A-Za-z]+: [^ ]+ [^ ]*|ERROR: libFuzzer: [a-z-]+' "$F/logs/$name.log"))"
     echo "  log: $F/logs/$name.log; input: $(ls "$F/artifacts/$name-"* 2>/dev/null | head -1)"
     return 1
   fi
   local rate; rate=$(grep -o 'stat::average_exec_per_sec: *[0-9]*' "$F/logs/$name.log" | grep -o '[0-9]*$')
-  echo "$name: ${execs:-0} executions (${rate:-0}/s), 0 crashes"
+  [ -n "$FORK" ] && rate=$(( ${execs:-0} / (took > 0 ? took : 1) ))
+  echo "$name: ${execs:-0} executions (${rate:-0}/s${FORK:+ on $FORK cores}, ${took} s), 0 crashes"
 }
 RUNS=${RUNS:-}
+FORK=${FORK:-}
 TIMEOUT=${TIMEOUT:-2}
-export -f run_one max_len_of; export BUILD F ROOT SECONDS_EACH RUNS TIMEOUT
+export -f run_one max_len_of; export BUILD F ROOT SECONDS_EACH RUNS FORK TIMEOUT
 printf '%s\n' "${HARNESSES[@]}" | xargs -P "$JOBS" -I{} bash -c 'run_one {}' | tee "$F/summary.txt"
