@@ -33,15 +33,19 @@ install_deps() {
     dpkg-query -W -f='${Status} ${Architecture}\n' "$p" 2>/dev/null | grep -qE "^install ok installed ($arch|all)$" ||
       missing+=("$p:$arch")
   done
-  [ ${#missing[@]} -eq 0 ] && return 0
+  apt_install "${missing[@]}"
+}
+
+apt_install() { # packages (the missing ones; none: nothing to do)
+  [ $# -eq 0 ] && return 0
   if [ "$(id -u)" -ne 0 ]; then
-    echo "missing Debian packages: ${missing[*]}" >&2
-    echo "run as root, or: sudo apt-get install -y ${missing[*]}" >&2
+    echo "missing Debian packages: $*" >&2
+    echo "run as root, or: sudo apt-get install -y $*" >&2
     exit 1
   fi
-  echo "installing: ${missing[*]}"
+  echo "installing: $*"
   apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "$@" >/dev/null
 }
 
 # The arm64 libraries beside the native ones (Debian multiarch), the cross compiler and qemu-user.
@@ -54,12 +58,10 @@ install_arm64_deps() {
   for p in crossbuild-essential-arm64 qemu-user-static file "${ARM64_PACKAGES[@]/%/:arm64}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
-  [ ${#missing[@]} -eq 0 ] && return 0
-  [ "$(id -u)" -eq 0 ] || { echo "missing Debian packages: ${missing[*]} (run as root)" >&2; exit 1; }
-  dpkg --print-foreign-architectures | grep -qx arm64 || dpkg --add-architecture arm64
-  echo "installing: ${missing[*]}"
-  apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  if [ ${#missing[@]} -gt 0 ] && [ "$(id -u)" -eq 0 ]; then
+    dpkg --print-foreign-architectures | grep -qx arm64 || dpkg --add-architecture arm64
+  fi
+  apt_install "${missing[@]}"
 }
 
 # Lets the kernel start an arm64 program by itself through qemu (the tests that start
