@@ -57,7 +57,7 @@ Result<bool> SimDevice::load_script(const std::string& text) {
     w.erase(w.begin());
     auto r = action(t, w);
     if (!r.ok()) return fail(r.error);
-    if (too_many_) return fail("the script makes more than " + std::to_string(kMaxRecords) + " records (a move over a very long time?)");
+    if (too_many_) return fail("the script makes more than " + std::to_string(max_records_) + " records (a move over a very long time?)");
   }
   finish();
   if (loop_ns_ > 0 && loop_ns_ < end_ns()) {
@@ -81,7 +81,7 @@ void SimDevice::finish() {
 int64_t SimDevice::end_ns() const { return timeline_.empty() ? 0 : timeline_.back().t_ns; }
 
 void SimDevice::emit(int64_t t_ns, std::span<const uint8_t> bytes) {
-  if (timeline_.size() >= kMaxRecords) {
+  if (timeline_.size() >= max_records_) {
     too_many_ = true;
     return;
   }

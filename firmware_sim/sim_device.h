@@ -12,6 +12,7 @@
 #include "geom/result.h"
 #include "input/decoder.h"
 
+#include <algorithm>
 #include <array>
 #include <memory>
 #include <span>
@@ -53,6 +54,9 @@ class SimDevice {
   /// (about 28 MB), and a loop period at least the timeline's length and kMinLoopSeconds.
   static constexpr double kMaxSeconds = 1e5, kMinLoopSeconds = 0.01;
   static constexpr size_t kMaxRecords = 250000;
+  /// Lowers the record limit for this device (at most kMaxRecords): the fuzz harness uses it
+  /// so that a script at the limit costs milliseconds; the limit's checks are the same.
+  void set_max_records(size_t n) { max_records_ = std::min(n, kMaxRecords); }
 
   /// Calls `on(const WireRecord&)` for records with time <= now_ns, in time order: first its
   /// answers to what it was sent since the last call (at now_ns), then its timeline.
@@ -97,10 +101,11 @@ class SimDevice {
   bool reply_midi(std::span<const uint8_t> message);
   static constexpr size_t kReplyRecords = 8;  ///< 8 x 96 bytes: a 576-byte SysEx
   std::vector<WireRecord> timeline_;
-  bool too_many_ = false;  ///< emit() refused records past kMaxRecords
+  bool too_many_ = false;  ///< emit() refused records past max_records_
 
  private:
   size_t next_ = 0;
+  size_t max_records_ = kMaxRecords;
   int64_t loop_ns_ = 0, offset_ns_ = 0;
   std::array<WireRecord, kReplyRecords> replies_{};
   size_t replies_used_ = 0;

@@ -157,6 +157,23 @@ TEST(SimDevice, ScriptLimitsAreErrorsWithTheLine) {
   EXPECT_GE(n, 2 * 64);
 }
 
+// A lowered record limit (the fuzz harness's) refuses past it with the same message, and a
+// script within it loads whole.
+TEST(SimDevice, ALoweredRecordLimitIsTheLimit) {
+  KnobBoxSim k;
+  k.set_max_records(1000);
+  auto r = k.load_script("0 turn 1 1000 over 10\n");
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("line 1: the script makes more than 1000 records"), std::string::npos) << r.error;
+  EXPECT_TRUE(k.timeline().empty());
+  ASSERT_TRUE(k.load_script("0 turn 1 100 over 1\n").ok());
+  EXPECT_GT(k.timeline().size(), 100u);
+  EXPECT_LE(k.timeline().size(), 1000u);
+  k.set_max_records(SimDevice::kMaxRecords + 1);  // never above the program's own limit
+  r = k.load_script("0 turn 1 1000000 over 10\n");
+  EXPECT_NE(r.error.find("more than 250000 records"), std::string::npos) << r.error;
+}
+
 TEST(KnobBoxSim, TwentyFourDetentsWithBounceDecodeExactly) {
   for (double bounce : {0.0, 1.0, 5.0}) {
     KnobBoxSim sim(bounce, 42);
