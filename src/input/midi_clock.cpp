@@ -35,7 +35,7 @@ void MidiClock::tick(int64_t t_ns) {
     // the clock jumped; the line starts afresh from the last tick.
     const double off = std::abs(double(t_ns) - time_of_seq(double(seq_)));
     const int64_t last = t_[size_t((seq_ - 1) % kWindow)];
-    if (!(b_ns_ > 0) || off > b_ns_ / 3 || double(t_ns - last) > 3 * b_ns_) n_ = 1;
+    if (!(b_ns_ > 0) || off > b_ns_ / 3 || double(t_ns) - double(last) > 3 * b_ns_) n_ = 1;
   }
   t_[size_t(seq_ % kWindow)] = t_ns;
   ++seq_;
@@ -56,7 +56,8 @@ void MidiClock::fit() {
   const double sx = n * (n - 1) / 2, sxx = (n - 1) * n * (2 * n - 1) / 6;
   double st = 0, sxt = 0;
   for (int i = 0; i < n_; ++i) {
-    const double t = double(t_[size_t((seq_ - n_ + i) % kWindow)] - origin_);
+    // In double: a recording's times can be any 64-bit value, and their difference overflow.
+    const double t = double(t_[size_t((seq_ - n_ + i) % kWindow)]) - double(origin_);
     st += t;
     sxt += i * t;
   }

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <vector>
 
 namespace mar {
@@ -69,6 +70,21 @@ TEST(MidiClock, ATempoChangeRelocksWithinABeat) {
     }
   }
   EXPECT_NEAR(c.bpm(), 90, 0.1);
+}
+
+// A recording can carry any 64-bit tick times (fuzz_recording found ticks from near INT64_MIN
+// to +0.36 s, whose difference overflowed): the clock stays finite and relocks on the next
+// steady ticks.
+TEST(MidiClock, TicksFromTheEndsOfTimeLeaveItFiniteAndItRelocks) {
+  MidiClock c;
+  c.start();
+  for (const int64_t t : {INT64_MIN, INT64_MIN + 1, int64_t{358000000}, INT64_MAX, INT64_MIN / 2, int64_t{0},
+                          INT64_MAX, INT64_MAX - 1, INT64_MIN})
+    c.tick(t);
+  EXPECT_TRUE(std::isfinite(c.bpm()));
+  EXPECT_TRUE(std::isfinite(c.beats_at(0)));
+  for (const int64_t t : ticks(120, 4, 0, 1)) c.tick(t);
+  EXPECT_NEAR(c.bpm(), 120.0, 0.01);
 }
 
 TEST(MidiClock, StartStopAndContinueMoveTheSongPositionAsTheSpecSays) {
