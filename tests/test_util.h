@@ -12,6 +12,7 @@
 #include <string>
 #include <sys/wait.h>
 #include <thread>
+#include <unistd.h>
 #include <vector>
 #include <cstdint>
 
@@ -22,8 +23,30 @@ inline std::filesystem::path corpus_dir() { return MARIONETTE_CORPUS_DIR; }
 inline bool have_corpus() { return std::filesystem::is_directory(corpus_dir() / "svg"); }
 inline std::filesystem::path characters_dir() { return source_dir() / "config" / "characters"; }
 
+// This process's scratch folder: new and empty (mkdtemp), never one an earlier run left behind.
+// A name built from the pid alone was not: a CI machine that reuses a pid across stages handed a
+// test the layers.toml its previous run had written. The process that made it removes it at exit
+// (a forked child that exits does not).
+inline const std::filesystem::path& temp_root() {
+  static const pid_t owner = ::getpid();
+  // Never destroyed, so the exit handler can still read it.
+  static const std::filesystem::path* const root = [] {
+    std::string t = (std::filesystem::temp_directory_path() / "marionette-test-XXXXXX").string();
+    if (!::mkdtemp(t.data())) {
+      std::perror("mkdtemp");
+      std::abort();
+    }
+    std::atexit([] {
+      std::error_code ec;
+      if (::getpid() == owner) std::filesystem::remove_all(temp_root(), ec);
+    });
+    return new std::filesystem::path(t);
+  }();
+  return *root;
+}
+
 inline std::filesystem::path temp_dir(const std::string& name) {
-  auto p = std::filesystem::temp_directory_path() / ("marionette-test-" + std::to_string(::getpid())) / name;
+  auto p = temp_root() / name;
   std::filesystem::create_directories(p);
   return p;
 }
