@@ -24,8 +24,8 @@ inline bool have_corpus() { return std::filesystem::is_directory(corpus_dir() / 
 inline std::filesystem::path characters_dir() { return source_dir() / "config" / "characters"; }
 
 // This process's scratch folder: new and empty (mkdtemp), never one an earlier run left behind.
-// A name built from the pid alone was not: a CI machine that reuses a pid across stages handed a
-// test the layers.toml its previous run had written. The process that made it removes it at exit
+// A name built from the pid alone was not: on CI a pid came round again and handed a test the
+// layers.toml its own earlier run had written. The process that made it removes it at exit
 // (a forked child that exits does not).
 inline const std::filesystem::path& temp_root() {
   static const pid_t owner = ::getpid();
