@@ -1,4 +1,4 @@
-// Feature frame of a multi-element character (seed 000 §3, ALGORITHMS.md §1): feature
+// Feature frame of a multi-element character (seed 000 §3, docs/algorithms.md §1): feature
 // points per contour, sub-frames, sewing lines from the Euclidean minimum spanning tree
 // over sub-frames plus the user's edits, and parametric coordinates of every shape vertex.
 #pragma once

@@ -1,4 +1,4 @@
-// Feature points of one polyline (seed 000 §3, ALGORITHMS.md §1): IPAN99 high-curvature
+// Feature points of one polyline (seed 000 §3, docs/algorithms.md §1): IPAN99 high-curvature
 // points, inflection points with hysteresis, and uniform arc-length samples.
 // Indices refer to the polyline's points; results are sorted and unique.
 #pragma once

@@ -1,4 +1,4 @@
-// Joints and per-part stiffness of a feature frame (ALGORITHMS.md §7).
+// Joints and per-part stiffness of a feature frame (docs/algorithms.md §7).
 //
 // A hinge joins two closed parts at one point: a new frame vertex in each part, tied to
 // its part's nearest frame vertices by spokes (coupling only, so the vertex moves with the

@@ -1,4 +1,4 @@
-// A voice's controls from PCM (ALGORITHMS.md §8): the level (RMS of the last 10 ms in dBFS,
+// A voice's controls from PCM (docs/algorithms.md §8): the level (RMS of the last 10 ms in dBFS,
 // attack and release smoothing), the vowel being sung or spoken as a viseme (a, i, u, e, o; closed below a gate),
 // and an onset at a syllable's start. Analysis frames of 25 ms every 5 ms; the vowel from its
 // first two formants (LPC at about 11 kHz, the envelope's first peaks), the nearest of five

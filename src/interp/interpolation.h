@@ -1,4 +1,4 @@
-// Structure-preserving interpolation of key poses (seed 000 §5; ALGORITHMS.md §3).
+// Structure-preserving interpolation of key poses (seed 000 §5; docs/algorithms.md §3).
 //
 // Triangle set (step 1): at each frame vertex with r incident lines (feature, sewing, spokes;
 // not the zero-length joint pins or hinge springs), sorted by angle: r = 2 gives one triangle

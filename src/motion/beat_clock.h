@@ -1,5 +1,5 @@
 // Music time for motion that follows a MIDI clock (`sync = "beat"` on behaviours and on the
-// show's physics; ALGORITHMS.md §8). The clock's ticks report where the bar is and the tempo
+// show's physics; docs/algorithms.md §8). The clock's ticks report where the bar is and the tempo
 // (input/midi_clock.h fits them); each frame the music time advances at the tempo and is pulled
 // toward the clock's position, the error wrapped to the nearest bar, so that it locks to the
 // beat within about half a second and never jumps. Without a clock (none yet, stopped, or

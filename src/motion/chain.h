@@ -1,4 +1,4 @@
-// Secondary motion (ALGORITHMS.md §8): chains of dangling links — hair, a ponytail, ears, a
+// Secondary motion (docs/algorithms.md §8): chains of dangling links — hair, a ponytail, ears, a
 // tail, antennae, a flame — that swing, bounce and settle when what they hang from moves.
 //
 // A chain hangs from an anchor on its parent (a point and the parent's rotation, given each

@@ -1,6 +1,6 @@
 // The anti-aliased software rasterizer: every pixel gets the exact share of its area a paint
 // item covers. Signed area and cover are accumulated per cell along each edge, then one prefix
-// sum per row gives the coverage (the font-rs / stb_truetype approach, ALGORITHMS.md §8). A
+// sum per row gives the coverage (the font-rs / stb_truetype approach, docs/algorithms.md §8). A
 // paint item is one shape's fill or one stroke: all its triangles go into the accumulation
 // together, so the edges they share cancel exactly. There are no seams inside a shape, strokes
 // have no pinholes at joins, and a stroke thinner than a pixel covers what it covers.

@@ -52,7 +52,7 @@ struct DrawList {
   std::vector<Vec2> scratch;  ///< working space
   /// Anti-aliased geometry for renderers that only draw aliased triangles (the GPU's): when
   /// set before build_draw_list(), every fill and stroke comes with a fringe, a strip one pixel
-  /// wide along its outline whose alpha falls from the item's to 0 (ALGORITHMS.md §8, NanoVG's
+  /// wide along its outline whose alpha falls from the item's to 0 (docs/algorithms.md §8, NanoVG's
   /// way). The inside is pulled in by half a pixel, so the fringe straddles the true edge.
   /// Textured fills then carry premultiplied modulation colours (their textures are uploaded
   /// premultiplied, see Canvas). The software rasterizer wants the plain list (fringe unset).

@@ -1,4 +1,4 @@
-// FeatureFrameSolver::align_parts: the articulated initial guess (ALGORITHMS.md §7).
+// FeatureFrameSolver::align_parts: the articulated initial guess (docs/algorithms.md §7).
 #include "solve/feature_frame.h"
 
 #include <cmath>

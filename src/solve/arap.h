@@ -1,4 +1,4 @@
-// The outline ARAP baseline (ALGORITHMS.md §5; Sorkine & Alexa 2007): as-rigid-as-possible
+// The outline ARAP baseline (docs/algorithms.md §5; Sorkine & Alexa 2007): as-rigid-as-possible
 // on one constrained triangulation of the whole character — every contour a constraint,
 // the faces inside some closed part kept, so overlapping parts are one piece as a single
 // outline makes them. Per-vertex rotations over cotangent-weighted one-rings (local step),

@@ -1,4 +1,4 @@
-// Feature-frame manipulation solver (seed 000 §4, ALGORITHMS.md §2).
+// Feature-frame manipulation solver (seed 000 §4, docs/algorithms.md §2).
 //
 // Unknowns: the q deformed frame vertices v (stored interleaved, x0 y0 x1 y1 ...).
 // Energy, with e_j = v_b - v_a on line j = (a, b), bars for rest positions and k_j the

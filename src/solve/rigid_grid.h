@@ -1,4 +1,4 @@
-// The topology-aware rigid grid (seed 003; ALGORITHMS.md §4).
+// The topology-aware rigid grid (seed 003; docs/algorithms.md §4).
 //
 // Representation. The character's filled region gets a regular grid trimmed to the cells wholly
 // inside it (the interior grid; cell = the global resolution). Every contour — outline, hole or

@@ -1,4 +1,4 @@
-// The secondary-motion figures (ALGORITHMS.md §8), measured the same way by the tests
+// The secondary-motion figures (docs/algorithms.md §8), measured the same way by the tests
 // (tests/motion/test_chain.cpp: asserted) and the benchmark (tests/bench/bench_motion.cpp:
 // printed for README).
 #pragma once

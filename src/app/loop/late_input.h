@@ -2,7 +2,7 @@
 // is due at its deadline (the pacer's tick: when a display or a stream that samples at the
 // show's rate takes it); it wakes at the deadline minus the predicted compute minus a margin,
 // then reads, computes and presents, so what it shows is as fresh as the frame's own cost
-// permits (ALGORITHMS.md §8, "late input").
+// permits (docs/algorithms.md §8, "late input").
 //
 // The prediction is the largest compute time of the last 64 frames; the margin starts at
 // `margin_us`, grows by what a frame missed its deadline by (up to half a period), and gives back
