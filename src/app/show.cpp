@@ -21,11 +21,9 @@ using namespace showtoml;
 toml::table parse_file(const std::string& path) {
   Result<std::string> file_text = read_file(path, kMaxTomlBytes, "a show file");
   if (!file_text.ok()) throw ShowError{file_text.error};
-  try {
-    return toml::parse(*file_text.value, path);
-  } catch (const toml::parse_error& e) {
-    throw ShowError{path + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
-  }
+  Result<toml::table> t = cfg::parse_toml(*file_text.value, path);
+  if (!t.ok()) throw ShowError{t.error};
+  return std::move(*t.value);
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {

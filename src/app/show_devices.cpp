@@ -126,11 +126,9 @@ void read_hardware_profile(const std::string& file, const std::string& name, Sho
   toml::table root;
   Result<std::string> file_text = read_file(file, kMaxTomlBytes, "a device profile");
   if (!file_text.ok()) throw ShowError{file_text.error};
-  try {
-    root = toml::parse(*file_text.value, file);
-  } catch (const toml::parse_error& e) {
-    throw ShowError{file + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description())};
-  }
+  Result<toml::table> parsed = cfg::parse_toml(*file_text.value, file);
+  if (!parsed.ok()) throw ShowError{parsed.error};
+  root = std::move(*parsed.value);
   check_keys(file, root, {"device", "controls", "leds"}, "a device profile");
   if (const toml::table* t = root["device"].as_table()) {
     check_keys(file, *t, {"name", "type", "vid", "pid", "usage_page", "usage", "product", "sim", "descriptor", "init", "setup"},
@@ -313,8 +311,13 @@ std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
     if (e.path().extension() != ".toml") continue;
     Result<std::string> file_text = read_file(e.path().string(), kMaxTomlBytes, "a device profile");
     if (!file_text.ok()) continue;  // (not a profile to match against: a folder, a FIFO, too large)
-    try {
-      const toml::table t = toml::parse(*file_text.value, e.path().string());
+    Result<toml::table> parsed = cfg::parse_toml(*file_text.value, e.path().string());
+    if (!parsed.ok()) {
+      if (errors) errors->push_back(parsed.error);
+      continue;
+    }
+    {
+      const toml::table& t = *parsed.value;
       ProfileId p;
       p.name = e.path().stem().string();
       // A VID or PID that is not a 16-bit whole number matches nothing (-1).
@@ -329,8 +332,6 @@ std::vector<ProfileId> load_profile_ids(std::vector<std::string>* errors) {
         p.pids.push_back(id(t["device"]["pid"].node()));
       }
       out.push_back(p);
-    } catch (const toml::parse_error& err) {
-      if (errors) errors->push_back(e.path().string() + ":" + std::to_string(err.source().begin.line) + ": " + std::string(err.description()));
     }
   }
   return out;

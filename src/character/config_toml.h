@@ -3,6 +3,7 @@
 // which returns it as a failed Result.
 #pragma once
 
+#include "geom/result.h"
 #include "geom/types.h"
 
 #include <toml++/toml.h>
@@ -20,6 +21,16 @@ namespace mar::cfg {
 struct ConfigError {
   std::string message;
 };
+
+/// Every TOML file is parsed here (toml_parse.cpp): the text's nesting is checked first, then
+/// toml++ parses it. A problem is "path:line: what".
+Result<toml::table> parse_toml(std::string_view text, const std::string& path);
+
+/// Empty when no key, table header, inline table or array nests deeper than `max_depth`
+/// (counting a dotted key's segments), else the message naming the line. toml++ recurses once a
+/// level, so a 100 KB key of 50,000 segments would overflow the stack; no config file of ours
+/// nests past 10.
+std::string toml_nesting_problem(std::string_view text, const std::string& path, int max_depth = 64);
 
 inline std::string at(const std::string& path, const toml::node& n) {
   return path + ":" + std::to_string(n.source().begin.line);

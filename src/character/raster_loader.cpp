@@ -1,5 +1,7 @@
 #include "character/raster_loader.h"
 
+#include "character/config_toml.h"
+
 #include "geom/marching_squares.h"
 #include "geom/polygon.h"
 #include "input/read_file.h"
@@ -167,11 +169,9 @@ Result<Character> load_layers(const std::string& folder, const RasterOptions& op
     toml::table root;
     Result<std::string> file_text = read_file(order_file.string(), kMaxTomlBytes, "a layer order");
     if (!file_text.ok()) return R::failure(file_text.error);
-    try {
-      root = toml::parse(*file_text.value, order_file.string());
-    } catch (const toml::parse_error& e) {
-      return R::failure(order_file.string() + ":" + std::to_string(e.source().begin.line) + ": " + std::string(e.description()));
-    }
+    Result<toml::table> parsed = cfg::parse_toml(*file_text.value, order_file.string());
+    if (!parsed.ok()) return R::failure(parsed.error);
+    root = std::move(*parsed.value);
     const toml::array* order = root["order"].as_array();
     if (!order) return R::failure(order_file.string() + ": needs order = [\"back.png\", ..., \"front.png\"]");
     for (const toml::node& n : *order) {

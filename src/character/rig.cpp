@@ -38,13 +38,9 @@ using RigError = ConfigError;
 void parse_rig_physics(const std::string& path, const toml::node& n, Rig& r);
 
 Result<Rig> parse_rig(std::string_view text, const std::string& path) {
-  toml::table root;
-  try {
-    root = toml::parse(text, path);
-  } catch (const toml::parse_error& e) {
-    return Result<Rig>::failure(path + ":" + std::to_string(e.source().begin.line) + ": " +
-                                std::string(e.description()));
-  }
+  Result<toml::table> parsed = parse_toml(text, path);
+  if (!parsed.ok()) return Result<Rig>::failure(parsed.error);
+  toml::table root = std::move(*parsed.value);
   try {
     Rig r = default_rig();
     r.path = path;

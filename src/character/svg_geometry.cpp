@@ -150,6 +150,11 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
     s.points.insert(s.points.end(), pts.begin(), pts.end());
   }
   if (s.points.empty()) return;
+  if (s.points.size() > opt_.max_shape_points) {
+    fatal_ = where(n) + ": one shape of " + std::to_string(s.points.size()) + " points after flattening (at most " +
+             std::to_string(opt_.max_shape_points) + " a shape); file refused";
+    return;
+  }
   total_points_ += s.points.size();
   if (total_points_ > opt_.max_points) return too_complex(n);
   const double op = st.group_opacity;

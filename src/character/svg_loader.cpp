@@ -138,6 +138,11 @@ Affine2 SvgLoader::element_transform(const pugi::xml_node& n) {
 void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   if (n.type() != pugi::node_element || !fatal_.empty()) return;
   const std::string_view name = local_name(n);
+  if (++elements_ > opt_.max_elements) {
+    fatal_ = where(n) + ": more than " + std::to_string(opt_.max_elements) +
+             " elements once <use> references are expanded (the limit); file refused";
+    return;
+  }
   if (parent.depth > 200) {
     warn(n, "nesting deeper than 200 levels; skipped");
     return;

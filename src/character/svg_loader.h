@@ -15,6 +15,13 @@ struct SvgOptions {
   /// Upper bound on the total number of points; a larger file is rejected as bad input
   /// (flattening stops there, so memory stays bounded too).
   size_t max_points = 4'000'000;
+  /// Upper bound on the elements visited, each <use> expansion counted again: a few <use>
+  /// nested ten deep make 10^9 elements out of 2 KB, so bytes and points do not bound the time.
+  /// Past it the file is refused (about 0.5 s of loading on a 2-core PC).
+  size_t max_elements = 200'000;
+  /// Upper bound on one shape's points after flattening: its fill is triangulated, so one huge
+  /// shape is refused rather than tied up for minutes (the whole file's budget is max_points).
+  size_t max_shape_points = 100'000;
   /// Upper bound on the file's size in bytes (64 MB).
   size_t max_bytes = size_t(64) << 20;
   /// An <image> may name a file outside the SVG's own folder (and below it); by default such an

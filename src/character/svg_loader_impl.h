@@ -173,6 +173,7 @@ class SvgLoader {
   Viewport current_vp_;
   Character ch_;
   size_t total_points_ = 0;
+  size_t elements_ = 0;  // visited so far, each <use> expansion again (SvgOptions::max_elements)
   std::string fatal_;
 };
 

@@ -40,6 +40,21 @@ FrameOptions frame_options_from_rig(const Rig& rig) {
 
 namespace {
 
+constexpr int kDenseContour = 4096;
+
+// Indices of a subset of `pts` whose consecutive points are at least `gap` apart (the first
+// point always kept); at least three points where the contour has them.
+std::vector<int> spaced_subset(std::span<const Vec2> pts, double gap) {
+  std::vector<int> keep{0};
+  for (size_t i = 1; i < pts.size(); ++i)
+    if ((pts[i] - pts[static_cast<size_t>(keep.back())]).norm() >= gap) keep.push_back(static_cast<int>(i));
+  if (keep.size() < 3) {
+    keep.clear();
+    for (size_t k = 0; k < 3 && k < pts.size(); ++k) keep.push_back(static_cast<int>(k * (pts.size() - 1) / 2));
+  }
+  return keep;
+}
+
 struct ContourRef {
   int shape, contour;
   std::span<const Vec2> pts;
@@ -236,10 +251,24 @@ FeatureFrame build_feature_frame(const Character& ch, const FrameOptions& o) {
       const double interval = o.interval > 0 ? o.interval : diag / 24;
       F = arc_length_samples(c.pts, c.closed, interval);
     } else {
-      F = ipan99_corners(c.pts, c.closed, o.d_min * diag, o.d_max * diag, o.alpha_max_deg * M_PI / 180);
-      const auto infl = inflection_points(c.pts, c.closed, o.inflection_window * diag,
+      // A contour of thousands of points (a drawing flattened finely, a traced picture) is
+      // searched on its points a quarter of d_min apart: both searches look at the points in
+      // a window, so their work would grow as n^2 with the density. Shipped drawings' contours
+      // stay under the threshold and are searched point by point.
+      std::vector<int> keep;
+      Points thinned;
+      std::span<const Vec2> search = c.pts;
+      if (n > kDenseContour) {
+        keep = spaced_subset(c.pts, 0.25 * o.d_min * diag);
+        for (int i : keep) thinned.push_back(c.pts[static_cast<size_t>(i)]);
+        search = thinned;
+      }
+      F = ipan99_corners(search, c.closed, o.d_min * diag, o.d_max * diag, o.alpha_max_deg * M_PI / 180);
+      const auto infl = inflection_points(search, c.closed, o.inflection_window * diag,
                                           o.inflection_hysteresis_deg * M_PI / 180);
       F.insert(F.end(), infl.begin(), infl.end());
+      if (!keep.empty())
+        for (int& i : F) i = keep[static_cast<size_t>(i)];
     }
     if (!c.closed) {
       F.push_back(0);

@@ -50,6 +50,14 @@ void side_points(std::span<const Vec2> pts, bool closed, int i, int dir, double 
   }
 }
 
+constexpr size_t kSide = 48;
+void thin(std::vector<Vec2>& v) {
+  if (v.size() <= kSide) return;
+  const size_t n = v.size();
+  for (size_t k = 0; k < kSide; ++k) v[k] = v[k * (n - 1) / (kSide - 1)];
+  v.resize(kSide);
+}
+
 }  // namespace
 
 std::vector<int> ipan99_corners(std::span<const Vec2> pts, bool closed, double d_min, double d_max,
@@ -68,6 +76,11 @@ std::vector<int> ipan99_corners(std::span<const Vec2> pts, bool closed, double d
     const Vec2& p = pts[static_cast<size_t>(i)];
     side_points(pts, closed, i, -1, d_min, d_max, before);
     side_points(pts, closed, i, +1, d_min, d_max, after);
+    // A densely sampled outline (a drawing flattened finely, a traced picture) puts thousands
+    // of points in the window; the pairs would cost n * k^2. More than kSide a side are thinned
+    // evenly (the sharpest angle moves by at most the spacing): the work stays linear in n.
+    thin(before);
+    thin(after);
     double best = -2;  // largest cosine = smallest angle
     for (const Vec2& a : before) {
       const Vec2 da = a - p;

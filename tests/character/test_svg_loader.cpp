@@ -300,6 +300,41 @@ TEST(load_svg, MalformedXmlNamesFileAndLine) {
   EXPECT_NE(missing.error.find("cannot open"), std::string::npos);
 }
 
+// Work, not bytes: <use> nested ten deep over ten references each would visit 10^10 elements
+// from 2 KB; the element bound refuses it after max_elements, naming the element it reached.
+std::string laughs(int levels) {
+  std::string s = "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\"><g id=\"a0\"><rect width=\"1\" height=\"1\"/></g>";
+  for (int l = 1; l < levels; ++l) {
+    s += "<g id=\"a" + std::to_string(l) + "\">";
+    for (int k = 0; k < 10; ++k) s += "<use xlink:href=\"#a" + std::to_string(l - 1) + "\"/>";
+    s += "</g>";
+  }
+  return s + "</svg>";
+}
+
+TEST(load_svg, UseExpansionIsBoundedByWorkNotBytes) {
+  SvgOptions o;
+  o.max_elements = 5000;
+  auto r = load_svg_string(laughs(10), "laughs.svg", o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("laughs.svg:1: "), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("more than 5000 elements once <use> references are expanded"), std::string::npos) << r.error;
+  // Three levels (1 + 10 + 100 rects with their groups and uses) load within it.
+  auto ok = load_svg_string(laughs(3), "small.svg", o);
+  ASSERT_TRUE(ok.ok()) << ok.error;
+  EXPECT_EQ(ok.value->shapes.size(), 1u + 10u + 100u);
+}
+
+// One shape's points are bounded before its fill is triangulated.
+TEST(load_svg, OneShapeOfTooManyPointsIsRefused) {
+  SvgOptions o;
+  o.max_shape_points = 1000;
+  auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\" viewBox=\"0 0 1e-3 1e-3\"><circle r=\"1\"/></svg>", "c.svg", o);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("c.svg:1: <circle>: one shape of"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("(at most 1000 a shape)"), std::string::npos) << r.error;
+}
+
 TEST(load_svg, TooComplexFileIsRejected) {
   std::string body;
   for (int i = 0; i < 50; ++i) body += "<circle cx=\"50\" cy=\"50\" r=\"40\"/>";
