@@ -100,6 +100,7 @@ struct RunArgs {
   bool aliased = false;
   std::string video, codec = "ffv1";  ///< a video take (output/video_out.h)
   std::string size;                   ///< WxH: the canvas (replay --size)
+  bool force = false;                 ///< replay a take of another show
 };
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);

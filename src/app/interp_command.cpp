@@ -4,6 +4,8 @@
 #include "app/puppet.h"
 #include "interp/interpolation.h"
 
+#include "input/read_file.h"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -104,10 +106,8 @@ int cmd_interp(const InterpArgs& a) {
     j["method"] = a.linear ? "linear" : "arap";
     j["triangles"] = interp.triangles();
     j["steps"] = steps;
-    std::ofstream out(a.dump);
-    out << j.dump(1) << "\n";
-    if (!out) {
-      std::cerr << "error: cannot write " << a.dump << "\n";
+    if (const std::string e = write_file(a.dump, j.dump(1) + "\n"); !e.empty()) {
+      std::cerr << "error: " << e << "\n";
       return kExitRuntime;
     }
   }

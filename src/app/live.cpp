@@ -7,6 +7,7 @@
 #include "app/simulate.h"
 #include "character/color.h"
 #include "geom/polygon.h"
+#include "input/read_file.h"
 #include "render/image.h"
 
 #include <SDL.h>
@@ -90,6 +91,12 @@ std::string LiveShow::validate(const std::string& path) {
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o, LiveShow* previous) {
+  auto s = prepare(path, o);
+  if (!s.ok()) return s;
+  return take_over(std::move(*s.value), previous);
+}
+
+Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, const RunOptions& o) {
   using R = Result<std::unique_ptr<LiveShow>>;
   std::unique_ptr<LiveShow> s(new LiveShow());
   s->opt_ = o;
@@ -115,8 +122,6 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_background_color(sh.background)) s->background_ = *c;
-  if (previous) s->restarted_ = s->keeps(*previous);  // a reload: what it cannot keep (empty: all)
-  const bool keep = previous && s->restarted_.empty();
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -193,7 +198,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
     ShowDevice& d = sh.devices[i];
     const bool hardware = d.type != "sim";
     s->has_hardware_ = s->has_hardware_ || hardware;
-    if (keep || d.sim.empty() || (hardware && !o.simulate)) continue;  // (a reload keeps the simulators)
+    if (d.sim.empty() || (hardware && !o.simulate)) continue;  // (a reload that keeps them drops these)
     if (d.descriptor_in_corpus && !std::filesystem::exists(d.descriptor)) {
       // The shared corpus is test material that may not be on this machine: the show still
       // runs, with the simulator's built-in descriptor.
@@ -231,6 +236,13 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   s->replay_retired_.resize(sh.devices.size());
   s->device_states_.assign(sh.devices.size(), DeviceState::Connected);
   s->last_events_.assign(sh.devices.size(), Event{});
+  return R::success(std::move(s));
+}
+
+Result<std::unique_ptr<LiveShow>> LiveShow::take_over(std::unique_ptr<LiveShow> s, LiveShow* previous) {
+  using R = Result<std::unique_ptr<LiveShow>>;
+  if (previous) s->restarted_ = s->keeps(*previous);  // a reload: what it cannot keep (empty: all)
+  const bool keep = previous && s->restarted_.empty();
   if (keep) {  // everything that could fail has: take over the running show's clock and devices
     s->adopt(*previous);
     return R::success(std::move(s));
@@ -240,7 +252,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const 
   if (!s->open_output(&err)) return R::failure(err);
   s->pacer_ = Pacer(s->pacer_.period_s(), s->realtime());  // open_output decides window or headless
   // After the window: mouse and touch sources read over it.
-  if (o.replay_path.empty()) err = s->open_devices();
+  if (s->opt_.replay_path.empty()) err = s->open_devices();
   if (!err.empty()) return R::failure(err);
   return R::success(std::move(s));
 }
@@ -293,23 +305,27 @@ bool LiveShow::open_output(std::string* err) {
   }
   view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
   canvas_->set_antialias(!opt_.aliased);
-  if (!opt_.record_path.empty()) {
-    auto r = Recorder::open(opt_.record_path);
-    if (!r.ok()) {
-      *err = r.error;
-      return false;
-    }
-    recorder_ = std::move(*r.value);
-  }
   if (!opt_.replay_path.empty()) {
     auto r = Playback::open(opt_.replay_path);
     if (!r.ok()) {
       *err = r.error;
       return false;
     }
+    if ((*r.value)->identity() != show_identity(show_) && !opt_.force) {
+      *err = opt_.replay_path + ": a take of another show (its devices differ from " + show_.path +
+             "'s); --force plays it anyway";
+      return false;
+    }
     playback_ = std::move(*r.value);
   }
-  if (!opt_.dump_dir.empty()) std::filesystem::create_directories(opt_.dump_dir);
+  if (!opt_.dump_dir.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(opt_.dump_dir, ec);
+    if (ec || !std::filesystem::is_directory(opt_.dump_dir)) {
+      *err = opt_.dump_dir + ": cannot make the folder for the frames (" + (ec ? ec.message() : "not a folder") + ")";
+      return false;
+    }
+  }
   return true;
 }
 
@@ -648,6 +664,11 @@ std::string LiveShow::begin() {
   out.rate = int(std::lround(1.0 / period));
   out.set_osc(show_, puppet_->rig);
   if (std::string e = outputs_->open(out, puppet_->character); !e.empty()) return e;
+  if (!opt_.record_path.empty() && !recorder_) {  // (an output: a take that cannot be written is exit 1)
+    auto r = Recorder::open(opt_.record_path, show_identity(show_));
+    if (!r.ok()) return r.error;
+    recorder_ = std::move(*r.value);
+  }
   install_quit_handler();
   const bool late_timed = realtime() && !playback_;
   if (late_timed) {  // hot reload on save (the virtual clock's shows run as given, start to end)
@@ -693,20 +714,22 @@ int LiveShow::run() {
   }
   reload_asked_ = false;
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || stats_.frames < limit)) {
-    if (take_reload_request()) {  // SIGHUP: the caller reads the show file again
+    // SIGHUP, or a saved edit (between frames: a non-blocking read): the edited show is
+    // prepared on a thread of its own while this one plays on (live_reload.cpp).
+    if (take_reload_request()) start_reload("SIGHUP");
+    if (watch_ && stats_.frames % 8 == 0)
+      if (const std::string cause = watch_->poll(monotonic_ns()); !cause.empty()) start_reload(cause);
+    if (reload_ready()) {
       reload_asked_ = true;
-      reload_cause_ = "SIGHUP";
       break;
-    }
-    if (watch_ && stats_.frames % 8 == 0) {  // a saved edit (between frames: a non-blocking read)
-      reload_cause_ = watch_->poll(monotonic_ns());
-      if ((reload_asked_ = !reload_cause_.empty())) break;
     }
     int64_t t = pacer_.time_of(stats_.frames);
     if (playback_) {
       int it = governor_.iterations();
-      if (!playback_->next_frame(replay_wires_, t, it, [&](uint16_t src, std::span<const uint8_t> d) { replay_device(src, d); }))
+      if (!playback_->next_frame(replay_wires_, t, it, [&](uint16_t src, std::span<const uint8_t> d) { replay_device(src, d); })) {
+        if (!playback_->damage().empty()) std::cerr << "error: " << playback_->damage() << std::endl;
         break;
+      }
       governor_.force(it);
     }
     if (canvas_->is_window() && !handle_window_events()) break;
@@ -732,8 +755,12 @@ int LiveShow::run() {
   }
   if (reload_asked_) return 0;  // the outputs, the recording and the clock go on in the reloaded show
   if (simulation_) simulation_->deliver_sent();  // --simulate: the simulators show the lights they were sent
-  if (recorder_) recorder_->flush();
-  const bool outputs_ok = outputs_->finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
+  bool outputs_ok = outputs_->finish(opt_.quiet);  // (a file that could not be written: exit 1, after the show)
+  if (recorder_ && !recorder_->flush()) {
+    std::cerr << "error: " << recorder_->error() << ": the take is cut there\n";
+    outputs_ok = false;
+  }
+  if (playback_ && !playback_->damage().empty()) outputs_ok = false;
   if (learn && !learned_) {
     std::cerr << "error: no control moved; nothing learned for " << opt_.learn << "\n";
     return 1;
@@ -744,14 +771,10 @@ int LiveShow::run() {
               << run_hash() << std::dec << std::endl;
   }
   if (!opt_.stats_path.empty()) {
-    std::FILE* f = std::fopen(opt_.stats_path.c_str(), "w");
-    if (!f) {
-      std::cerr << "error: " << opt_.stats_path << ": cannot write stats\n";
+    if (const std::string e = write_file(opt_.stats_path, stats_json()); !e.empty()) {
+      std::cerr << "error: " << e << " (the stats)\n";
       return 1;
     }
-    const std::string j = stats_json();
-    std::fwrite(j.data(), 1, j.size(), f);
-    std::fclose(f);
   }
   return outputs_ok ? 0 : 1;
 }

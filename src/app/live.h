@@ -35,6 +35,7 @@
 namespace mar {
 
 class HardwareSimulation;
+struct ReloadJob;
 
 struct RunOptions {
   bool headless = false;
@@ -54,6 +55,7 @@ struct RunOptions {
   std::string video, codec = "ffv1";  ///< a video take of the canvas (output/video_out.h)
   int width = 0, height = 0; ///< the canvas, over the show's [output] (replay --size)
   int warmup = 30;           ///< frames before allocations are counted
+  bool force = false;        ///< replay a take of another show (replay --force)
 };
 
 /// SIGINT/SIGTERM end the show cleanly (stats are still written); SIGHUP asks for the show file
@@ -76,8 +78,19 @@ class LiveShow : private LedSink {
   /// Reads and checks a show file as load() would — the show, its rig, its character, every
   /// binding — without opening a device or a window. Empty when it would load.
   static std::string validate(const std::string& show_path);
-  /// run() returned because SIGHUP or a saved edit asked for the show file again.
+  /// load() in two steps, for a reload that never stalls a running show: prepare() reads and
+  /// prepares everything a show needs (the show file, the rig, the character, the solver, the
+  /// key poses, the simulators' scripts) and may run on any thread; take_over() opens the
+  /// window, the devices and the outputs, or takes them over from `previous` (on its thread).
+  static Result<std::unique_ptr<LiveShow>> prepare(const std::string& show_path, const RunOptions& o);
+  static Result<std::unique_ptr<LiveShow>> take_over(std::unique_ptr<LiveShow> s, LiveShow* previous);
+  /// run() returned because SIGHUP or a saved edit asked for the show file again, and the
+  /// edited show has been prepared (take_prepared()).
   bool reload_asked() const { return reload_asked_; }
+  /// The show prepared for the reload (prepare()'s result: the error, file:line, of a bad edit).
+  Result<std::unique_ptr<LiveShow>> take_prepared();
+  /// How long preparing an edit may take before the reload is given up (the show goes on).
+  static constexpr double kReloadSeconds = 30;
   /// What asked: "SIGHUP", or the saved files' names ("show.toml, figure.toml").
   const std::string& reload_cause() const { return reload_cause_; }
   /// After a reload: says what happened in the HUD and the window's title; `refused`: the
@@ -86,6 +99,8 @@ class LiveShow : private LedSink {
   /// Reloads so far; what the last one started over (empty: nothing, all was kept).
   int reloads() const { return reloads_; }
   const std::string& restarted() const { return restarted_; }
+  /// Frames the show played while the last edit was prepared (on a thread of its own).
+  long frames_while_preparing() const { return prepare_frames_; }
   /// A reload that could not keep this show let go of its devices, window and outputs.
   bool released() const { return released_; }
   /// Under a service manager: presented frames are counted for its watchdog (the caller owns it
@@ -108,6 +123,8 @@ class LiveShow : private LedSink {
   bool learned() const { return learned_; }
   /// The show's input sources, index = show device index (nullptr when replaying).
   DeviceSet* devices() { return devices_.get(); }
+  /// The show's identity in its takes (loop/recording.h).
+  uint64_t identity() const { return show_identity(show_); }
   /// This frame's handle targets (after the crossfade and the key poses), what the solver got.
   std::span<const Vec2> targets() const { return {targets_.data(), n_targets_}; }
   /// Ends run() after the current frame (any thread).
@@ -124,6 +141,8 @@ class LiveShow : private LedSink {
   std::string keeps(const LiveShow& old) const;  ///< empty: this show can take over `old`'s clock and devices
   void adopt(LiveShow& old);
   void release();
+  void start_reload(const std::string& cause);   ///< prepares the edited show on a thread of its own
+  bool reload_ready();                           ///< between frames: the prepared show is there
   std::string begin();                           ///< once, at the first run(): outputs, pacing, the watch
   std::string open_devices();
 
@@ -231,6 +250,9 @@ class LiveShow : private LedSink {
   bool quit_ = false, learned_ = false, reload_asked_ = false, started_ = false, released_ = false;
   std::string reload_cause_, restarted_, last_reload_;
   int reloads_ = 0, refused_ = 0;
+  std::shared_ptr<ReloadJob> reload_job_;        ///< an edit being prepared (live_reload.cpp)
+  bool reload_again_ = false;                      ///< a newer edit came while it was
+  long prepare_frames_ = 0;                        ///< frames played while the last edit was prepared
   std::unique_ptr<FileWatch> watch_;               ///< the show's files, on the wall clock
 };
 

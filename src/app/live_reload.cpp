@@ -9,8 +9,10 @@
 
 #include <SDL.h>
 
+#include <atomic>
 #include <filesystem>
 #include <iostream>
+#include <thread>
 #include <tuple>
 
 namespace mar {
@@ -32,6 +34,67 @@ bool same_device(const ShowDevice& a, const ShowDevice& b) {
 }
 
 }  // namespace
+
+// An edit being prepared: the thread that prepares it owns a share, so a job given up (past
+// kReloadSeconds, or at the show's end) finishes on its own without touching the show.
+struct ReloadJob {
+  std::atomic<bool> done{false};
+  Result<std::unique_ptr<LiveShow>> result;
+  std::string cause;
+  int64_t started_ns = 0;
+  long started_frame = 0;
+};
+
+void LiveShow::start_reload(const std::string& cause) {
+  if (reload_job_) {  // one at a time: the newer edit is prepared when this one is done
+    reload_again_ = true;
+    reload_job_->cause = cause;
+    return;
+  }
+  auto job = std::make_shared<ReloadJob>();
+  job->cause = cause;
+  job->started_ns = monotonic_ns();
+  job->started_frame = stats_.frames;
+  RunOptions o = opt_;
+  o.quiet = true;  // (its warnings were said when the show was loaded; a bad edit is said here)
+  std::thread([job, path = show_.path, o] {
+    job->result = prepare(path, o);
+    job->done.store(true, std::memory_order_release);
+  }).detach();
+  reload_job_ = std::move(job);
+  reload_again_ = false;
+}
+
+bool LiveShow::reload_ready() {
+  if (!reload_job_) return false;
+  if (!reload_job_->done.load(std::memory_order_acquire)) {
+    if (double(monotonic_ns() - reload_job_->started_ns) * 1e-9 > kReloadSeconds) {
+      const std::string why = show_.path + ": preparing the edit took over " + std::to_string(int(kReloadSeconds)) + " s";
+      std::cerr << "error: " << why << " (reload refused; the running show goes on)" << std::endl;
+      reloaded(reload_job_->cause, why);
+      reload_job_.reset();  // (its thread ends on its own)
+    }
+    return false;
+  }
+  if (reload_again_) {  // saved again while it was prepared: prepare the newest
+    const std::string cause = reload_job_->cause;
+    reload_job_.reset();
+    start_reload(cause);
+    return false;
+  }
+  reload_cause_ = reload_job_->cause;
+  prepare_frames_ = stats_.frames - reload_job_->started_frame;
+  return true;
+}
+
+Result<std::unique_ptr<LiveShow>> LiveShow::take_prepared() {
+  if (!reload_job_ || !reload_job_->done.load(std::memory_order_acquire))
+    return Result<std::unique_ptr<LiveShow>>::failure("no reload prepared");
+  auto r = std::move(reload_job_->result);
+  reload_job_.reset();
+  reload_asked_ = false;
+  return r;
+}
 
 std::string LiveShow::keeps(const LiveShow& old) const {
   const ShowConfig &a = show_, &b = old.show_;
@@ -90,6 +153,7 @@ void LiveShow::adopt(LiveShow& old) {
   started_ = old.started_;
   reloads_ = old.reloads_ + 1;
   refused_ = old.refused_;
+  prepare_frames_ = old.prepare_frames_;
   watch_ = std::move(old.watch_);
   if (watch_) watch_->watch({show_.path, show_.rig, puppet_->character.source});  // (an edit may name new files)
   service_ = old.service_;

@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
   replay_cmd->add_option("--video", replay.video, "Render the take into a video file (.mkv, .mov, .mp4), each frame at its time");
   replay_cmd->add_option("--codec", replay.codec, "With --video: ffv1 (lossless, alpha; the default), prores4444 (alpha) or h264");
   replay_cmd->add_option("--size", replay.size, "The canvas WxH (default: the show's [output] or [display] size)");
+  replay_cmd->add_flag("--force", replay.force, "Play a take recorded with another show (other devices)");
   replay.headless = true;
 
   try {

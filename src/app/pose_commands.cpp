@@ -8,6 +8,8 @@
 #include "render/overlay.h"
 #include "rig/edit.h"
 
+#include "input/read_file.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -359,10 +361,8 @@ int cmd_pose(const PoseArgs& a) {
       res[p.rig.handles[h].name] = residual(h);
     }
     j["handle_residuals"] = res;
-    std::ofstream out(a.dump);
-    out << j.dump(1) << "\n";
-    if (!out) {
-      std::cerr << "error: cannot write " << a.dump << "\n";
+    if (const std::string e = write_file(a.dump, j.dump(1) + "\n"); !e.empty()) {
+      std::cerr << "error: " << e << "\n";
       return kExitRuntime;
     }
   }

@@ -1,9 +1,11 @@
 // `marionette run` and `marionette replay`, and the stats JSON.
 #include "app/commands.h"
 #include "app/live.h"
+#include "input/read_file.h"
 
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <iostream>
 
 namespace mar {
@@ -97,7 +99,8 @@ std::string LiveShow::stats_json() const {
       {"heap_allocations_after_warmup", allocs_},
       // Reloads (SIGHUP, a saved edit): how many, how many edits were refused, what the last one
       // was, and what it started over (empty: the clock, devices and outputs went on).
-      {"reloads", {{"count", reloads_}, {"refused", refused_}, {"last", last_reload_}, {"restarted", restarted_}}},
+      {"reloads", {{"count", reloads_}, {"refused", refused_}, {"last", last_reload_}, {"restarted", restarted_},
+                   {"frames_while_preparing", prepare_frames_}}},
       {"window_present_allocations_after_warmup", present_allocs_},
       {"warmup_frames", opt_.warmup},
       {"attract", attract_ ? json{{"starts", attract_->starts()}, {"handovers", attract_->handovers()},
@@ -131,7 +134,7 @@ int cmd_run(const RunArgs& a) {
     std::cerr << "error: --supersample must be 1..8\n";
     return kExitBadInput;
   }
-  if (a.rate < 0 || a.rate > 1000) {
+  if (a.rate != 0 && !(a.rate >= 1 && a.rate <= 1000)) {  // (0: the show's own rate)
     std::cerr << "error: --rate must be 1..1000 Hz\n";
     return kExitBadInput;
   }
@@ -154,6 +157,23 @@ int cmd_run(const RunArgs& a) {
   o.aliased = a.aliased;
   o.video = a.video;
   o.codec = a.codec;
+  o.force = a.force;
+  // Where the outputs go is checked before the show starts: a bad path is said at once, not
+  // after the whole run.
+  for (const auto& [path, what] : {std::pair{a.stats, "--stats"}, {a.record, "--record"}, {a.dump_poses, "--dump-poses"}, {a.video, "--video"}}) {
+    if (const std::string e = output_problem(path); !e.empty()) {
+      std::cerr << "error: " << what << " " << e << "\n";
+      return kExitRuntime;
+    }
+  }
+  if (!a.dump_frames.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(a.dump_frames, ec);
+    if (ec || !std::filesystem::is_directory(a.dump_frames)) {
+      std::cerr << "error: --dump-frames " << a.dump_frames << ": cannot make the folder (" << (ec ? ec.message() : "not a folder") << ")\n";
+      return kExitRuntime;
+    }
+  }
   if (const std::string e = check_video_take(a.video, a.codec); !e.empty()) {
     std::cerr << "error: " << e << "\n";
     return kExitBadInput;
@@ -180,14 +200,17 @@ int cmd_run(const RunArgs& a) {
     if (!live->reload_asked()) return rc;
     // SIGHUP (systemctl reload) or a saved edit: the edited files are checked first; a bad edit
     // keeps the running show and says what is wrong with file:line, in the log and the HUD.
+    // The edit was read and prepared on a thread of its own while the show played
+    // (live_reload.cpp); here it takes over the window, the devices and the clock.
     const std::string cause = live->reload_cause();
-    if (const std::string err = LiveShow::validate(a.show); !err.empty()) {
-      std::cerr << "error: " << err << " (reload refused; the running show goes on)" << std::endl;
-      live->reloaded(cause, err);
+    auto prepared = live->take_prepared();
+    if (!prepared.ok()) {
+      std::cerr << "error: " << prepared.error << " (reload refused; the running show goes on)" << std::endl;
+      live->reloaded(cause, prepared.error);
       continue;
     }
     service.reloading();
-    auto next = LiveShow::load(a.show, o, live.get());
+    auto next = LiveShow::take_over(std::move(*prepared.value), live.get());
     if (!next.ok()) {
       std::cerr << "error: " << next.error << " (reload refused)" << std::endl;
       if (live->released()) return kExitBadInput;  // it had let go of its devices and window

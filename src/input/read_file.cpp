@@ -93,4 +93,41 @@ Result<std::string> read_file(const std::string& path, uint64_t max_bytes, const
   return Result<std::string>::success(std::move(out));
 }
 
+std::string write_file(const std::string& path, std::string_view bytes) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC | O_NOCTTY, 0644);
+  if (fd < 0) return path + ": cannot write: " + std::strerror(errno);
+  struct stat st {};
+  const bool regular = ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  size_t done = 0;
+  std::string why;
+  while (done < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      why = path + ": " + (n < 0 ? std::strerror(errno) : "nothing written");
+      break;
+    }
+    done += size_t(n);
+  }
+  if (::close(fd) != 0 && why.empty()) why = path + ": " + std::strerror(errno);
+  if (!why.empty() && regular) ::unlink(path.c_str());
+  return why;
+}
+
+std::string output_problem(const std::string& path) {
+  if (path.empty()) return {};
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    if (S_ISDIR(st.st_mode)) return path + ": is a directory, not a file";
+    if (::access(path.c_str(), W_OK) != 0) return path + ": cannot write: " + std::strerror(errno);
+    return {};
+  }
+  const size_t slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  if (::stat(dir.c_str(), &st) != 0) return path + ": cannot write: its folder " + dir + ": " + std::strerror(errno);
+  if (!S_ISDIR(st.st_mode)) return path + ": cannot write: " + dir + " is not a folder";
+  if (::access(dir.c_str(), W_OK | X_OK) != 0) return path + ": cannot write in " + dir + ": " + std::strerror(errno);
+  return {};
+}
+
 }  // namespace mar

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 
 namespace mar {
 
@@ -30,6 +31,15 @@ Result<std::string> read_file(const std::string& path, uint64_t max_bytes, const
 /// The same checks without reading (for a library that opens the file itself): empty when
 /// `path` is a regular file of at most `max_bytes`, else the message read_file() would give.
 std::string file_problem(const std::string& path, uint64_t max_bytes, const char* what);
+
+/// Writes `bytes` to `path` (created or truncated), every write and the close checked: empty on
+/// success, else "path: No space left on device" (what failed, from errno). A file cut by a
+/// failed write is removed, so nothing claims to be what it is not.
+std::string write_file(const std::string& path, std::string_view bytes);
+
+/// Empty when a file can be written at `path` (its folder exists and is writable, and what is
+/// there now, if anything, is not a folder), else "path: why". Empty for an empty path.
+std::string output_problem(const std::string& path);
 
 /// "5.0 GB", "64 MB", "12 KB", "300 bytes".
 std::string byte_size(uint64_t n);

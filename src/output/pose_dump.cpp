@@ -82,13 +82,19 @@ void PoseDump::push(double t, std::span<const Points> shapes, std::span<const ch
 void PoseDump::flush() {
   while (tail_.load(std::memory_order_acquire) != head_.load(std::memory_order_acquire) && !failed_)
     std::this_thread::sleep_for(std::chrono::microseconds(200));
-  if (file_) std::fflush(file_);
+  if (file_ && std::fflush(file_) != 0 && !failed_) {
+    errno_ = errno;
+    failed_ = true;
+  }
 }
 
-std::string PoseDump::error() const { return failed_ ? path_ + ": writing the pose dump failed (disk full?); later frames are dropped" : ""; }
+std::string PoseDump::error() const {
+  return failed_ ? path_ + ": " + (errno_ ? std::strerror(errno_) : "write failed") + "; later frames are dropped" : "";
+}
 
 void PoseDump::run() {
-  char num[64];
+  // A coordinate is written in full: %.3f of 1e308 is 313 characters, two of them a point.
+  char num[800];
   while (true) {
     const uint64_t t = tail_.load(std::memory_order_relaxed);
     if (t == head_.load(std::memory_order_acquire)) {
@@ -114,6 +120,7 @@ void PoseDump::run() {
     }
     ok = ok && std::fputs("]}\n", file_) >= 0;
     if (!ok) {
+      errno_ = errno;
       failed_ = true;
       tail_.store(head_.load(std::memory_order_acquire), std::memory_order_release);
       break;
@@ -121,7 +128,10 @@ void PoseDump::run() {
     written_.fetch_add(1);
     tail_.store(t + 1, std::memory_order_release);
   }
-  if (std::fflush(file_) != 0) failed_ = true;
+  if (std::fflush(file_) != 0 && !failed_) {
+    errno_ = errno;
+    failed_ = true;
+  }
 }
 
 }  // namespace mar

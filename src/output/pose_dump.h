@@ -61,6 +61,7 @@ class PoseDump {
   std::atomic<uint64_t> written_{0};
   std::atomic<bool> stop_{false}, failed_{false};
   bool lossless_ = false;
+  int errno_ = 0;  ///< the failed write's, set by the writer before failed_
   uint64_t dropped_ = 0, waits_ = 0;
   std::thread writer_;
 };

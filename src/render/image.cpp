@@ -1,6 +1,7 @@
 #include "render/image.h"
 
 #include "character/raster_loader.h"
+#include "input/read_file.h"
 
 #include <stb/stb_image_write.h>
 
@@ -11,10 +12,13 @@ namespace mar {
 
 std::string write_png(const std::string& path, const Image& img) {
   if (img.width <= 0 || img.height <= 0) return path + ": empty image";
-  if (!stbi_write_png(path.c_str(), img.width, img.height, 4, img.rgba.data(), img.width * 4)) {
-    return path + ": cannot write PNG";
-  }
-  return {};
+  // Encoded in memory, then written with every write checked (stb's own file writer ignores a
+  // full disk and leaves an empty file).
+  std::string png;
+  const auto append = [](void* to, void* data, int size) { static_cast<std::string*>(to)->append(static_cast<const char*>(data), size_t(size)); };
+  if (!stbi_write_png_to_func(append, &png, img.width, img.height, 4, img.rgba.data(), img.width * 4))
+    return path + ": cannot encode PNG";
+  return write_file(path, png);
 }
 
 Result<Image> read_png_image(const std::string& path) {

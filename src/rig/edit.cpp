@@ -21,6 +21,9 @@ std::string write_atomically(const std::string& path, const std::string& text) {
   // Through a symbolic link: the file it names is the one replaced.
   fs::path target = fs::is_symlink(path, ec) ? fs::weakly_canonical(path, ec) : fs::path(path);
   if (ec) target = path;
+  // Only a file is replaced: a device, a folder, a FIFO or a socket (/dev/null, as root) is not.
+  if (const fs::file_status st = fs::status(target, ec); fs::exists(st) && !fs::is_regular_file(st))
+    return target.string() + ": not a regular file (a device, a folder, a FIFO or a socket); not replaced";
   const std::string tmp = target.string() + ".tmp";
   const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) return tmp + ": cannot write (" + std::strerror(errno) + ")";

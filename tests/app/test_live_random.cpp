@@ -31,7 +31,7 @@ std::string random_take(const std::string& show, int frames, int per_frame, uint
   if (!live.ok()) return "";
   DeviceSet& set = *(*live.value)->devices();
   const std::string path = (test::temp_dir("random") / ("take" + std::to_string(seed) + ".marrec")).string();
-  auto rec = Recorder::open(path);
+  auto rec = Recorder::open(path, (*live.value)->identity());
   EXPECT_TRUE(rec.ok()) << rec.error;
   Recorder& r = **rec.value;
   std::vector<WireKind> kinds;

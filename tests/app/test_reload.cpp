@@ -12,6 +12,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <fstream>
 #include <thread>
@@ -80,6 +81,75 @@ TEST(Reload, AnEditToTheDevicesStartsThemOverAndSaysWhy) {
   EXPECT_EQ(b->restarted(), "device 'k'");
   EXPECT_TRUE(a->released());
   EXPECT_EQ(b->frames(), 0);
+}
+
+// A bomb saved over a running show's character (a hang for 10 minutes once, SIGTERM ignored):
+// the edit is prepared on a thread of its own while the show plays on, refused with its bound,
+// and the running show goes on; then a good edit is prepared the same way and takes over.
+TEST(Reload, AnEditIsPreparedOffTheFrameThreadAndABombIsRefusedWhileTheShowPlays) {
+  const auto dir = test::temp_dir("reload-bomb");
+  const std::string character = (dir / "figure.svg").string(), path = (dir / "show.toml").string();
+  std::filesystem::copy_file(test::source_dir() / "config/characters/figure.svg", character,
+                             std::filesystem::copy_options::overwrite_existing);
+  save(path, "[show]\ncharacter = \"" + character + "\"\n" + show_text("[140.0, 240.0]").substr(7));
+  RunOptions o;
+  o.headless = true;
+  o.realtime = true;  // the wall clock: the files are watched
+  o.quiet = true;
+  o.frames = 1'000'000;
+  auto loaded = LiveShow::load(path, o);
+  ASSERT_TRUE(loaded.ok()) << loaded.error;
+  std::unique_ptr<LiveShow> a = std::move(*loaded.value);
+  std::string bomb = "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\"><defs><g id=\"a0\"/>";
+  for (int l = 1; l < 10; ++l) {
+    bomb += "<g id=\"a" + std::to_string(l) + "\">";
+    for (int k = 0; k < 10; ++k) bomb += "<use xlink:href=\"#a" + std::to_string(l - 1) + "\"/>";
+    bomb += "</g>";
+  }
+  bomb += "</defs><use xlink:href=\"#a9\"/></svg>";
+  std::atomic<bool> finished{false};
+  std::thread editor([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    save(character, bomb);
+    for (int k = 0; k < 600 && !finished; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (!finished) a->stop();  // (a watch that never fired: the test fails below, not hangs)
+  });
+  const long before = a->frames();
+  EXPECT_EQ(a->run(), 0);
+  finished = true;
+  editor.join();
+  ASSERT_TRUE(a->reload_asked()) << "the saved character was seen";
+  EXPECT_GT(a->frames(), before);
+  EXPECT_GE(a->frames_while_preparing(), 1) << "the show played on while the edit was prepared";
+  auto prepared = a->take_prepared();
+  ASSERT_FALSE(prepared.ok());
+  EXPECT_NE(prepared.error.find("figure.svg:1: "), std::string::npos) << prepared.error;
+  EXPECT_NE(prepared.error.find("elements once <use> references are expanded"), std::string::npos) << prepared.error;
+  a->reloaded(a->reload_cause(), prepared.error);  // as `marionette run` does: the show goes on
+  // A good edit after it: prepared on its thread, taken over at a frame boundary.
+  std::thread fixer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    std::filesystem::copy_file(test::source_dir() / "config/characters/figure.svg", character + ".tmp",
+                               std::filesystem::copy_options::overwrite_existing);
+    std::filesystem::rename(character + ".tmp", character);
+    for (int k = 0; k < 600 && !finished; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  });
+  finished = false;
+  std::thread guard([&] {
+    for (int k = 0; k < 600 && !finished; ++k) std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    if (!finished) a->stop();
+  });
+  EXPECT_EQ(a->run(), 0);
+  finished = true;
+  fixer.join();
+  guard.join();
+  ASSERT_TRUE(a->reload_asked());
+  auto good = a->take_prepared();
+  ASSERT_TRUE(good.ok()) << good.error;
+  auto b = LiveShow::take_over(std::move(*good.value), a.get());
+  ASSERT_TRUE(b.ok()) << b.error;
+  EXPECT_EQ((*b.value)->restarted(), "");
+  EXPECT_EQ((*b.value)->frames(), a->frames()) << "one clock";
 }
 
 // In a window (under Xvfb), on the wall clock: saving the show reloads it without a restart

@@ -3,6 +3,7 @@
 // Built into test_devices, whose main sets up the bench.
 #include "firmware_sim/sim_device.h"
 #include "input/decoder.h"
+#include "app/loop/recording.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -125,35 +126,16 @@ struct RecordingContents {
 };
 RecordingContents read_recording(const std::filesystem::path& path) {
   RecordingContents c;
-  std::ifstream in(path, std::ios::binary);
-  char magic[8] = {};
-  in.read(magic, 8);
-  if (std::string(magic, 8) != "MARREC02") return c;
-  for (;;) {
-    uint8_t type = 0;
-    if (!in.read(reinterpret_cast<char*>(&type), 1)) break;
-    if (type == 1) {
-      int64_t t;
-      uint16_t src;
-      uint8_t kind, size;
-      in.read(reinterpret_cast<char*>(&t), 8).read(reinterpret_cast<char*>(&src), 2);
-      in.read(reinterpret_cast<char*>(&kind), 1).read(reinterpret_cast<char*>(&size), 1);
-      in.ignore(size);
-      ++c.wires[{src, kind}];
-    } else if (type == 2) {
-      in.ignore(10);
-      ++c.frames;
-    } else if (type == 3) {
-      uint16_t src;
-      uint32_t n;
-      in.read(reinterpret_cast<char*>(&src), 2).read(reinterpret_cast<char*>(&n), 4);
-      in.ignore(n);
-      ++c.descriptions[src];
-    } else {
-      return c;
-    }
+  auto p = Playback::open(path.string());
+  if (!p.ok()) return c;
+  std::vector<WireRecord> wires;
+  int64_t t = 0;
+  int it = 0;
+  while ((*p.value)->next_frame(wires, t, it, [&](uint16_t src, std::span<const uint8_t>) { ++c.descriptions[src]; })) {
+    ++c.frames;
+    for (const WireRecord& r : wires) ++c.wires[{r.source, int(r.kind)}];
   }
-  c.ok = true;
+  c.ok = (*p.value)->damage().empty();
   return c;
 }
 

@@ -92,8 +92,33 @@ TEST(PoseDump, AFileThatCannotBeWrittenIsNamed) {
     std::vector<Points> shapes = {ch.shapes[0].points, ch.shapes[1].points};
     for (int i = 0; i < 100000; ++i) (*f.value)->push(i, shapes);
     (*f.value)->flush();
-    EXPECT_NE((*f.value)->error().find("/dev/full"), std::string::npos);
+    EXPECT_NE((*f.value)->error().find("/dev/full: No space left on device"), std::string::npos) << (*f.value)->error();
   }
+}
+
+// Coordinates at any magnitude are written in full (a 64-byte buffer once cut 1e308 short and
+// left invalid JSON); a point that is not finite is [null, null].
+TEST(PoseDump, NumbersAtAnyMagnitudeAreWrittenInFull) {
+  Character ch = two_shapes();
+  const std::string path = (test::temp_dir("poses-big") / "big.jsonl").string();
+  {
+    auto d = PoseDump::open(path, ch, true);
+    ASSERT_TRUE(d.ok()) << d.error;
+    std::vector<Points> shapes = {{{1e308, -1.7e308}, {-1e-300, 5}, {NAN, 1}}, {{1, 2}, {INFINITY, 3}}};
+    (*d.value)->push(1e300, shapes);
+    (*d.value)->flush();
+    EXPECT_EQ((*d.value)->error(), "");
+  }
+  std::ifstream in(path);
+  std::string line;
+  ASSERT_TRUE(std::getline(in, line));
+  const auto j = nlohmann::json::parse(line, nullptr, false);
+  ASSERT_FALSE(j.is_discarded()) << line.substr(0, 200);
+  EXPECT_DOUBLE_EQ(j["subshapes"][0]["points"][0][0].get<double>(), 1e308);
+  EXPECT_DOUBLE_EQ(j["subshapes"][0]["points"][0][1].get<double>(), -1.7e308);
+  EXPECT_TRUE(j["subshapes"][0]["points"][2][0].is_null());
+  EXPECT_TRUE(j["subshapes"][1]["points"][1][1].is_null());
+  EXPECT_DOUBLE_EQ(j["t"].get<double>(), 1e300);
 }
 
 TEST(PoseDump, ARunAndItsReplayWriteTheSamePoses) {
