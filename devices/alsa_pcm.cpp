@@ -12,6 +12,8 @@
 #include <alsa/asoundlib.h>
 
 #include <atomic>
+#include <fstream>
+#include <sstream>
 #include <cerrno>
 #include <thread>
 
@@ -102,5 +104,27 @@ void AudioBackend::capture() {
 }  // namespace
 
 std::unique_ptr<Backend> make_audio_backend(const DeviceSpec& s, uint16_t source) { return std::make_unique<AudioBackend>(s, source); }
+
+BackendReport discover_audio(const std::vector<ProfileId>&) {
+  // The sound cards the kernel has (a capture device is one of their PCMs), read from
+  // /proc/asound/cards (" 0 [PCH ]: HDA-Intel - HDA Intel PCH"); none is said, not "ok".
+  BackendReport r{"audio", "ok", {}};
+  std::ifstream in("/proc/asound/cards");
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream w(line);
+    int card = -1;
+    if (!(w >> card) || line.find(']') == std::string::npos) continue;  // (the second line of each card)
+    FoundDevice f;
+    f.backend = "audio";
+    std::string name = line.substr(line.find(']') + 1);
+    if (const size_t dash = name.find(" - "); dash != std::string::npos) name = name.substr(dash + 3);
+    f.identity = "hw:" + std::to_string(card) + " '" + name + "'";
+    f.node = "/dev/snd/pcmC" + std::to_string(card) + "D0c";
+    f.status = "available";
+    r.found.push_back(f);
+  }
+  if (r.found.empty()) r.status = "no sound card (the kernel lists none; a show's microphone can be simulated: sim = \"microphone\")";
+  return r;
+}
 
 }  // namespace mar

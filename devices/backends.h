@@ -24,6 +24,7 @@ BackendReport discover_hid(const std::vector<ProfileId>& profiles);
 BackendReport discover_gpio(const std::vector<ProfileId>& profiles);
 BackendReport discover_tablet(const std::vector<ProfileId>& profiles);
 BackendReport discover_alsa(const std::vector<ProfileId>& profiles);
+BackendReport discover_audio(const std::vector<ProfileId>& profiles);
 BackendReport discover_sdl(const std::vector<ProfileId>& profiles);
 
 /// One row per device type a show may name.

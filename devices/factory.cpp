@@ -62,6 +62,7 @@ class NotBuiltBackend final : public Backend {
 #define make_alsa_backend nullptr
 #define make_audio_backend nullptr
 #define discover_alsa nullptr
+#define discover_audio nullptr
 #endif
 #if !MARIONETTE_WITH_OSC
 #define make_osc_backend nullptr
@@ -77,7 +78,7 @@ const BackendInfo kBackends[] = {
     MAR_BACKEND("gpio", GPIO, make_gpio_backend, discover_gpio, ""),
     MAR_BACKEND("tablet", TABLET, make_tablet_backend, discover_tablet, ""),
     MAR_BACKEND("alsa", ALSA, make_alsa_backend, discover_alsa, ""),
-    MAR_BACKEND("audio", ALSA, make_audio_backend, nullptr, "ok (captures from an ALSA PCM: pcm = \"default\" or \"hw:1,0\")"),
+    MAR_BACKEND("audio", ALSA, make_audio_backend, discover_audio, ""),
     MAR_BACKEND("sdl", SDL, make_sdl_backend, discover_sdl, ""),
     MAR_BACKEND("osc", OSC, make_osc_backend, nullptr, "ok (listens on 127.0.0.1 when a show binds OSC addresses)"),
 };

@@ -100,11 +100,53 @@ void MidiControllerSim::clock(double t_s, double bpm, double jitter_s, double du
   send_realtime(to_ns(t_s + double(ticks) * period), 0xFC);
 }
 
-void MidiControllerSim::press(const std::string& control, double t_s, double hold_s) {
+void MidiControllerSim::press(const std::string& control, double t_s, double hold_s, int velocity) {
   const MidiControl* m = this->control(control);
   if (!m) return;
-  send(to_ns(t_s), *m, 127);
+  send(to_ns(t_s), *m, m->note ? std::clamp(velocity, 1, 127) : 127);
   send(to_ns(t_s + std::max(hold_s, 0.001)), *m, 0);
+}
+
+void MidiControllerSim::send_message(int64_t t_ns, std::span<const uint8_t> msg) {
+  uint8_t pk[4];
+  usb_midi_encode(0, msg, pk);
+  emit(t_ns, pk);
+}
+
+template <class F>
+void MidiControllerSim::sweep(double t_s, int from, int to, double dur_s, F emit_value) {
+  if (dur_s <= 0 || from == to) {
+    emit_value(to_ns(t_s), to);
+    return;
+  }
+  // One message per 7-bit change, each at the time the linear sweep reaches it.
+  const int dir = to > from ? 1 : -1;
+  for (int v = from + dir;; v += dir) {
+    emit_value(to_ns(t_s + dur_s * double(v - from) / double(to - from)), v);
+    if (v == to) break;
+  }
+}
+
+void MidiControllerSim::pressure(const std::string& control, double t_s, double to, double dur_s) {
+  const MidiControl* m = this->control(control);
+  if (!m || !m->note) return;
+  const int ch = m->channel & 0x0F, note = m->number & 0x7F;
+  const int target = int(std::lround(std::clamp(to, 0.0, 1.0) * 127));
+  sweep(t_s, pressure_[ch][note], target, dur_s, [&](int64_t t, int v) {
+    const uint8_t msg[3] = {uint8_t(0xA0 | ch), uint8_t(note), uint8_t(v)};
+    send_message(t, msg);
+  });
+  pressure_[ch][note] = target;
+}
+
+void MidiControllerSim::aftertouch(double t_s, double to, double dur_s, int channel) {
+  const int ch = channel & 0x0F;
+  const int target = int(std::lround(std::clamp(to, 0.0, 1.0) * 127));
+  sweep(t_s, aftertouch_[ch], target, dur_s, [&](int64_t t, int v) {
+    const uint8_t msg[2] = {uint8_t(0xD0 | ch), uint8_t(v)};
+    send_message(t, msg);
+  });
+  aftertouch_[ch] = target;
 }
 
 bool MidiControllerSim::set_led(int index, int value, int channel) {
@@ -262,7 +304,17 @@ Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>&
     stored_[korg::kLedModeAt] = scene_[korg::kLedModeAt] = w[1] == "external";
     return R::success(true);
   }
-  if (w.size() < 2) return R::failure("expected 'move CONTROL VALUE [over S]', 'press CONTROL [for S]' or 'clock BPM'");
+  if (w[0] == "aftertouch") {  // the channel's pressure: aftertouch VALUE [over S]
+    double v = 0, over = 0;
+    if (w.size() < 2 || !parse_number(w[1], v) || v < 0 || v > 1 ||
+        !(w.size() == 2 || (w.size() == 4 && w[2] == "over" && parse_number(w[3], over) && over >= 0)))
+      return R::failure("expected 'aftertouch VALUE [over SECONDS]' (VALUE 0..1)");
+    aftertouch(t, v, over);
+    return R::success(true);
+  }
+  if (w.size() < 2)
+    return R::failure("expected 'move CONTROL VALUE [over S]', 'press CONTROL [for S] [velocity V]', "
+                      "'pressure CONTROL VALUE [over S]', 'aftertouch VALUE [over S]' or 'clock BPM'");
   const MidiControl* c = control(w[1]);
   if (!c) {
     std::string names;
@@ -281,16 +333,34 @@ Result<bool> MidiControllerSim::action(double t, const std::vector<std::string>&
     move(w[1], t, v, dur);
     return R::success(true);
   }
-  if (w[0] == "press") {
+  if (w[0] == "press") {  // press CONTROL [for SECONDS] [velocity 1..127]
     dur = 0.1;
-    if (w.size() == 4 && w[2] == "for" && parse_number(w[3], dur) && dur >= 0) {
-    } else if (w.size() != 2) {
-      return R::failure("expected 'press CONTROL [for SECONDS]'");
+    double velocity = 127;
+    size_t i = 2;
+    if (i + 1 < w.size() && w[i] == "for") {
+      if (!parse_number(w[i + 1], dur) || dur < 0) return R::failure("press: 'for' needs seconds >= 0");
+      i += 2;
     }
-    press(w[1], t, dur);
+    if (i + 1 < w.size() && w[i] == "velocity") {
+      if (!parse_number(w[i + 1], velocity) || velocity < 1 || velocity > 127 || velocity != std::floor(velocity))
+        return R::failure("press: velocity must be a whole number 1..127");
+      if (!c->note) return R::failure("'" + w[1] + "' sends a CC: only a pad or key has a velocity");
+      i += 2;
+    }
+    if (i != w.size()) return R::failure("expected 'press CONTROL [for SECONDS] [velocity 1..127]'");
+    press(w[1], t, dur, int(velocity));
     return R::success(true);
   }
-  return R::failure("unknown action '" + w[0] + "' (move, press, clock)");
+  if (w[0] == "pressure") {  // a pad's own pressure: pressure CONTROL VALUE [over SECONDS]
+    double v = 0;
+    if (!c->note) return R::failure("'" + w[1] + "' sends a CC: only a pad or key has a pressure");
+    if (w.size() < 3 || !parse_number(w[2], v) || v < 0 || v > 1 ||
+        !(w.size() == 3 || (w.size() == 5 && w[3] == "over" && parse_number(w[4], dur) && dur >= 0)))
+      return R::failure("expected 'pressure CONTROL VALUE [over SECONDS]' (VALUE 0..1)");
+    pressure(w[1], t, v, dur);
+    return R::success(true);
+  }
+  return R::failure("unknown action '" + w[0] + "' (move, press, pressure, aftertouch, clock)");
 }
 
 }  // namespace mar

@@ -81,8 +81,13 @@ class MidiControllerSim : public SimDevice {
   /// Moves an absolute control (fader/knob) from its current position to `to` (0..1)
   /// over `dur_s` seconds starting at `t_s`, linearly.
   void move(const std::string& control, double t_s, double to, double dur_s);
-  /// Presses a button at `t_s` and releases it `hold_s` later.
-  void press(const std::string& control, double t_s, double hold_s);
+  /// Presses a button at `t_s` and releases it `hold_s` later; a pad's note-on carries
+  /// `velocity` (1..127; a button's is 127 whatever it is given).
+  void press(const std::string& control, double t_s, double hold_s, int velocity = 127);
+  /// A pad's own pressure (polyphonic key pressure, 0..1) from its current value to `to` over
+  /// `dur_s` seconds, and the channel's pressure (aftertouch) the same way.
+  void pressure(const std::string& control, double t_s, double to, double dur_s);
+  void aftertouch(double t_s, double to, double dur_s, int channel = 0);
   void send_cc(int64_t t_ns, int cc, int value, int channel = 0);
   /// Start at `t_s`, ticks at `bpm` for `dur_s` seconds (each off by up to ±`jitter_s`), then stop.
   void clock(double t_s, double bpm, double jitter_s, double dur_s, uint32_t seed);
@@ -107,6 +112,12 @@ class MidiControllerSim : public SimDevice {
 
  private:
   void send(int64_t t_ns, const MidiControl& c, int value);
+  void send_message(int64_t t_ns, std::span<const uint8_t> msg);
+  /// One value sweep (`from` to `to` over `dur_s`, one message per 7-bit change) through `emit_value`.
+  template <class F>
+  void sweep(double t_s, int from, int to, double dur_s, F emit_value);
+  int pressure_[16][128] = {};  ///< last polyphonic pressure per channel and note
+  int aftertouch_[16] = {};     ///< last channel pressure
   bool set_led(int index, int value, int channel);
   const MidiModel* model_;
   int position_[16][128] = {};  ///< last value sent per channel and CC

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   mar::set_allocation_counter(&mar::heap_allocation_count);
   CLI::App app{"marionette — live 2D puppeteering controller"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("marionette ") + MARIONETTE_VERSION);
 
   mar::RenderArgs render;
   CLI::App* r = app.add_subcommand("render", "Render a character to a PNG file");
@@ -137,6 +138,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     app.exit(e);

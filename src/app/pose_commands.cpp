@@ -378,6 +378,9 @@ int cmd_pose(const PoseArgs& a) {
       std::printf("%s: residual %.4f\n", p.rig.handles[h].name.c_str(), residual(h));
     }
   }
+  // What was written: a new user sees the files, not silence (as render and interp say theirs).
+  if (!a.output.empty()) std::cout << a.output << "\n";
+  if (!a.dump.empty()) std::cout << a.dump << "\n";
   return kExitOk;
 }
 

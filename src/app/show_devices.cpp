@@ -285,6 +285,19 @@ void read_binding_led(const std::string& path, const toml::node& n, const ShowDe
 std::string device_control(ShowDevice& d, const std::string& control) {
   for (const auto& [name, text] : d.controls)
     if (control == name) return text;
+  // A pad by its profile's name, as a continuous control: "pad_r1c1 velocity" (the note's
+  // velocity while held) or "pad_r1c1 pressure" (its polyphonic key pressure).
+  if (const size_t sp = control.rfind(' '); sp != std::string::npos) {
+    const std::string base = control.substr(0, sp), what = control.substr(sp + 1);
+    for (const auto& [name, text] : d.controls) {
+      if (name != base || text.rfind("note ", 0) != 0 || (what != "velocity" && what != "pressure")) continue;
+      std::istringstream in(text);
+      std::string note, number, rest, w;
+      in >> note >> number;
+      while (in >> w) rest += " " + w;  // (its channel: "ch N")
+      return what == "velocity" ? "note " + number + " velocity" + rest : "polypressure " + number + rest;
+    }
+  }
   if (control.rfind("osc ", 0) == 0) {
     const std::string addr = control.substr(4);
     size_t i = 0;

@@ -202,6 +202,10 @@ std::optional<Rgba> parse_background_color(std::string_view text) {
   if (text == "chroma-green") return Rgba{0, 1, 0, 1};
   if (text == "chroma-blue") return Rgba{0, 0, 1, 1};
   if (text == "chroma-magenta") return Rgba{1, 0, 1, 1};
+  // "ffffff" as `render --background` takes it, as well as CSS's "#ffffff".
+  const std::string_view t = trim_space(text);
+  if ((t.size() == 6 || t.size() == 8) && std::all_of(t.begin(), t.end(), [](char c) { return hexval(c) >= 0; }))
+    return parse_color("#" + std::string(t));
   return parse_color(text);
 }
 

@@ -20,7 +20,8 @@ Result<Character> load_character(const std::string& path, const LoadOptions& opt
   }
   // A character is a regular file (or a folder): a FIFO, a device or /dev/zero is refused before
   // a byte is read, and so is a file past the largest a character may be.
-  if (std::string why = file_problem(path, std::max(kMaxPngBytes, kMaxSvgBytes), "a character"); !why.empty())
+  if (std::string why = file_problem(path, std::max(kMaxPngBytes, kMaxSvgBytes), "a PNG character (64 MB for an SVG)");
+      !why.empty())
     return Result<Character>::failure(why);
   std::ifstream in(path, std::ios::binary);
   if (!in) return Result<Character>::failure(path + ": cannot open file");

@@ -6,6 +6,7 @@
 #include <SDL2/SDL.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cctype>
 
 namespace mar {
@@ -42,6 +43,12 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
 
 std::vector<ScreenInfo> list_screens(std::string* error) {
   std::vector<ScreenInfo> out;
+  // No display to ask (and no driver named, as a KMS/DRM kiosk names kmsdrm): SDL is not asked,
+  // since its Wayland probe prints an error of its own about XDG_RUNTIME_DIR.
+  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("SDL_VIDEODRIVER")) {
+    if (error) *error = "no display (DISPLAY and WAYLAND_DISPLAY are unset)";
+    return out;
+  }
   if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
     if (error) *error = std::string("no display: ") + SDL_GetError();
     return out;

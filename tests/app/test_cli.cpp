@@ -12,6 +12,33 @@ namespace {
 
 std::string q(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
 
+// The smaller things a new user meets first: --version answers, `devices` on a machine with no
+// display and no sound card says so in its own words (not an error from a library, not "ok"),
+// pose says what it wrote, and a show's background takes the form render takes.
+TEST(cli_small, VersionDevicesPoseAndBackgroundSayWhatTheyDo) {
+  auto r = test::run_cli("--version");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("marionette ", 0), 0u) << r.out;
+  r = test::run_cli("devices", "env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER XDG_RUNTIME_DIR=");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("XDG_RUNTIME_DIR"), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("screens: no display"), std::string::npos) << r.out;
+  if (!std::filesystem::exists("/proc/asound/cards") || test::run_cli("devices").out.find("audio: ok") == std::string::npos) {
+    EXPECT_NE(r.out.find("audio: no sound card"), std::string::npos) << r.out;
+  }
+  const auto dir = test::temp_dir("cli_small");
+  const std::string svg = (test::source_dir() / "config/characters/figure.svg").string(),
+                    rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  r = test::run_cli("pose '" + svg + "' --rig '" + rig + "' -o '" + (dir / "p.png").string() + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find((dir / "p.png").string()), std::string::npos) << "pose says what it wrote: " << r.out;
+  for (const char* bg : {"ffffff", "#ffffff", "white"}) {
+    const std::string show = test::write_temp("bg.toml", "[show]\nrig = \"" + rig + "\"\n[display]\nbackground = \"" + bg + "\"\n");
+    r = test::run_cli("run '" + show + "' --headless --frames 1");
+    EXPECT_EQ(r.exit_code, 0) << bg << ": " << r.err;
+  }
+}
+
 TEST(cli_render, WritesPngOfRequestedSize) {
   const auto out = test::temp_dir("cli") / "butterfly.png";
   auto r = test::run_cli("render " + q(test::characters_dir() / "butterfly.svg") + " -o " + q(out) +

@@ -73,6 +73,50 @@ range = [150.0, 190.0]
   EXPECT_NEAR(p.y(), 190.0, 0.005 * 516);
 }
 
+// A pad pressed softly, then pressed harder and the channel pressure raised, all from a
+// script: a simulated controller sends what a real one's pads send (note-on velocity,
+// polyphonic key pressure, channel pressure), and a binding names the pad as the profile does.
+TEST(Live, APadsVelocityAndPressureDriveTargetsByTheProfilesName) {
+  const auto path = show_file("pad_velocity.toml", R"(
+[[device]]
+name = "apc"
+type = "sim"
+profile = "apc_mini_mk2"
+script = """
+0.1 press pad_r1c1 for 0.6 velocity 64
+0.2 pressure pad_r1c1 1 over 0.2
+0.3 aftertouch 0.5
+"""
+[[binding]]
+device = "apc"
+control = "pad_r1c1 velocity"
+target = "handle.chest.x"
+range = [100.0, 227.0]
+[[binding]]
+device = "apc"
+control = "pad_r1c1 pressure"
+target = "handle.chest.y"
+range = [0.0, 127.0]
+takeover = false
+[[binding]]
+device = "apc"
+control = "aftertouch"
+target = "handle.head.x"
+range = [0.0, 127.0]
+takeover = false
+)");
+  auto s = load(path);
+  ASSERT_TRUE(s);
+  const size_t h = size_t(s->mapping().handle_index("chest")), head = size_t(s->mapping().handle_index("head"));
+  auto at = [&](double t) {
+    for (long f = s->frames(); double(f) / 60 <= t; f = s->frames()) s->frame(int64_t(double(f) * 1e9 / 60));
+    return s->mapping().targets();
+  };
+  EXPECT_NEAR(at(0.15)[h].x(), 164.0, 1e-9) << "velocity 64 of 127";
+  EXPECT_NEAR(at(0.5)[h].y(), 127.0, 1e-9) << "full pressure";
+  EXPECT_NEAR(at(0.5)[head].x(), 64.0, 1e-9) << "channel pressure 0.5 is 64";
+}
+
 TEST(Live, EncoderWithBounceRotatesByTheConfiguredAngle) {
   const auto path = show_file("encoder.toml", R"(
 [[device]]

@@ -57,7 +57,7 @@ std::string one_block(std::string_view payload) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  const std::string text = mar::fuzz::text(data, size);
+  const std::string text(mar::fuzz::text(data, size));
   play(text);
   if (!text.empty()) play(one_block(text));
   return 0;
