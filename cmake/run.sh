@@ -19,7 +19,7 @@ PACKAGES=(cmake g++ pkg-config
   libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libx11-dev librsvg2-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
   libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
-  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool espeak-ng
+  libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool openbox espeak-ng
   libpipewire-0.3-dev pipewire wireplumber dbus gstreamer1.0-pipewire gstreamer1.0-tools gstreamer1.0-plugins-good
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg liblo-tools
   clang libclang-rt-14-dev python3)

@@ -96,6 +96,11 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
   std::string err;
   if (!c->make_canvas(width, height, &err)) return R::failure(err);
   // The screen: by name or index; one that is not there is said, and SDL's choice used.
+  // Video first, then the screens: list_screens() alone would shut video down and start it again,
+  // which on a busy machine found X "not available" (a kiosk then ran in no window at all).
+  if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
+    return R::failure(std::string("no display: ") + SDL_GetError());
+  }
   int screen = -1;
   if (o.screen >= 0 || !o.screen_name.empty()) {
     const auto screens = list_screens(nullptr);
@@ -105,11 +110,15 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
               " among the " + std::to_string(screens.size()) + " there (marionette devices lists them); using the first";
     }
   }
-  if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
-    return R::failure(std::string("no display: ") + SDL_GetError());
-  }
   Uint32 flags = SDL_WINDOW_RESIZABLE | SDL_WINDOW_ALLOW_HIGHDPI;
-  if (o.fullscreen) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+  // Fullscreen on an X display with no window manager (a kiosk started by xinit): nothing would
+  // turn SDL's fullscreen window to the screen's size, and it would stay at the show's. The
+  // window is made borderless with the screen's bounds instead.
+  SDL_Rect full{};
+  const bool by_hand = o.fullscreen && std::string(SDL_GetCurrentVideoDriver()) == "x11" && x11_without_window_manager() &&
+                       SDL_GetDisplayBounds(std::max(0, screen), &full) == 0;
+  if (o.fullscreen && !by_hand) flags |= SDL_WINDOW_FULLSCREEN_DESKTOP;
+  if (by_hand) flags |= SDL_WINDOW_BORDERLESS;
   bool forced_visual = false;
   if (o.transparent && std::string(SDL_GetCurrentVideoDriver()) == "x11") {
     if (const unsigned long id = x11_argb_visual()) {
@@ -119,7 +128,8 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
     }
   }
   const int pos = screen >= 0 ? int(SDL_WINDOWPOS_CENTERED_DISPLAY(screen)) : int(SDL_WINDOWPOS_CENTERED);
-  c->window_ = SDL_CreateWindow(o.title.c_str(), pos, pos, o.width > 0 ? o.width : width, o.height > 0 ? o.height : height, flags);
+  c->window_ = by_hand ? SDL_CreateWindow(o.title.c_str(), full.x, full.y, full.w, full.h, flags)
+                       : SDL_CreateWindow(o.title.c_str(), pos, pos, o.width > 0 ? o.width : width, o.height > 0 ? o.height : height, flags);
   if (!c->window_) {
     if (forced_visual) SDL_SetHint(SDL_HINT_VIDEO_X11_WINDOW_VISUALID, "");
     SDL_QuitSubSystem(SDL_INIT_VIDEO);

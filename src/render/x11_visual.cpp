@@ -24,4 +24,21 @@ int x11_window_depth(SDL_Window* w) {
   return a.depth;
 }
 
+bool x11_without_window_manager() {
+  Display* d = XOpenDisplay(nullptr);
+  if (!d) return false;
+  bool none = true;
+  if (const Atom check = XInternAtom(d, "_NET_SUPPORTING_WM_CHECK", True); check != 0) {
+    Atom type = 0;
+    int format = 0;
+    unsigned long n = 0, after = 0;
+    unsigned char* data = nullptr;
+    const int rc = XGetWindowProperty(d, DefaultRootWindow(d), check, 0, 1, False, AnyPropertyType, &type, &format, &n, &after, &data);
+    none = rc != Success || n == 0;
+    if (data) XFree(data);
+  }
+  XCloseDisplay(d);
+  return none;
+}
+
 }  // namespace mar

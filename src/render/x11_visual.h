@@ -12,4 +12,8 @@ unsigned long x11_argb_visual();
 /// The depth of an SDL window's X visual (32: it has an alpha channel); 0 when not on X11.
 int x11_window_depth(SDL_Window* w);
 
+/// Whether the X display ($DISPLAY) has no window manager (none has set the root's
+/// _NET_SUPPORTING_WM_CHECK): nothing there turns a window fullscreen. False without X.
+bool x11_without_window_manager();
+
 }  // namespace mar
