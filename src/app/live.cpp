@@ -181,6 +181,19 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
   const Bounds bb = p.character.bounds();
+  s->rest_bounds_ = bb;
+  // Which cells of the character's box its filled shapes cover (the HUD keeps off them).
+  s->rest_cover_.assign(size_t(kCoverCells * kCoverCells), 0);
+  for (int j = 0; j < kCoverCells && !bb.empty(); ++j)
+    for (int i = 0; i < kCoverCells; ++i) {
+      const Vec2 q(bb.lo.x() + (i + 0.5) * (bb.hi.x() - bb.lo.x()) / kCoverCells,
+                   bb.lo.y() + (j + 0.5) * (bb.hi.y() - bb.lo.y()) / kCoverCells);
+      for (const SubShape& sub : p.character.shapes)
+        if (sub.fill.enabled && !sub.hidden && sub.contains(q)) {
+          s->rest_cover_[size_t(j * kCoverCells + i)] = 1;
+          break;
+        }
+    }
   for (Binding b : sh.bindings) {
     if (b.control.kind == ControlSpec::Pointer && b.tf.area[0] == 0 && b.tf.area[2] == 1) {
       // Default pointer area: the tablet covers the character's bounding box.
@@ -532,7 +545,14 @@ void LiveShow::present() {
         device_states_[i] = devices_ && show_.devices[i].type != "sim" ? devices_->state(i) : DeviceState::Connected;
       const HudFrame f{last_compute_ms_ * 1e3, pacer_.period_s() * 1e6, governor_.iterations(),
                        int(mapping_.setting(setting_iterations_)), quality_pct_, device_states_, last_events_};
-      hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_);
+      // The character's rest box on the window (through the view and the letterbox): the HUD
+      // keeps off it where it can.
+      const SDL_Rect shown = canvas_->canvas_rect();
+      const double sx = double(shown.w) / std::max(1, canvas_->width()), sy = double(shown.h) / std::max(1, canvas_->height());
+      const Vec2 lo = view_.apply(rest_bounds_.lo), hi = view_.apply(rest_bounds_.hi);
+      const HudAvoid avoid{shown.x + int(std::min(lo.x(), hi.x()) * sx), shown.y + int(std::min(lo.y(), hi.y()) * sy),
+                           int(std::abs(hi.x() - lo.x()) * sx), int(std::abs(hi.y() - lo.y()) * sy), kCoverCells, rest_cover_.data()};
+      hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_, &avoid);
     }
   }
   const uint64_t window_work = allocations() - before_window;

@@ -231,6 +231,9 @@ class LiveShow : private LedSink {
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;
+  Bounds rest_bounds_;  ///< the character at rest (the HUD keeps off it)
+  static constexpr int kCoverCells = 24;
+  std::vector<uint8_t> rest_cover_;  ///< kCoverCells^2: where its drawing covers that box
   Rgba background_{244, 241, 234, 255};
   std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
   std::vector<Event> last_events_;                 ///< for the HUD: each device's last control

@@ -550,8 +550,10 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
           if (s.devices[i].name == dname) di = int(i);
         if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
         b.control.device = uint16_t(di);
-        if (auto r = parse_control(device_control(s.devices[size_t(di)], text(path, *ctl, "control")), b.control); !r.ok())
+        const std::string written = text(path, *ctl, "control");
+        if (auto r = parse_control(device_control(s.devices[size_t(di)], written), b.control); !r.ok())
           throw ShowError{at(path, *ctl) + ": " + r.error};
+        b.control.text = written;  // as the show names it ("pad_r1c1", "fader1"): the HUD and messages say that
         b.target_text = text(path, *tgt, "target");
         if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, &b.member); !r.ok())
           throw ShowError{at(path, *tgt) + ": " + r.error};

@@ -6,6 +6,7 @@
 #include <cinttypes>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 
 namespace mar {
 
@@ -59,13 +60,16 @@ Hud::Line& Hud::next() {
   return l;
 }
 
-void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m) {
-  // The text, into the fixed lines.
+void Hud::format(const HudFrame& f, const Mapping& m, bool compact) {
   n_ = 0;
   {
     Line& l = next();
-    std::snprintf(l.text.data(), l.text.size(), "frame %.2f ms of %.1f ms   iterations %d of %d   quality %.2f %%",
-                  f.used_us * 1e-3, f.budget_us * 1e-3, f.iterations, f.iterations_wanted, f.quality_pct);
+    if (compact)
+      std::snprintf(l.text.data(), l.text.size(), "%.2f / %.1f ms  it %d/%d  q %.2f%%", f.used_us * 1e-3, f.budget_us * 1e-3,
+                    f.iterations, f.iterations_wanted, f.quality_pct);
+    else
+      std::snprintf(l.text.data(), l.text.size(), "frame %.2f ms of %.1f ms   iterations %d of %d   quality %.2f %%",
+                    f.used_us * 1e-3, f.budget_us * 1e-3, f.iterations, f.iterations_wanted, f.quality_pct);
   }
   if (notice_.text[0]) next() = notice_;  // what the last reload did, or why it was refused
   static constexpr SDL_Color kState[] = {{240, 180, 60, 255},    // waiting
@@ -80,24 +84,67 @@ void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& 
     if (i < f.last_events.size()) format_event(f.last_events[i], last, sizeof last);
     Line& l = next();
     const char* state = d.type == "sim" ? "simulated" : device_state_name(st);
-    std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-8.8s %-17.17s last: %s", d.name.c_str(), d.type.c_str(), state, last);
+    if (compact)
+      std::snprintf(l.text.data(), l.text.size(), "%s %s: %s", d.name.c_str(), state, last);
+    else
+      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-8.8s %-17.17s last: %s", d.name.c_str(), d.type.c_str(), state, last);
     l.color = kState[std::min(size_t(st), std::size(kState) - 1)];
   }
+  const bool one_device = show_.devices.size() <= 1;
   for (size_t i = 0; i < m.binding_count(); ++i) {
     const Binding& b = m.binding(i);
     const char* dev = b.control.device < show_.devices.size() ? show_.devices[b.control.device].name.c_str() : "?";
+    const char* ctl = b.control.text.c_str();
     const double v = m.binding_value(i);
     Line& l = next();
-    if (std::isnan(v))
-      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s", dev, b.control.text.c_str(), b.target_text.c_str());
+    char value[32] = "";
+    if (!std::isnan(v)) std::snprintf(value, sizeof value, " = %.1f", v);
+    if (compact)
+      std::snprintf(l.text.data(), l.text.size(), "%s%s%s > %s%s", one_device ? "" : dev, one_device ? "" : " ", ctl,
+                    b.target_text.c_str(), value);
     else
-      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s = %.1f", dev, b.control.text.c_str(),
-                    b.target_text.c_str(), v);
+      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s%s", dev, ctl, b.target_text.c_str(), value);
     if (const double at = m.takeover_at(i); at >= 0) {
       Line& t = next();
-      std::snprintf(t.text.data(), t.text.size(), "    waiting for soft takeover: move it to %.0f %% to pick up (now %.0f %%)",
-                    at * 100, std::clamp(b.last_norm, 0.0, 1.0) * 100);
+      if (compact)
+        std::snprintf(t.text.data(), t.text.size(), "  takeover: move to %.0f%% (now %.0f%%)", at * 100,
+                      std::clamp(b.last_norm, 0.0, 1.0) * 100);
+      else
+        std::snprintf(t.text.data(), t.text.size(), "    waiting for soft takeover: move it to %.0f %% to pick up (now %.0f %%)",
+                      at * 100, std::clamp(b.last_norm, 0.0, 1.0) * 100);
       t.color = SDL_Color{240, 180, 60, 255};
+    }
+  }
+}
+
+int Hud::widest() const {
+  int tw = 0;
+  for (size_t i = 0; i < n_; ++i) tw = std::max(tw, font_->width(lines_[i].text.data()));
+  return tw;
+}
+
+void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m, const HudAvoid* avoid) {
+  // The text, into the fixed lines: the full columns where they fit, else the compact ones.
+  format(f, m, false);
+  const int room = std::max(1, w - 20) - 12;  // the panel's inside
+  if (font_ && widest() > room) format(f, m, true);
+  // A line still too long is cut at the last glyph that fits, with "..".
+  if (font_) {
+    for (size_t i = 0; i < n_; ++i) {
+      char* t = lines_[i].text.data();
+      size_t len = std::strlen(t);
+      if (font_->width(t) <= room) continue;
+      while (len > 0) {
+        t[--len] = 0;
+        if (len + 2 < lines_[i].text.size()) {
+          char trial[sizeof(Line::text)];
+          std::snprintf(trial, sizeof trial, "%s..", t);
+          if (font_->width(trial) <= room) {
+            std::snprintf(t, lines_[i].text.size(), "%s", trial);
+            break;
+          }
+        }
+      }
     }
   }
   // The bar, then the text on a dark panel.
@@ -112,14 +159,33 @@ void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& 
   SDL_RenderFillRect(r, &bar);
   if (!font_) return;
   const int lh = font_->line_height();
-  int tw = 0;
-  for (size_t i = 0; i < n_; ++i) tw = std::max(tw, font_->width(lines_[i].text.data()));
+  const int tw = widest();
   const int rows = std::min(int(n_), std::max(1, (h - 30) / std::max(1, lh)));
-  SDL_SetRenderDrawColor(r, 0, 0, 0, 150);
   SDL_Rect panel{10, 22, std::min(tw + 12, bw), rows * lh + 8};
+  // The corner that covers the least of the character (the first of equals: top left).
+  if (avoid) {
+    const SDL_Rect corners[] = {{10, 22, panel.w, panel.h},
+                                {w - 10 - panel.w, 22, panel.w, panel.h},
+                                {10, h - 10 - panel.h, panel.w, panel.h},
+                                {w - 10 - panel.w, h - 10 - panel.h, panel.w, panel.h}};
+    long best = -1;
+    for (const SDL_Rect& c : corners) {
+      long covered = 0;  // the drawing's cells under the panel
+      for (int j = 0; j < avoid->n && avoid->cells; ++j)
+        for (int i = 0; i < avoid->n; ++i) {
+          const int cx = avoid->x + (2 * i + 1) * avoid->w / (2 * avoid->n), cy = avoid->y + (2 * j + 1) * avoid->h / (2 * avoid->n);
+          covered += avoid->cells[j * avoid->n + i] && cx >= c.x && cx < c.x + c.w && cy >= c.y && cy < c.y + c.h;
+        }
+      if (best < 0 || covered < best) {
+        best = covered;
+        panel = c;
+      }
+    }
+  }
+  SDL_SetRenderDrawColor(r, 0, 0, 0, 150);
   SDL_RenderFillRect(r, &panel);
   for (int i = 0; i < rows; ++i)
-    font_->draw(r, 16, 26 + i * lh, lines_[size_t(i)].text.data(), lines_[size_t(i)].color);
+    font_->draw(r, panel.x + 6, panel.y + 4 + i * lh, lines_[size_t(i)].text.data(), lines_[size_t(i)].color);
 }
 
 }  // namespace mar

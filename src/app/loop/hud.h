@@ -28,6 +28,14 @@ namespace mar {
 /// down"), into `out` (always terminated).
 void format_event(const Event& e, char* out, size_t n);
 
+/// Where the character is on the window, for the HUD to keep off: its box, split into n x n
+/// cells, each 1 where the drawing covers the cell's centre.
+struct HudAvoid {
+  int x = 0, y = 0, w = 0, h = 0;
+  int n = 0;
+  const uint8_t* cells = nullptr;  ///< n * n, row by row
+};
+
 /// What one frame's HUD reports.
 struct HudFrame {
   double used_us = 0, budget_us = 0;  ///< the last frame's work and the frame period
@@ -44,8 +52,11 @@ class Hud {
   /// Glyphs for renderer `r` (the window's). Without a font the HUD draws its bar only and the
   /// returned message says why.
   std::string load_font(SDL_Renderer* r);
-  /// Draws the HUD on `r` over a window of w x h pixels.
-  void draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m);
+  /// Draws the HUD on `r` over a window of w x h pixels. Its lines fit the window: narrower than
+  /// the full lines, it drops the padded columns (and the device column of bindings), and a line
+  /// still too long is cut at a glyph with "..". The panel goes in the corner that covers the
+  /// least of `avoid` (the character on the window), top left among equals.
+  void draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& m, const HudAvoid* avoid = nullptr);
   /// A line under the header until replaced: what a reload did (green) or why an edit was
   /// refused, with its file:line (red, `error`). Empty: none. Between frames (it copies).
   void set_notice(std::string_view text, bool error);
@@ -59,6 +70,8 @@ class Hud {
     SDL_Color color{235, 235, 235, 255};
   };
   Line& next();
+  void format(const HudFrame& f, const Mapping& m, bool compact);
+  int widest() const;
   Line notice_;
   const ShowConfig& show_;
   std::vector<Line> lines_;

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <string>
+#include <vector>
 
 namespace mar {
 namespace {
@@ -83,6 +84,54 @@ TEST(Hud, SaysWhatTheShowIsDoing) {
   hud.draw(out.r, 640, 240, HudFrame{1000, 16667, 8, 8, 0.1, states, last}, s.m);
   EXPECT_FALSE(contains(hud, "pick up"));
   EXPECT_TRUE(contains(hud, "-> handle.head.y = 0.0"));
+}
+
+// The HUD in a 360x480 show (the shipped singer on an APC mini): its lines fit the window (the
+// compact columns, then cut with ".."), never past its right edge; bindings are named as the
+// show names them; the panel goes to the corner that covers the least of the drawing.
+TEST(Hud, FitsANarrowWindowAndKeepsOffTheDrawing) {
+  ShowSetup s;
+  for (int k = 1; k <= 8; ++k) {
+    Binding b = s.show.bindings[0];
+    b.control.text = "pad_r1c" + std::to_string(k);
+    b.target_text = "swap.mouth.mouth-smile-and-a-very-long-member-name-" + std::to_string(k);
+    b.tf.takeover = false;
+    s.show.bindings.push_back(b);
+    s.m.add_binding(b);
+  }
+  Hud hud(s.show);
+  SDL_Surface* surf = SDL_CreateRGBSurfaceWithFormat(0, 360, 480, 32, SDL_PIXELFORMAT_ABGR8888);
+  SDL_Renderer* r = SDL_CreateSoftwareRenderer(surf);
+  ASSERT_EQ(hud.load_font(r), "");
+  auto font = GlyphAtlas::load(r, default_font_path(), 13);
+  ASSERT_TRUE(font.ok()) << font.error;
+  const DeviceState states[] = {DeviceState::Connected, DeviceState::Connected};
+  const Event last[] = {cc(7, 64), Event{}};
+  // The drawing covers the top half (a head and shoulders): the panel goes to the bottom.
+  std::vector<uint8_t> cells(16 * 16, 0);
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 16; ++i) cells[size_t(j * 16 + i)] = 1;
+  const HudAvoid avoid{0, 0, 360, 480, 16, cells.data()};
+  SDL_SetRenderDrawColor(r, 255, 255, 255, 255);
+  SDL_RenderClear(r);
+  hud.draw(r, 360, 480, HudFrame{4720, 16667, 8, 8, 0.19, states, last}, s.m, &avoid);
+  SDL_RenderFlush(r);
+  ASSERT_GT(hud.line_count(), 9u);
+  for (size_t i = 0; i < hud.line_count(); ++i) EXPECT_LE((*font.value)->width(hud.line(i)), 360 - 32) << hud.line(i);
+  EXPECT_TRUE(contains(hud, "pad_r1c3")) << "named as the show names it";
+  EXPECT_TRUE(contains(hud, "..")) << "a line too long for the window is cut";
+  // Nothing drawn in the rightmost column of the window, and the panel's dark pixels in the
+  // bottom half, none in the top half below the bar.
+  auto px = [&](int x, int y) { return static_cast<const uint8_t*>(surf->pixels)[y * surf->pitch + x * 4]; };
+  int right = 0, top = 0, bottom = 0;
+  for (int y = 0; y < 480; ++y) right += px(359, y) < 250;
+  for (int y = 30; y < 200; ++y) top += px(20, y) < 200;
+  for (int y = 280; y < 470; ++y) bottom += px(20, y) < 200;
+  EXPECT_EQ(right, 0);
+  EXPECT_EQ(top, 0);
+  EXPECT_GT(bottom, 100);
+  SDL_DestroyRenderer(r);
+  SDL_FreeSurface(surf);
 }
 
 // A reload's notice: under the header until replaced, red for a refused edit with its file:line.
