@@ -105,6 +105,12 @@ struct RunArgs {
 /// `run` and `replay` (replay: `replay` set to the recording).
 int cmd_run(const RunArgs& a);
 
+struct CalibrateArgs {
+  std::string wav;  ///< a, i, u, e, o said in order, a pause between
+};
+/// `calibrate`: a voice's vowel templates from a recording, as a `calibrate = { ... }` line.
+int cmd_calibrate(const CalibrateArgs& a);
+
 struct RigArgs {
   std::string input;   ///< the character
   std::string mask;

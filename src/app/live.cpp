@@ -517,6 +517,15 @@ void LiveShow::solve() {
 void LiveShow::render() {
   Puppet& p = *puppet_;
   p.reconstruct();
+  // After a reload, the figure moves from where the running show drew it to where this show's
+  // solver puts it over kReloadBlendFrames (the new solver starts from its own guess, up to 6 %
+  // of the figure away): no jump in one frame (Reload.TheFigureDoesNotJumpAtAReload).
+  if (blend_left_ > 0) {
+    const double u = 1.0 - double(blend_left_) / double(kReloadBlendFrames + 1), w = u * u * (3 - 2 * u);
+    for (size_t k = 0; k < p.shapes.size(); ++k)
+      for (size_t i = 0; i < p.shapes[k].size(); ++i) p.shapes[k][i] = blend_from_[k][i] + w * (p.shapes[k][i] - blend_from_[k][i]);
+    --blend_left_;
+  }
   // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its
   // rest shape), in thousandths of a percent of the character's height.
   double worst = 0;

@@ -232,6 +232,10 @@ class LiveShow : private LedSink {
   DrawList list_;
   Affine2 view_;
   Bounds rest_bounds_;  ///< the character at rest (the HUD keeps off it)
+  static constexpr int kReloadBlendFrames = 20;
+  std::vector<Points> blend_from_;  ///< the figure as the running show last drew it (a reload)
+  int blend_left_ = 0;              ///< frames of the blend from it still to come
+  bool stats_frames_drawn() const { return stats_.frames > 0; }
   static constexpr int kCoverCells = 24;
   std::vector<uint8_t> rest_cover_;  ///< kCoverCells^2: where its drawing covers that box
   Rgba background_{244, 241, 234, 255};

@@ -159,6 +159,17 @@ void LiveShow::adopt(LiveShow& old) {
   service_ = old.service_;
   // where the controls and the handles were
   mapping_.carry_from(old.mapping_);
+  physics_.carry_from(old.physics_);  // the chains go on swinging
+  // and where the figure was drawn, when it is the same drawing: the next frames blend from it
+  bool same = old.puppet_->shapes.size() == puppet_->shapes.size();
+  for (size_t k = 0; same && k < puppet_->shapes.size(); ++k) same = old.puppet_->shapes[k].size() == puppet_->shapes[k].size();
+  if (same && old.stats_frames_drawn()) {
+    blend_from_ = old.puppet_->shapes;
+    blend_left_ = kReloadBlendFrames;
+    // The stages that read the last frame's pose (the chains hang from it) read the old one,
+    // not the rest pose: a chain's anchor does not leap at the reload.
+    puppet_->shapes = old.puppet_->shapes;
+  }
   // the window and the outputs (the HUD's lines follow the new show's devices and bindings)
   canvas_ = std::move(old.canvas_);
   recorder_ = std::move(old.recorder_);

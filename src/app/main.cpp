@@ -119,6 +119,10 @@ int main(int argc, char** argv) {
   rig_cmd->add_flag("--software", rigargs.software, "Studio: SDL's software renderer");
   rig_cmd->add_option("--screenshot", rigargs.screenshot, "Studio: save the first frame's window as a PNG");
 
+  mar::CalibrateArgs calibrate;
+  CLI::App* cal_cmd = app.add_subcommand("calibrate", "A voice's vowel templates from a recording of a, i, u, e, o (prints the calibrate line)");
+  cal_cmd->add_option("wav", calibrate.wav, "WAV file: the performer saying a, i, u, e, o in order, a pause between")->required();
+
   mar::RunArgs replay;
   CLI::App* replay_cmd = app.add_subcommand("replay", "Replay a recording through a show");
   replay_cmd->add_option("recording", replay.replay, "File written by run --record")->required();
@@ -163,5 +167,6 @@ int main(int argc, char** argv) {
   if (devices_cmd->parsed()) return mar::cmd_devices(devs);
   if (rig_cmd->parsed()) return mar::cmd_rig(rigargs);
   if (replay_cmd->parsed()) return mar::cmd_run(replay);
+  if (cal_cmd->parsed()) return mar::cmd_calibrate(calibrate);
   return mar::kExitBadInput;
 }

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <chrono>
 #include <fstream>
+#include <iostream>
 #include <thread>
 
 namespace mar {
@@ -81,6 +82,49 @@ TEST(Reload, AnEditToTheDevicesStartsThemOverAndSaysWhy) {
   EXPECT_EQ(b->restarted(), "device 'k'");
   EXPECT_TRUE(a->released());
   EXPECT_EQ(b->frames(), 0);
+}
+
+// A reload mid-gesture: the new show's solver starts from its own guess, up to 6 % of the
+// figure away from where the running show drew it (26 units here), and its chains of secondary
+// motion would start at rest; the figure now moves from where it was drawn over a few frames,
+// and the chains go on swinging. Across the reload no step between two frames is larger than
+// the show's own steps without a reload over the same frames, plus 1 % of the figure's diagonal.
+TEST(Reload, TheFigureDoesNotJumpAtAReload) {
+  const std::string path = (test::temp_dir("reload-jump") / "show.toml").string();
+  save(path, show_text("[100.0, 300.0]"));
+  auto ref = load(path);
+  auto a = load(path);
+  ASSERT_TRUE(ref && a);
+  auto step = [](const std::vector<Points>& x, const std::vector<Points>& y) {
+    double d = 0;
+    for (size_t s = 0; s < x.size() && s < y.size(); ++s)
+      for (size_t i = 0; i < x[s].size() && i < y[s].size(); ++i) d = std::max(d, (x[s][i] - y[s][i]).norm());
+    return d;
+  };
+  std::vector<Points> last, last_ref;
+  for (long k = 0; k < 90; ++k) {
+    a->frame(int64_t(double(k) * 1e9 / 60));
+    ref->frame(int64_t(double(k) * 1e9 / 60));
+  }
+  last = a->puppet().shapes;
+  last_ref = ref->puppet().shapes;
+  save(path, show_text("[100.0, 300.0]") + "# an edit that changes nothing the figure does\n");
+  auto b = load(path, a.get());
+  ASSERT_TRUE(b);
+  const Bounds bb = b->puppet().character.bounds();
+  const double diag = (bb.hi - bb.lo).norm();
+  double across = 0, without = 0;
+  for (long k = 90; k < 150; ++k) {
+    b->frame(int64_t(double(k) * 1e9 / 60));
+    ref->frame(int64_t(double(k) * 1e9 / 60));
+    across = std::max(across, step(last, b->puppet().shapes));
+    without = std::max(without, step(last_ref, ref->puppet().shapes));
+    last = b->puppet().shapes;
+    last_ref = ref->puppet().shapes;
+  }
+  std::cout << "largest step between frames 90-150: " << without << " units without a reload, " << across
+            << " across it (diagonal " << diag << ")\n";
+  EXPECT_LT(across, without + 0.01 * diag);
 }
 
 // A bomb saved over a running show's character (a hang for 10 minutes once, SIGTERM ignored):

@@ -175,4 +175,21 @@ long PhysicsStage::reverts() const {
   return n;
 }
 
+void PhysicsStage::carry_from(const PhysicsStage& old) {
+  for (Item& c : chains_)
+    for (const Item& o : old.chains_) {
+      if (o.name != c.name || o.chain.links() != c.chain.links()) continue;
+      const ChainParams params = c.chain.params();
+      c.chain = o.chain;
+      c.chain.params() = params;
+      c.rotation = o.rotation;
+      c.last_seen = o.last_seen;
+      c.last_rotation = o.last_rotation;
+      c.seen_before = o.seen_before;
+    }
+  t_ = old.t_;
+  beats_ = old.beats_;
+  reset_ = old.reset_;
+}
+
 }  // namespace mar

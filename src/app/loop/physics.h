@@ -51,6 +51,9 @@ class PhysicsStage {
   void set_beats(double beats) { beats_ = beats; }
   /// The next step starts every chain at rest relative to its parent, still (a jump).
   void reset() { reset_ = true; }
+  /// A reload: each chain that `old` has too (same name, same links) goes on from where it
+  /// swung, with this show's parameters; the others start at rest. (Allocates: not in a frame.)
+  void carry_from(const PhysicsStage& old);
   long steps() const;
   long resets() const;
   long reverts() const;
