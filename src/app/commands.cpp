@@ -121,6 +121,8 @@ nlohmann::ordered_json inspect_json(const Character& ch) {
                  {"bounds", b.empty() ? nlohmann::ordered_json::array()
                                       : nlohmann::ordered_json{b.lo.x(), b.lo.y(), b.hi.x(), b.hi.y()}}};
   j["warnings"] = ch.warnings;
+  j["dropped"] = ch.dropped;
+  j["approximated"] = ch.approximated;
   return j;
 }
 
@@ -136,6 +138,18 @@ void print_inspect_text(const Character& ch) {
   }
   std::printf("totals: %zu sub-shapes (%zu closed, %zu open), %zu vertices, %zu layers\n", ch.shapes.size(), closed,
               ch.shapes.size() - closed, ch.vertex_count(), ch.layers.size());
+  for (const auto& [what, counts] : {std::pair{"dropped (not drawn)", &ch.dropped}, {"approximated", &ch.approximated}}) {
+    if (counts->empty()) continue;
+    int n = 0;
+    for (const auto& [reason, k] : *counts) n += k;
+    std::printf("%s: %d (", what, n);
+    bool first = true;
+    for (const auto& [reason, k] : *counts) {
+      std::printf("%s%s: %d", first ? "" : ", ", reason.c_str(), k);
+      first = false;
+    }
+    std::printf(")\n");
+  }
   if (!ch.warnings.empty()) {
     std::printf("warnings (%zu):\n", ch.warnings.size());
     for (const std::string& w : ch.warnings) std::printf("  %s\n", w.c_str());

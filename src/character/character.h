@@ -6,6 +6,7 @@
 #include "geom/types.h"
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -96,6 +97,8 @@ struct Character {
   std::vector<std::string> layers;    ///< layer names, in paint order
   std::vector<SubShape> shapes;       ///< in paint order (document order)
   std::vector<std::string> warnings;  ///< what was approximated or skipped
+  /// Shapes not drawn at all, and things drawn approximately, counted by reason (`inspect`).
+  std::map<std::string, int> dropped, approximated;
 
   Bounds bounds() const;
   size_t vertex_count() const;

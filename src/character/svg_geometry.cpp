@@ -158,6 +158,7 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   total_points_ += s.points.size();
   if (total_points_ > opt_.max_points) return too_complex(n);
   const double op = st.group_opacity;
+  paint_failed_ = false;
   if (auto c = resolve(st.fill, n, st)) {
     // Lines never fill; other open sub-paths are filled as if closed (SVG rules).
     bool fillable = s.element != "line";
@@ -178,7 +179,12 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
     s.stroke.cap = st.cap;
     s.stroke.miter_limit = st.miter_limit;
   }
-  if (!s.fill.enabled && !s.stroke.enabled) return;
+  if (!s.fill.enabled && !s.stroke.enabled) {
+    if (paint_failed_) {  // (its warning, naming it, was given where the paint was resolved)
+      count(ch_.dropped, "its paint could not be resolved");
+    }
+    return;
+  }
   if (s.fill.enabled && s.fill.opacity * s.fill.color.a <= 0 &&
       (!s.stroke.enabled || s.stroke.opacity * s.stroke.color.a <= 0)) {
     return;  // fully transparent

@@ -24,7 +24,7 @@ Result<Character> SvgLoader::run(std::string_view text) {
                                       ": malformed XML: " + pr.description());
   }
   pugi::xml_node root = doc_.document_element();
-  detect_svg_prefix(root);
+  resolve_namespaces(root);
   if (!root || local_name(root) != "svg") {
     return Result<Character>::failure(name_ + ":" + std::to_string(root ? line_of(root) : 1) +
                                       ": root element is <" + std::string(root ? root.name() : "") +
@@ -77,20 +77,56 @@ void SvgLoader::warn(const pugi::xml_node& n, const std::string& msg) {
   if (warned_.insert(w).second && ch_.warnings.size() < 200) ch_.warnings.push_back(std::move(w));
 }
 
-void SvgLoader::detect_svg_prefix(const pugi::xml_node& root) {
-  for (pugi::xml_attribute a : root.attributes()) {
-    std::string_view an = a.name();
-    if (an.rfind("xmlns:", 0) == 0 && std::string_view(a.value()) == "http://www.w3.org/2000/svg") {
-      svg_prefix_ = std::string(an.substr(6)) + ":";
+void SvgLoader::resolve_namespaces(const pugi::xml_node& root) {
+  static constexpr std::string_view kSvgNs = "http://www.w3.org/2000/svg";
+  // Depth first with the declarations in scope: (prefix, namespace), innermost last; "" is the
+  // default namespace. A file that declares none is SVG throughout (hand-written files often
+  // leave xmlns out), and so is an undeclared "svg:" prefix.
+  struct Frame {
+    pugi::xml_node n;
+    size_t scope;  // the scope's size when n was entered
+  };
+  std::vector<std::pair<std::string_view, std::string_view>> scope;
+  std::vector<Frame> stack{{root, 0}};
+  while (!stack.empty()) {
+    const Frame f = stack.back();
+    stack.pop_back();
+    scope.resize(f.scope);
+    for (pugi::xml_attribute a : f.n.attributes()) {
+      const std::string_view an = a.name();
+      if (an == "xmlns") scope.emplace_back("", a.value());
+      else if (an.rfind("xmlns:", 0) == 0) scope.emplace_back(an.substr(6), a.value());
     }
+    const std::string_view name = f.n.name();
+    const size_t colon = name.find(':');
+    const std::string_view prefix = colon == std::string_view::npos ? std::string_view() : name.substr(0, colon);
+    std::optional<std::string_view> uri;
+    for (auto it = scope.rbegin(); it != scope.rend(); ++it)
+      if (it->first == prefix) {
+        uri = it->second;
+        break;
+      }
+    const bool svg = uri ? *uri == kSvgNs : (prefix.empty() || prefix == "svg");
+    ns_skip_[f.n.internal_object()] = svg ? uint16_t(prefix.empty() ? 0 : colon + 1) : kForeign;
+    const size_t here = scope.size();
+    for (pugi::xml_node c = f.n.last_child(); c; c = c.previous_sibling())
+      if (c.type() == pugi::node_element) stack.push_back({c, here});
   }
 }
 
-// Element name without the SVG namespace prefix; foreign-namespace names keep theirs.
+// Element name without the SVG namespace's prefix; foreign names keep theirs (see the header).
 std::string_view SvgLoader::local_name(const pugi::xml_node& n) const {
   std::string_view s = n.name();
-  if (!svg_prefix_.empty() && s.rfind(svg_prefix_, 0) == 0) s.remove_prefix(svg_prefix_.size());
-  return s;
+  const auto it = ns_skip_.find(n.internal_object());
+  if (it == ns_skip_.end()) return s;
+  if (it->second != kForeign) return s.substr(std::min<size_t>(it->second, s.size()));
+  return s.find(':') != std::string_view::npos ? s : std::string_view("foreign:element");
+}
+
+pugi::xml_node SvgLoader::child_named(const pugi::xml_node& n, std::string_view local) const {
+  for (pugi::xml_node c : n.children())
+    if (c.type() == pugi::node_element && local_name(c) == local) return c;
+  return {};
 }
 
 void SvgLoader::index_ids(const pugi::xml_node& root) {

@@ -81,9 +81,16 @@ class SvgLoader {
   std::string where(const pugi::xml_node& n) const;
   void warn(const pugi::xml_node& n, const std::string& msg);
 
-  void detect_svg_prefix(const pugi::xml_node& root);
-  // Element name without the SVG namespace prefix; foreign-namespace names keep theirs.
+  // Namespaces as XML defines them: every element's prefix (or the default namespace) is
+  // resolved against the xmlns declarations in scope, once, before anything is read.
+  void resolve_namespaces(const pugi::xml_node& root);
+  // An SVG element's local name ("path" for <path>, <svg:path> or <s:path> with s bound to the
+  // SVG namespace); an element of another namespace keeps its whole name, or, unprefixed in a
+  // foreign default namespace, gets "foreign:" + its name (visit() skips names with ':').
   std::string_view local_name(const pugi::xml_node& n) const;
+  // Its first child element named `local` (by local_name), or none.
+  pugi::xml_node child_named(const pugi::xml_node& n, std::string_view local) const;
+  void count(std::map<std::string, int>& m, const std::string& reason) { ++m[reason]; }
 
   void index_ids(const pugi::xml_node& root);
 
@@ -119,8 +126,6 @@ class SvgLoader {
   // Representative solid colour for a paint server, with a warning.
   std::optional<Rgba> paint_server_color(const pugi::xml_node& server, const pugi::xml_node& user,
                                          const Style& st);
-
-  std::string qualified(const char* local) const { return svg_prefix_ + local; }
 
   // Resolves a paint to a colour (alpha included); nullopt = nothing drawn.
   std::optional<Rgba> resolve(const Paint& p, const pugi::xml_node& user, const Style& st);
@@ -163,7 +168,12 @@ class SvgLoader {
   std::string_view text_;
   std::vector<size_t> line_starts_{0};
   pugi::xml_document doc_;
-  std::string svg_prefix_;
+  // Per element (pugixml's node object): the length of its SVG prefix with ':' to skip, or
+  // kForeign. An element not in the map (none should be) is read by its name as written.
+  static constexpr uint16_t kForeign = 0xFFFF;
+  std::unordered_map<const void*, uint16_t> ns_skip_;
+  std::string foreign_name_;  // (local_name's answer for an unprefixed foreign element)
+  bool paint_failed_ = false;  // the shape being emitted had a paint that could not be resolved
   std::unordered_map<std::string, pugi::xml_node> ids_;
   std::vector<pugi::xml_node> use_stack_;
   std::set<std::string> warned_;

@@ -161,9 +161,18 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   if (auto v = prop(d, "stroke-dasharray"); v && trim_space(*v) != "none") {
     warn(n, "stroke-dasharray is not supported; drawn solid");
   }
-  if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") warn(n, "filter ignored");
-  if (auto v = prop(d, "mask"); v && trim_space(*v) != "none") warn(n, "mask ignored");
-  if (auto v = prop(d, "clip-path"); v && trim_space(*v) != "none") warn(n, "clip-path ignored");
+  if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") {
+    warn(n, "filter ignored");
+    count(ch_.approximated, "a filter ignored");
+  }
+  if (auto v = prop(d, "mask"); v && trim_space(*v) != "none") {
+    warn(n, "mask ignored");
+    count(ch_.approximated, "a mask ignored");
+  }
+  if (auto v = prop(d, "clip-path"); v && trim_space(*v) != "none") {
+    warn(n, "clip-path ignored");
+    count(ch_.approximated, "a clip-path ignored");
+  }
   return s;
 }
 
@@ -192,7 +201,7 @@ std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, 
   if (kind == "linearGradient" || kind == "radialGradient") {
     pugi::xml_node g = server;
     for (int hops = 0; hops < 16 && g; ++hops) {
-      if (g.child(qualified("stop").c_str())) break;
+      if (child_named(g, "stop")) break;
       g = lookup_iri(href_of(g));
     }
     std::vector<Rgba> stops;
@@ -212,7 +221,11 @@ std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, 
         stops.push_back(c);
       }
     }
-    if (stops.empty()) return std::nullopt;  // no stops: painted as none
+    if (stops.empty()) {  // no stops: painted as none (SVG), said
+      warn(user, std::string(kind) + " '" + server.attribute("id").value() + "' has no stops; painted as none");
+      paint_failed_ = true;
+      return std::nullopt;
+    }
     Rgba mean{0, 0, 0, 0};
     for (const Rgba& c : stops) {
       mean.r += c.r;
@@ -225,6 +238,7 @@ std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, 
     if (stops.size() > 1) {
       warn(user, std::string(kind) + " '" + server.attribute("id").value() +
                      "' drawn as its mean colour " + color_hex(mean));
+      count(ch_.approximated, "a gradient drawn as its mean colour");
     }
     return mean;
   }
@@ -238,9 +252,11 @@ std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, 
     }
     warn(user, std::string("pattern '") + server.attribute("id").value() + "' drawn as solid " +
                    color_hex(c));
+    count(ch_.approximated, "a pattern drawn as a solid colour");
     return c;
   }
   warn(user, "paint server <" + std::string(kind) + "> not supported; drawn as none");
+  paint_failed_ = true;
   return std::nullopt;
 }
 
@@ -257,7 +273,10 @@ std::optional<Rgba> SvgLoader::resolve(const Paint& p, const pugi::xml_node& use
       pugi::xml_node server = lookup_iri(p.url);
       if (!server) {
         if (p.has_fallback && !p.fallback_none) return p.fallback;
-        if (!p.has_fallback) warn(user, "paint " + p.url + " not found; drawn as none");
+        if (!p.has_fallback) {
+          warn(user, "paint " + p.url + " not found; drawn as none");
+          paint_failed_ = true;
+        }
         return std::nullopt;
       }
       return paint_server_color(server, user, st);

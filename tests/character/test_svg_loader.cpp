@@ -335,6 +335,63 @@ TEST(load_svg, OneShapeOfTooManyPointsIsRefused) {
   EXPECT_NE(r.error.find("(at most 1000 a shape)"), std::string::npos) << r.error;
 }
 
+// Namespaces as XML defines them: the SVG namespace as the default with xmlns:svg declared too
+// (2,102 of openclipart's files; their gradients' <stop>s were looked for as <svg:stop>, found
+// nowhere, and the shapes dropped), only svg: prefixes, and the namespace under another prefix
+// all load the same drawing. An element of another namespace is not drawn.
+TEST(load_svg, ElementsAreMatchedByNamespaceNotByPrefix) {
+  const std::string body =
+      "<P:defs><P:linearGradient id=\"g\"><P:stop offset=\"0\" stop-color=\"#ff0000\"/><P:stop offset=\"1\" "
+      "stop-color=\"#0000ff\"/></P:linearGradient></P:defs><P:rect width=\"10\" height=\"10\" fill=\"url(#g)\"/>"
+      "<P:circle cx=\"20\" cy=\"5\" r=\"4\" fill=\"#00ff00\"/>";
+  auto with = [&](const std::string& root, const std::string& prefix) {
+    std::string b = body;
+    for (size_t at = b.find("P:"); at != std::string::npos; at = b.find("P:", at)) b.replace(at, 2, prefix), at += prefix.size();
+    return root + b + "</" + prefix + "svg>";
+  };
+  const std::vector<std::pair<std::string, std::string>> forms = {
+      {with("<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:svg=\"http://www.w3.org/2000/svg\">", ""), "default and svg:"},
+      {with("<svg:svg xmlns:svg=\"http://www.w3.org/2000/svg\">", "svg:"), "svg: only"},
+      {with("<s:svg xmlns:s=\"http://www.w3.org/2000/svg\">", "s:"), "another prefix"},
+      {with("<svg>", ""), "no namespace declared"}};
+  for (const auto& [text, what] : forms) {
+    auto r = load_svg_string(text, "ns.svg");
+    ASSERT_TRUE(r.ok()) << what << ": " << r.error;
+    ASSERT_EQ(r.value->shapes.size(), 2u) << what;
+    EXPECT_TRUE(r.value->shapes[0].fill.enabled) << what;
+    EXPECT_NEAR(r.value->shapes[0].fill.color.r, 0.5, 1e-6) << what << ": the gradient's stops were found";
+    EXPECT_NEAR(r.value->shapes[0].fill.color.b, 0.5, 1e-6) << what;
+    EXPECT_EQ(r.value->shapes[0].element, "rect") << what;
+    EXPECT_EQ(r.value->shapes[1].element, "circle") << what;
+    EXPECT_TRUE(r.value->dropped.empty()) << what;
+    EXPECT_EQ(r.value->approximated.at("a gradient drawn as its mean colour"), 1) << what;
+  }
+  auto foreign = load_svg_string(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\"><g xmlns=\"http://example.org/other\"><rect width=\"5\" height=\"5\"/></g>"
+      "<x:rect xmlns:x=\"http://example.org/other\" width=\"5\" height=\"5\"/><rect width=\"2\" height=\"2\"/></svg>",
+      "foreign.svg");
+  ASSERT_TRUE(foreign.ok()) << foreign.error;
+  EXPECT_EQ(foreign.value->shapes.size(), 1u) << "only the SVG rect";
+}
+
+// A shape whose paint cannot be resolved (a gradient with no stops, a missing paint) is
+// dropped with a warning that names it, and counted by reason for inspect.
+TEST(load_svg, ADroppedShapeIsSaidAndCounted) {
+  auto r = load_svg_string(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\"><defs><linearGradient id=\"empty\"/></defs>"
+      "<rect id=\"body\" width=\"10\" height=\"10\" fill=\"url(#empty)\"/><rect id=\"arm\" width=\"3\" height=\"3\" "
+      "fill=\"url(#nowhere)\"/><rect id=\"leg\" width=\"3\" height=\"3\" fill=\"#000\" filter=\"url(#f)\"/></svg>",
+      "drop.svg");
+  ASSERT_TRUE(r.ok()) << r.error;
+  EXPECT_EQ(r.value->shapes.size(), 1u);
+  EXPECT_EQ(r.value->dropped.at("its paint could not be resolved"), 2);
+  EXPECT_EQ(r.value->approximated.at("a filter ignored"), 1);
+  std::string all;
+  for (const std::string& w : r.value->warnings) all += w + "\n";
+  EXPECT_NE(all.find("<rect id=\"body\">: linearGradient 'empty' has no stops; painted as none"), std::string::npos) << all;
+  EXPECT_NE(all.find("<rect id=\"arm\">: paint url(#nowhere) not found"), std::string::npos) << all;
+}
+
 TEST(load_svg, TooComplexFileIsRejected) {
   std::string body;
   for (int i = 0; i < 50; ++i) body += "<circle cx=\"50\" cy=\"50\" r=\"40\"/>";
