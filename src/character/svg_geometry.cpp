@@ -159,11 +159,29 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   if (total_points_ > opt_.max_points) return too_complex(n);
   const double op = st.group_opacity;
   paint_failed_ = false;
-  if (auto c = resolve(st.fill, n, st)) {
-    // Lines never fill; other open sub-paths are filled as if closed (SVG rules).
-    bool fillable = s.element != "line";
-    if (fillable) {
-      s.fill.enabled = true;
+  // A gradient fill: a texture that deforms with the shape (svg_paint.cpp).
+  if (st.fill.kind == Paint::Url && s.element != "line") {
+    if (pugi::xml_node server = lookup_iri(st.fill.url)) {
+      Affine2 uv;
+      const std::string_view k = local_name(server);
+      if (k == "linearGradient" || k == "radialGradient") {
+        if (gradient_texels_ >= opt_.max_gradient_texels) {
+          warn(n, "more gradients than the texture budget (" + std::to_string(opt_.max_gradient_texels) + " texels); drawn as its mean colour");
+        } else if (auto tex = gradient_texture(server, n, ctx, s.points, uv)) {
+          gradient_texels_ += size_t(tex->width) * size_t(tex->height);
+          s.fill.enabled = true;
+          s.fill.color = Rgba{1, 1, 1, 1};
+          s.fill.opacity = static_cast<float>(st.fill_opacity * op);
+          s.fill.rule = st.fill_rule;
+          s.fill.texture = std::move(tex);
+          s.fill.uv_from_point = uv;
+        }
+      }
+    }
+  }
+  if (!s.fill.enabled) {
+    if (auto c = resolve(st.fill, n, st); c && s.element != "line") {  // (lines never fill; other open
+      s.fill.enabled = true;                                             // sub-paths fill as if closed)
       s.fill.color = *c;
       s.fill.opacity = static_cast<float>(st.fill_opacity * op);
       s.fill.rule = st.fill_rule;

@@ -22,6 +22,9 @@ struct SvgOptions {
   /// Upper bound on one shape's points after flattening: its fill is triangulated, so one huge
   /// shape is refused rather than tied up for minutes (the whole file's budget is max_points).
   size_t max_shape_points = 100'000;
+  /// Gradient fills are drawn from textures made at load (up to 256 x 256 each); past this many
+  /// texels in all (64 MB), further gradients are drawn as their mean colour, with a warning.
+  size_t max_gradient_texels = 16'000'000;
   /// Upper bound on the file's size in bytes (64 MB).
   size_t max_bytes = size_t(64) << 20;
   /// An <image> may name a file outside the SVG's own folder (and below it); by default such an

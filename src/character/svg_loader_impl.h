@@ -16,6 +16,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <span>
 #include <string>
 #include <string_view>
 #include <unordered_map>
@@ -146,6 +147,14 @@ class SvgLoader {
 
   // ---- geometry ----------------------------------------------------------------------
   void shape(const pugi::xml_node& n, const Ctx& ctx);
+
+  // ---- gradients (svg_paint.cpp) -----------------------------------------------------
+  // A gradient fill as a texture over the shape's rest bounds (`points`, character units) and
+  // the map from a rest point to its texture coordinates; nullptr when `server` is no gradient
+  // with stops, or the shape or gradient is degenerate (the caller falls back to one colour).
+  std::shared_ptr<const Texture> gradient_texture(const pugi::xml_node& server, const pugi::xml_node& user, const Ctx& ctx,
+                                                  std::span<const Vec2> points, Affine2& uv);
+  size_t gradient_texels_ = 0;  // all gradients' textures so far (SvgOptions::max_gradient_texels)
 
   // ---- images ------------------------------------------------------------------------
   std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href);

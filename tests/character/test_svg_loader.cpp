@@ -6,6 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+
 namespace mar {
 namespace {
 
@@ -228,19 +231,19 @@ TEST(load_svg, StrokeWidthFollowsTransformScale) {
   EXPECT_DOUBLE_EQ(ch.shapes.at(0).stroke.width, 6);
 }
 
-TEST(load_svg, GradientsPatternsTextFiltersWarn) {
+TEST(load_svg, PatternsTextFiltersWarnAndGradientStrokesAreTheirMeanColour) {
   auto ch = load(R"svg(<defs><linearGradient id="g"><stop offset="0" stop-color="#ff0000"/>
                       <stop offset="1" stop-color="#0000ff"/></linearGradient>
                       <linearGradient id="g2" xlink:href="#g"/>
                       <pattern id="pat"><rect width="2" height="2" fill="#00ff00"/></pattern></defs>
-                    <rect id="a" width="1" height="1" fill="url(#g)"/>
-                    <rect id="b" width="1" height="1" fill="url(#g2)"/>
+                    <rect id="a" width="1" height="1" fill="none" stroke="url(#g)"/>
+                    <rect id="b" width="1" height="1" fill="none" stroke="url(#g2)"/>
                     <rect id="c" width="1" height="1" fill="url(#pat)"/>
                     <rect id="d" width="1" height="1" fill="url(#missing) #00ffff"/>
                     <text x="0" y="0">hi</text>
                     <rect id="e" width="1" height="1" filter="url(#f)"/>)svg");
-  EXPECT_EQ(color_hex(find(ch, "a")->fill.color), "#800080");  // mean of red and blue
-  EXPECT_EQ(color_hex(find(ch, "b")->fill.color), "#800080");  // stops through href
+  EXPECT_EQ(color_hex(find(ch, "a")->stroke.color), "#800080");  // a stroke: the mean of red and blue
+  EXPECT_EQ(color_hex(find(ch, "b")->stroke.color), "#800080");  // stops through href
   EXPECT_EQ(color_hex(find(ch, "c")->fill.color), "#00ff00");
   EXPECT_EQ(color_hex(find(ch, "d")->fill.color), "#00ffff");  // fallback colour
   EXPECT_TRUE(find(ch, "e"));
@@ -359,12 +362,12 @@ TEST(load_svg, ElementsAreMatchedByNamespaceNotByPrefix) {
     ASSERT_TRUE(r.ok()) << what << ": " << r.error;
     ASSERT_EQ(r.value->shapes.size(), 2u) << what;
     EXPECT_TRUE(r.value->shapes[0].fill.enabled) << what;
-    EXPECT_NEAR(r.value->shapes[0].fill.color.r, 0.5, 1e-6) << what << ": the gradient's stops were found";
-    EXPECT_NEAR(r.value->shapes[0].fill.color.b, 0.5, 1e-6) << what;
+    ASSERT_TRUE(r.value->shapes[0].fill.texture) << what << ": the gradient's stops were found";
+    EXPECT_GT(r.value->shapes[0].fill.texture->rgba[0], 240) << what << ": red at the left";
     EXPECT_EQ(r.value->shapes[0].element, "rect") << what;
     EXPECT_EQ(r.value->shapes[1].element, "circle") << what;
     EXPECT_TRUE(r.value->dropped.empty()) << what;
-    EXPECT_EQ(r.value->approximated.at("a gradient drawn as its mean colour"), 1) << what;
+    EXPECT_TRUE(r.value->approximated.empty()) << what;
   }
   auto foreign = load_svg_string(
       "<svg xmlns=\"http://www.w3.org/2000/svg\"><g xmlns=\"http://example.org/other\"><rect width=\"5\" height=\"5\"/></g>"
@@ -390,6 +393,57 @@ TEST(load_svg, ADroppedShapeIsSaidAndCounted) {
   for (const std::string& w : r.value->warnings) all += w + "\n";
   EXPECT_NE(all.find("<rect id=\"body\">: linearGradient 'empty' has no stops; painted as none"), std::string::npos) << all;
   EXPECT_NE(all.find("<rect id=\"arm\">: paint url(#nowhere) not found"), std::string::npos) << all;
+}
+
+// Gradient fills are textures over the shape's rest bounds, evaluated at load: a linear one
+// runs from its first stop's colour to its last along x1,y1 -> x2,y2, a radial one from the
+// focal point outwards; objectBoundingBox and userSpaceOnUse units, gradientTransform, the
+// spread methods and href inheritance of stops and attributes all change what is sampled.
+TEST(load_svg, GradientFillsAreTexturesThatFollowTheShape) {
+  auto texel = [](const SubShape& s, double fx, double fy) {
+    const Texture& t = *s.fill.texture;
+    const int x = std::clamp(int(fx * t.width), 0, t.width - 1), y = std::clamp(int(fy * t.height), 0, t.height - 1);
+    const uint8_t* p = &t.rgba[(size_t(y) * size_t(t.width) + size_t(x)) * 4];
+    return std::array<int, 4>{p[0], p[1], p[2], p[3]};
+  };
+  auto r = load_svg_string(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" xmlns:xlink=\"http://www.w3.org/1999/xlink\">"
+      "<defs><linearGradient id=\"rb\"><stop offset=\"0\" stop-color=\"red\"/><stop offset=\"1\" stop-color=\"blue\" "
+      "stop-opacity=\"0.5\"/></linearGradient>"
+      "<linearGradient id=\"down\" xlink:href=\"#rb\" x2=\"0\" y2=\"1\"/>"
+      "<linearGradient id=\"user\" xlink:href=\"#rb\" gradientUnits=\"userSpaceOnUse\" x1=\"0\" x2=\"20\" "
+      "spreadMethod=\"reflect\"/>"
+      "<radialGradient id=\"spot\"><stop offset=\"0\" stop-color=\"white\"/><stop offset=\"1\" stop-color=\"black\"/>"
+      "</radialGradient></defs>"
+      "<rect width=\"40\" height=\"20\" fill=\"url(#rb)\"/>"
+      "<rect y=\"30\" width=\"40\" height=\"20\" fill=\"url(#down)\"/>"
+      "<rect y=\"60\" width=\"40\" height=\"20\" fill=\"url(#user)\"/>"
+      "<circle cx=\"70\" cy=\"20\" r=\"10\" fill=\"url(#spot)\"/></svg>",
+      "grad.svg");
+  ASSERT_TRUE(r.ok()) << r.error;
+  ASSERT_EQ(r.value->shapes.size(), 4u);
+  for (const SubShape& s : r.value->shapes) ASSERT_TRUE(s.fill.enabled && s.fill.texture) << s.id;
+  const SubShape &across = r.value->shapes[0], &down = r.value->shapes[1], &user = r.value->shapes[2], &spot = r.value->shapes[3];
+  // Left red and opaque, right blue at half opacity; along y nothing changes.
+  EXPECT_GT(texel(across, 0.01, 0.5)[0], 245);
+  EXPECT_LT(texel(across, 0.01, 0.5)[2], 10);
+  EXPECT_GT(texel(across, 0.99, 0.5)[2], 245);
+  EXPECT_NEAR(texel(across, 0.99, 0.5)[3], 128, 3);
+  EXPECT_EQ(texel(across, 0.5, 0.1), texel(across, 0.5, 0.9));
+  // x2 = 0, y2 = 1 inherited stops: red at the top, blue at the bottom.
+  EXPECT_GT(texel(down, 0.5, 0.01)[0], 245);
+  EXPECT_GT(texel(down, 0.5, 0.99)[2], 245);
+  // userSpaceOnUse 0..20 with reflect over a 40-wide rect: blue at x = 20, red again at 40.
+  EXPECT_GT(texel(user, 0.5, 0.5)[2], 240);
+  EXPECT_GT(texel(user, 0.99, 0.5)[0], 240);
+  // The radial: white in the middle, black at the rim.
+  EXPECT_GT(texel(spot, 0.5, 0.5)[0], 240);
+  EXPECT_LT(texel(spot, 0.02, 0.5)[0], 20);
+  // The texture lies over the rest bounds: uv of the shape's corners are 0 and 1.
+  const Bounds b = across.bounds();
+  EXPECT_NEAR(across.fill.uv_from_point.apply(b.lo).x(), 0, 1e-9);
+  EXPECT_NEAR(across.fill.uv_from_point.apply(b.hi).y(), 1, 1e-9);
+  EXPECT_EQ(r.value->approximated.count("a gradient drawn as its mean colour"), 0u);
 }
 
 TEST(load_svg, TooComplexFileIsRejected) {

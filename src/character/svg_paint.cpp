@@ -1,0 +1,169 @@
+// Gradients (character/svg_loader.h): a linearGradient or radialGradient fill is evaluated at
+// load into a texture over the shape's rest bounds, sampled through the shape's mesh as an
+// <image> is: it deforms with the shape in every renderer and output. Attributes and stops are
+// inherited along href chains (16 hops at most); objectBoundingBox and userSpaceOnUse units,
+// gradientTransform, spreadMethod pad, reflect and repeat, the focal point of a radial one
+// (moved just inside its circle when outside, as SVG 1.1 says), and stop-opacity.
+#include "character/svg_loader_impl.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace mar::svg_load {
+namespace {
+
+struct Stop {
+  double offset = 0;
+  Rgba color;
+};
+
+// The colour at t (after the spread), interpolated between the stops (not premultiplied).
+Rgba stop_color(const std::vector<Stop>& stops, double t) {
+  if (t <= stops.front().offset) return stops.front().color;
+  if (t >= stops.back().offset) return stops.back().color;
+  for (size_t k = 1; k < stops.size(); ++k) {
+    const Stop &a = stops[k - 1], &b = stops[k];
+    if (t > b.offset) continue;
+    const double span = b.offset - a.offset;
+    const float u = span > 1e-12 ? float((t - a.offset) / span) : 1.0f;
+    return {a.color.r + u * (b.color.r - a.color.r), a.color.g + u * (b.color.g - a.color.g),
+            a.color.b + u * (b.color.b - a.color.b), a.color.a + u * (b.color.a - a.color.a)};
+  }
+  return stops.back().color;
+}
+
+double spread(double t, std::string_view method) {
+  if (!std::isfinite(t)) return 0;
+  if (method == "repeat") return t - std::floor(t);
+  if (method == "reflect") {
+    const double m = std::fmod(std::fabs(t), 2.0);
+    return m > 1 ? 2 - m : m;
+  }
+  return std::clamp(t, 0.0, 1.0);
+}
+
+}  // namespace
+
+std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node& server, const pugi::xml_node& user,
+                                                         const Ctx& ctx, std::span<const Vec2> points, Affine2& uv) {
+  const std::string_view kind = local_name(server);
+  const bool radial = kind == "radialGradient";
+  if (!radial && kind != "linearGradient") return nullptr;
+  // The chain: this gradient, then what it names by href. An attribute is the first one set
+  // along it; the stops are those of the first one that has any.
+  std::vector<pugi::xml_node> chain;
+  for (pugi::xml_node g = server; g && chain.size() < 16; g = lookup_iri(href_of(g))) {
+    if (std::find(chain.begin(), chain.end(), g) != chain.end()) break;
+    const std::string_view k = local_name(g);
+    if (k != "linearGradient" && k != "radialGradient") break;
+    chain.push_back(g);
+  }
+  auto attr = [&](const char* name) -> pugi::xml_attribute {
+    for (const pugi::xml_node& g : chain)
+      if (pugi::xml_attribute a = g.attribute(name)) return a;
+    return {};
+  };
+  std::vector<Stop> stops;
+  for (const pugi::xml_node& g : chain) {
+    for (pugi::xml_node s : g.children()) {
+      if (s.type() != pugi::node_element || local_name(s) != "stop") continue;
+      const Decls d = declarations(s);
+      Stop st;
+      st.color = Rgba{0, 0, 0, 1};
+      if (auto v = prop(d, "stop-color")) {
+        if (trim_space(*v) == "currentColor") st.color = ctx.style.color;
+        else if (auto pc = parse_color(*v)) st.color = *pc;
+      }
+      if (auto v = prop(d, "stop-opacity")) st.color.a *= static_cast<float>(svg::parse_opacity(*v, 1));
+      std::string_view off = trim_space(s.attribute("offset").value());
+      double o = 0;
+      if (!off.empty() && off.back() == '%') o = svg::parse_number(off.substr(0, off.size() - 1)).value_or(0) / 100.0;
+      else o = svg::parse_number(off).value_or(0);
+      st.offset = std::clamp(o, 0.0, 1.0);
+      if (!stops.empty()) st.offset = std::max(st.offset, stops.back().offset);  // (never backwards)
+      stops.push_back(st);
+    }
+    if (!stops.empty()) break;
+  }
+  if (stops.empty() || points.empty()) return nullptr;
+  // The shape's rest bounds (character units), where the texture lies.
+  Bounds b;
+  for (const Vec2& p : points) b.add(p);
+  if (b.empty() || !(b.hi - b.lo).allFinite()) return nullptr;
+  // Gradient space -> character: the element's CTM, the bounding box (objectBoundingBox units:
+  // the box of the shape in its own user space), then gradientTransform.
+  const Affine2 to_user = ctx.ctm.inverse();
+  Bounds ub;
+  for (const Vec2& p : points) ub.add(to_user.apply(p));
+  const bool bbox_units = std::string_view(attr("gradientUnits").value()) != "userSpaceOnUse";
+  Affine2 g_to_char = ctx.ctm;
+  if (bbox_units) {
+    const Vec2 size = ub.hi - ub.lo;
+    if (!(size.x() > 0) || !(size.y() > 0)) return nullptr;  // a line's box has no area: SVG draws nothing
+    g_to_char = g_to_char * Affine2{size.x(), 0, 0, size.y(), ub.lo.x(), ub.lo.y()};
+  }
+  if (pugi::xml_attribute t = attr("gradientTransform")) {
+    if (auto m = svg::parse_transform(t.value()); m && m->is_finite()) g_to_char = g_to_char * *m;
+  }
+  if (!(std::abs(g_to_char.det()) > 0)) return nullptr;
+  const Affine2 char_to_g = g_to_char.inverse();
+  // Lengths: fractions of the box (objectBoundingBox: "50%" or 0.5), else user units with % of
+  // the viewport.
+  auto length = [&](const char* name, int axis, double fallback_fraction) {
+    pugi::xml_attribute a = attr(name);
+    if (!a) return bbox_units ? fallback_fraction : fallback_fraction * (axis == 0 ? ctx.vp.w : axis == 1 ? ctx.vp.h : std::hypot(ctx.vp.w, ctx.vp.h) / std::sqrt(2.0));
+    const std::string_view v = trim_space(a.value());
+    if (bbox_units) {
+      if (!v.empty() && v.back() == '%') return svg::parse_number(v.substr(0, v.size() - 1)).value_or(0) / 100.0;
+      return svg::parse_number(v).value_or(fallback_fraction);
+    }
+    return svg::parse_length(v, axis, ctx.vp.w, ctx.vp.h).value_or(0.0);
+  };
+  const std::string spread_method = attr("spreadMethod").value();
+  Vec2 p1, p2, c, f;
+  double r = 0;
+  if (radial) {
+    c = {length("cx", 0, 0.5), length("cy", 1, 0.5)};
+    r = length("r", 2, 0.5);
+    f = {attr("fx") ? length("fx", 0, 0.5) : c.x(), attr("fy") ? length("fy", 1, 0.5) : c.y()};
+    if (!(r > 0)) return nullptr;  // r = 0: the last stop's colour (said by the caller's fallback)
+    if ((f - c).norm() > 0.999 * r) f = c + (f - c) * (0.999 * r / (f - c).norm());
+  } else {
+    p1 = {length("x1", 0, 0.0), length("y1", 1, 0.0)};
+    p2 = {length("x2", 0, 1.0), length("y2", 1, 0.0)};
+  }
+  // The texture: about two texels a character unit, 8 to 256 a side.
+  const Vec2 size = b.hi - b.lo;
+  const int tw = std::clamp(int(std::ceil(size.x() * 2)), 8, 256), th = std::clamp(int(std::ceil(size.y() * 2)), 8, 256);
+  auto tex = std::make_shared<Texture>();
+  tex->name = std::string("gradient ") + server.attribute("id").value();
+  tex->width = tw;
+  tex->height = th;
+  tex->rgba.resize(size_t(tw) * size_t(th) * 4);
+  const Vec2 d = p2 - p1;
+  const double dd = d.squaredNorm();
+  for (int y = 0; y < th; ++y)
+    for (int x = 0; x < tw; ++x) {
+      const Vec2 p = char_to_g.apply(Vec2(b.lo.x() + (x + 0.5) * size.x() / tw, b.lo.y() + (y + 0.5) * size.y() / th));
+      double t = 0;
+      if (radial) {
+        // The circle through p in the family from the focal point (t = 0) to the circle (t = 1).
+        const Vec2 v = p - f, w = f - c;
+        const double A = v.squaredNorm(), B = 2 * v.dot(w), C = w.squaredNorm() - r * r;
+        const double disc = B * B - 4 * A * C;
+        const double s = A > 0 ? (-B + std::sqrt(std::max(0.0, disc))) / (2 * A) : 0;
+        t = s > 0 ? 1.0 / s : 0;
+      } else {
+        t = dd > 0 ? (p - p1).dot(d) / dd : 1;  // x1,y1 = x2,y2: the last stop's colour
+      }
+      const Rgba col = stop_color(stops, spread(t, spread_method));
+      uint8_t* o = &tex->rgba[(size_t(y) * size_t(tw) + size_t(x)) * 4];
+      const float comp[4] = {col.r, col.g, col.b, col.a};
+      for (int k = 0; k < 4; ++k) o[k] = uint8_t(std::lround(std::clamp(comp[k], 0.0f, 1.0f) * 255.0f));
+    }
+  uv = Affine2{1.0 / size.x(), 0, 0, 1.0 / size.y(), -b.lo.x() / size.x(), -b.lo.y() / size.y()};
+  (void)user;
+  return tex;
+}
+
+}  // namespace mar::svg_load
