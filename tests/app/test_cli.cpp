@@ -1,6 +1,8 @@
 // The command-line contract: outputs, JSON shape, and exit codes (0 ok, 1 runtime, 2 bad input).
 #include "render/image.h"
 #include "test_util.h"
+#include "voice_util.h"
+#include "input/voice.h"
 
 #include <gtest/gtest.h>
 
@@ -37,6 +39,45 @@ TEST(cli_small, VersionDevicesPoseAndBackgroundSayWhatTheyDo) {
     r = test::run_cli("run '" + show + "' --headless --frames 1");
     EXPECT_EQ(r.exit_code, 0) << bg << ": " << r.err;
   }
+}
+
+// `marionette calibrate`: a recording of a, i, u, e, o with pauses gives the calibrate line, each
+// vowel's formants as measure_vowel gives them on that vowel alone (within 5 %); a recording of
+// the wrong number of vowels is refused with what to record.
+TEST(cli_calibrate, MeasuresTheFiveVowelsOfARecording) {
+  if (!test::have_espeak()) GTEST_SKIP() << "espeak-ng is not installed (Debian package espeak-ng): no voice to record";
+  int rate = 0;
+  std::vector<int16_t> all;
+  std::vector<std::pair<double, double>> alone;
+  for (const char* ph : {"a:", "i:", "u:", "e:", "o:"}) {
+    auto pcm = test::speak("en", ph, 50, 80, rate);
+    ASSERT_FALSE(pcm.empty()) << ph;
+    double f1 = 0, f2 = 0;
+    ASSERT_TRUE(VoiceAnalyzer::measure_vowel(rate, pcm, f1, f2));
+    alone.push_back({f1, f2});
+    all.insert(all.end(), pcm.begin(), pcm.end());
+    all.insert(all.end(), size_t(rate * 0.4), int16_t(0));  // a pause
+  }
+  const auto dir = test::temp_dir("calibrate");
+  const std::string wav = test::write_wav((dir / "vowels.wav").string(), all, rate);
+  auto r = test::run_cli("calibrate '" + wav + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const size_t at = r.out.find("calibrate = { ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  const char* names[] = {"a", "i", "u", "e", "o"};
+  for (size_t k = 0; k < 5; ++k) {
+    double f1 = 0, f2 = 0;
+    const size_t p = r.out.find(std::string(names[k]) + " = [", at);
+    ASSERT_NE(p, std::string::npos) << r.out;
+    ASSERT_EQ(std::sscanf(r.out.c_str() + p + 5, "%lf, %lf", &f1, &f2), 2) << r.out;
+    EXPECT_NEAR(f1, alone[k].first, 0.05 * alone[k].first) << names[k];
+    EXPECT_NEAR(f2, alone[k].second, 0.05 * alone[k].second) << names[k];
+  }
+  // Three vowels are not five.
+  all.resize(size_t(double(all.size()) * 0.55));
+  r = test::run_cli("calibrate '" + test::write_wav((dir / "three.wav").string(), all, rate) + "'");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_NE(r.err.find("record a, i, u, e, o"), std::string::npos) << r.err;
 }
 
 TEST(cli_render, WritesPngOfRequestedSize) {
