@@ -181,6 +181,7 @@ bool Playback::next_block() {
 }
 
 bool Playback::get_bytes(void* out, size_t n) {
+  if (n == 0) return true;  // (an empty description: its buffer may be null, which memcpy may not take)
   if (block_.size() - at_ < n) return false;
   std::memcpy(out, block_.data() + at_, n);
   at_ += n;

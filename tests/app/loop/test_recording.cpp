@@ -152,6 +152,26 @@ TEST(Recording, IterationsNoShowMayAskForAreDamage) {
   EXPECT_EQ(frames_played(**ok.value), 3);
 }
 
+// An empty device description is a description (found by fuzz_recording: its empty buffer went
+// to memcpy as a null pointer).
+TEST(Recording, AnEmptyDeviceDescriptionPlays) {
+  const auto path = (test::temp_dir("recording-empty") / "e.rec").string();
+  {
+    auto r = Recorder::open(path, kShow);
+    ASSERT_TRUE(r.ok()) << r.error;
+    (*r.value)->device(0, {});
+    (*r.value)->frame(1, 8);
+  }
+  auto p = Playback::open(path);
+  ASSERT_TRUE(p.ok()) << p.error;
+  size_t described = 99;
+  std::vector<WireRecord> wires;
+  int64_t t = 0;
+  int it = 0;
+  EXPECT_TRUE((*p.value)->next_frame(wires, t, it, [&](uint16_t, std::span<const uint8_t> d) { described = d.size(); }));
+  EXPECT_EQ(described, 0u);
+}
+
 TEST(Recording, OtherFilesAreRefused) {
   const auto dir = test::temp_dir("recording-other");
   std::ofstream(dir / "old.rec") << "MARREC02 and more";
