@@ -134,7 +134,9 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
   }
   // The texture: about two texels a character unit, 8 to 256 a side.
   const Vec2 size = b.hi - b.lo;
-  const int tw = std::clamp(int(std::ceil(size.x() * 2)), 8, 256), th = std::clamp(int(std::ceil(size.y() * 2)), 8, 256);
+  if (!(size.x() > 0) || !(size.y() > 0)) return nullptr;  // (a shape with no area shows no gradient)
+  // (clamped as doubles: a drawing 1e60 wide is not an int)
+  const int tw = int(std::clamp(std::ceil(size.x() * 2), 8.0, 256.0)), th = int(std::clamp(std::ceil(size.y() * 2), 8.0, 256.0));
   auto tex = std::make_shared<Texture>();
   tex->name = std::string("gradient ") + server.attribute("id").value();
   tex->width = tw;
