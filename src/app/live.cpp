@@ -75,19 +75,11 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
 }  // namespace
 
 std::string LiveShow::validate(const std::string& path) {
-  std::unique_ptr<Puppet> puppet;
-  auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto p = load_puppet(header.character, header.rig, "", true, header.images_anywhere);
-    if (!p.ok()) return Result<ShowRig>::failure(p.error);
-    puppet = std::move(*p.value);
-    return Result<ShowRig>::success(show_rig(*puppet, header));
-  });
-  if (!show.ok()) return show.error;
-  if (const AttractConfig& ac = show.value->attract; !ac.take.empty()) {  // a take is read whole, as load() does
-    auto a = Attract::make(ac, Mapping{}, "", "", 0, 0);
-    if (!a.ok()) return path + ":" + std::to_string(ac.line) + ": [attract]: " + a.error;
-  }
-  return std::string();
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  auto s = prepare(path, o);  // everything load() reads and checks, with no device or window
+  return s.ok() ? std::string() : s.error;
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o, LiveShow* previous) {
@@ -182,18 +174,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   for (auto& po : sh.poses) m.add_pose(po);
   const Bounds bb = p.character.bounds();
   s->rest_bounds_ = bb;
-  // Which cells of the character's box its filled shapes cover (the HUD keeps off them).
-  s->rest_cover_.assign(size_t(kCoverCells * kCoverCells), 0);
-  for (int j = 0; j < kCoverCells && !bb.empty(); ++j)
-    for (int i = 0; i < kCoverCells; ++i) {
-      const Vec2 q(bb.lo.x() + (i + 0.5) * (bb.hi.x() - bb.lo.x()) / kCoverCells,
-                   bb.lo.y() + (j + 0.5) * (bb.hi.y() - bb.lo.y()) / kCoverCells);
-      for (const SubShape& sub : p.character.shapes)
-        if (sub.fill.enabled && !sub.hidden && sub.contains(q)) {
-          s->rest_cover_[size_t(j * kCoverCells + i)] = 1;
-          break;
-        }
-    }
+  s->rest_cover_ = cover_cells(p.character, bb, kCoverCells);  // (the HUD keeps off them)
   for (Binding b : sh.bindings) {
     if (b.control.kind == ControlSpec::Pointer && b.tf.area[0] == 0 && b.tf.area[2] == 1) {
       // Default pointer area: the tablet covers the character's bounding box.

@@ -167,7 +167,7 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
       if (k == "linearGradient" || k == "radialGradient") {
         if (gradient_texels_ >= opt_.max_gradient_texels) {
           warn(n, "more gradients than the texture budget (" + std::to_string(opt_.max_gradient_texels) + " texels); drawn as its mean colour");
-        } else if (auto tex = gradient_texture(server, n, ctx, s.points, uv)) {
+        } else if (auto tex = gradient_texture(server, ctx, s.points, uv)) {
           gradient_texels_ += size_t(tex->width) * size_t(tex->height);
           s.fill.enabled = true;
           s.fill.color = Rgba{1, 1, 1, 1};

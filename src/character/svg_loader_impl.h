@@ -152,8 +152,8 @@ class SvgLoader {
   // A gradient fill as a texture over the shape's rest bounds (`points`, character units) and
   // the map from a rest point to its texture coordinates; nullptr when `server` is no gradient
   // with stops, or the shape or gradient is degenerate (the caller falls back to one colour).
-  std::shared_ptr<const Texture> gradient_texture(const pugi::xml_node& server, const pugi::xml_node& user, const Ctx& ctx,
-                                                  std::span<const Vec2> points, Affine2& uv);
+  std::shared_ptr<const Texture> gradient_texture(const pugi::xml_node& server, const Ctx& ctx, std::span<const Vec2> points,
+                                                  Affine2& uv);
   size_t gradient_texels_ = 0;  // all gradients' textures so far (SvgOptions::max_gradient_texels)
 
   // ---- images ------------------------------------------------------------------------

@@ -44,8 +44,8 @@ double spread(double t, std::string_view method) {
 
 }  // namespace
 
-std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node& server, const pugi::xml_node& user,
-                                                         const Ctx& ctx, std::span<const Vec2> points, Affine2& uv) {
+std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node& server, const Ctx& ctx,
+                                                         std::span<const Vec2> points, Affine2& uv) {
   const std::string_view kind = local_name(server);
   const bool radial = kind == "radialGradient";
   if (!radial && kind != "linearGradient") return nullptr;
@@ -164,7 +164,6 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
       for (int k = 0; k < 4; ++k) o[k] = uint8_t(std::lround(std::clamp(comp[k], 0.0f, 1.0f) * 255.0f));
     }
   uv = Affine2{1.0 / size.x(), 0, 0, 1.0 / size.y(), -b.lo.x() / size.x(), -b.lo.y() / size.y()};
-  (void)user;
   return tex;
 }
 

@@ -37,6 +37,20 @@ void format_event(const Event& e, char* out, size_t n) {
   }
 }
 
+std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n) {
+  std::vector<uint8_t> cells(size_t(n) * size_t(n), 0);
+  for (int j = 0; j < n && !box.empty(); ++j)
+    for (int i = 0; i < n; ++i) {
+      const Vec2 q(box.lo.x() + (i + 0.5) * (box.hi.x() - box.lo.x()) / n, box.lo.y() + (j + 0.5) * (box.hi.y() - box.lo.y()) / n);
+      for (const SubShape& s : ch.shapes)
+        if (s.fill.enabled && !s.hidden && s.contains(q)) {
+          cells[size_t(j * n + i)] = 1;
+          break;
+        }
+    }
+  return cells;
+}
+
 Hud::Hud(const ShowConfig& show) : show_(show), lines_(3 + show.devices.size() + show.bindings.size() * 2) {}
 
 void Hud::set_notice(std::string_view text, bool error) {
@@ -132,19 +146,19 @@ void Hud::draw(SDL_Renderer* r, int w, int h, const HudFrame& f, const Mapping& 
   if (font_) {
     for (size_t i = 0; i < n_; ++i) {
       char* t = lines_[i].text.data();
-      size_t len = std::strlen(t);
+      const size_t len = std::strlen(t);
       if (font_->width(t) <= room) continue;
-      while (len > 0) {
-        t[--len] = 0;
-        if (len + 2 < lines_[i].text.size()) {
-          char trial[sizeof(Line::text)];
-          std::snprintf(trial, sizeof trial, "%s..", t);
-          if (font_->width(trial) <= room) {
-            std::snprintf(t, lines_[i].text.size(), "%s", trial);
-            break;
-          }
-        }
+      // The longest prefix that fits with "..", found by halving (a few measures a line).
+      char trial[sizeof(Line::text)];
+      size_t lo = 0, hi = std::min(len, sizeof trial - 3);
+      while (lo < hi) {
+        const size_t mid = (lo + hi + 1) / 2;
+        std::snprintf(trial, sizeof trial, "%.*s..", int(mid), t);
+        if (font_->width(trial) <= room) lo = mid;
+        else hi = mid - 1;
       }
+      std::snprintf(trial, sizeof trial, "%.*s..", int(lo), t);
+      std::snprintf(t, lines_[i].text.size(), "%s", trial);
     }
   }
   // The bar, then the text on a dark panel.

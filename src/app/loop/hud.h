@@ -8,6 +8,7 @@
 #pragma once
 
 #include "app/show.h"
+#include "character/character.h"
 #include "devices/device.h"
 #include "input/event.h"
 #include "input/mapping.h"
@@ -35,6 +36,10 @@ struct HudAvoid {
   int n = 0;
   const uint8_t* cells = nullptr;  ///< n * n, row by row
 };
+
+/// Which of the n x n cells of `box` the character's filled shapes cover at rest (their centres
+/// inside a shown, filled shape), row by row: HudAvoid's cells. At load, not in a frame.
+std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n);
 
 /// What one frame's HUD reports.
 struct HudFrame {
