@@ -48,6 +48,17 @@ struct Stroke {
   LineJoin join = LineJoin::Miter;
   LineCap cap = LineCap::Butt;
   double miter_limit = 4.0;
+  /// When set, the stroke samples this image (a gradient): a point's texture coordinates are
+  /// uv_from_point of where it lies at rest (a deformed stroke maps back through the affine map
+  /// that best fits its shape's deformation).
+  std::shared_ptr<const Texture> texture;
+  Affine2 uv_from_point;
+  /// Dashes (stroke-dasharray: on, off, on, off ... in character units along the rest outline;
+  /// a dash stretches as its stretch of outline does), and where the pattern starts.
+  std::vector<double> dashes;
+  double dash_offset = 0;
+  /// Drawn under the shape's fill (paint-order: stroke).
+  bool under_fill = false;
 };
 
 /// A polyline inside SubShape::points: points[begin .. begin+count).

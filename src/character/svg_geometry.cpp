@@ -63,6 +63,7 @@ void SvgLoader::shape(const pugi::xml_node& n, const Ctx& ctx) {
     if (name == "polygon") close(pts[0]);
   }
   emit(n, ctx, cmds);
+  if (ctx.style.visible) markers(n, ctx, cmds);  // (on every shape, as SVG 2 has it)
 }
 
 std::shared_ptr<const Texture> SvgLoader::load_image(const pugi::xml_node& n, std::string_view href) {
@@ -159,24 +160,16 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   if (total_points_ > opt_.max_points) return too_complex(n);
   const double op = st.group_opacity;
   paint_failed_ = false;
-  // A gradient fill: a texture that deforms with the shape (svg_paint.cpp).
-  if (st.fill.kind == Paint::Url && s.element != "line") {
-    if (pugi::xml_node server = lookup_iri(st.fill.url)) {
-      Affine2 uv;
-      const std::string_view k = local_name(server);
-      if (k == "linearGradient" || k == "radialGradient") {
-        if (gradient_texels_ >= opt_.max_gradient_texels) {
-          warn(n, "more gradients than the texture budget (" + std::to_string(opt_.max_gradient_texels) + " texels); drawn as its mean colour");
-        } else if (auto tex = gradient_texture(server, ctx, s.points, uv)) {
-          gradient_texels_ += size_t(tex->width) * size_t(tex->height);
-          s.fill.enabled = true;
-          s.fill.color = Rgba{1, 1, 1, 1};
-          s.fill.opacity = static_cast<float>(st.fill_opacity * op);
-          s.fill.rule = st.fill_rule;
-          s.fill.texture = std::move(tex);
-          s.fill.uv_from_point = uv;
-        }
-      }
+  // A gradient fill or stroke: a texture that deforms with the shape (svg_paint.cpp).
+  if (s.element != "line") {
+    Affine2 uv;
+    if (auto tex = gradient_paint(st.fill, n, ctx, s.points, 0.0, uv)) {
+      s.fill.enabled = true;
+      s.fill.color = Rgba{1, 1, 1, 1};
+      s.fill.opacity = static_cast<float>(st.fill_opacity * op);
+      s.fill.rule = st.fill_rule;
+      s.fill.texture = std::move(tex);
+      s.fill.uv_from_point = uv;
     }
   }
   if (!s.fill.enabled) {
@@ -187,15 +180,30 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
       s.fill.rule = st.fill_rule;
     }
   }
-  if (auto c = resolve(st.stroke, n, st); c && st.stroke_width > 0) {
-    s.stroke.enabled = true;
-    s.stroke.color = *c;
-    s.stroke.opacity = static_cast<float>(st.stroke_opacity * op);
-    // Non-uniform scale: use the geometric mean (strokes are not re-shaped per axis).
-    s.stroke.width = st.stroke_width * std::sqrt(std::abs(ctx.ctm.det()));
-    s.stroke.join = st.join;
-    s.stroke.cap = st.cap;
-    s.stroke.miter_limit = st.miter_limit;
+  if (st.stroke_width > 0) {
+    // Non-uniform scale: use the geometric mean (strokes are not re-shaped per axis). A
+    // non-scaling stroke keeps its width in the document's units.
+    const double scale = std::sqrt(std::abs(ctx.ctm.det()));
+    const double width = st.stroke_width * (st.non_scaling ? 1.0 : scale);
+    Affine2 uv;
+    if (auto tex = gradient_paint(st.stroke, n, ctx, s.points, 0.5 * width, uv)) {
+      s.stroke.enabled = true;
+      s.stroke.color = Rgba{1, 1, 1, 1};
+      s.stroke.texture = std::move(tex);
+      s.stroke.uv_from_point = uv;
+    } else if (auto c = resolve(st.stroke, n, st)) {
+      s.stroke.enabled = true;
+      s.stroke.color = *c;
+    }
+    if (s.stroke.enabled) {
+      s.stroke.opacity = static_cast<float>(st.stroke_opacity * op);
+      s.stroke.width = width;
+      s.stroke.join = st.join;
+      s.stroke.cap = st.cap;
+      s.stroke.miter_limit = st.miter_limit;
+      s.stroke.under_fill = st.stroke_first;
+      dash(n, st, scale, s);
+    }
   }
   if (!s.fill.enabled && !s.stroke.enabled) {
     if (paint_failed_) {  // (its warning, naming it, was given where the paint was resolved)
@@ -209,6 +217,26 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   }
   s.layer = layer_index(ctx);
   ch_.shapes.push_back(std::move(s));
+}
+
+// stroke-dasharray onto the shape's stroke, in character units. A pattern that would cut the
+// outline into more than 20,000 dashes is drawn solid, with a warning (a bound on the work a
+// frame does for one file).
+void SvgLoader::dash(const pugi::xml_node& n, const Style& st, double scale, SubShape& s) {
+  if (st.dashes.empty() || !(scale > 0)) return;
+  double period = 0, length = 0;
+  for (double d : st.dashes) period += d * scale;
+  for (const Contour& c : s.contours)
+    for (int k = 1; k < c.count + (c.closed ? 1 : 0); ++k)
+      length += (s.points[size_t(c.begin + k % c.count)] - s.points[size_t(c.begin + k - 1)]).norm();
+  if (!(period > 0) || !std::isfinite(length)) return;
+  if (length / period * double(st.dashes.size()) > 20000) {
+    warn(n, "stroke-dasharray cuts the outline into more than 20000 dashes; drawn solid");
+    count(ch_.approximated, "dashes drawn solid (too many)");
+    return;
+  }
+  for (double d : st.dashes) s.stroke.dashes.push_back(d * scale);
+  s.stroke.dash_offset = st.dash_offset * scale;
 }
 
 int SvgLoader::layer_index(const Ctx& ctx) {

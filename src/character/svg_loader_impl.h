@@ -50,6 +50,11 @@ struct Style {
   Rgba color{0, 0, 0, 1};
   bool visible = true;
   double group_opacity = 1;  // product of ancestors' opacity
+  std::vector<double> dashes;  // stroke-dasharray in user units (even count; empty: solid)
+  double dash_offset = 0;
+  bool stroke_first = false;   // paint-order puts the stroke under the fill
+  bool non_scaling = false;    // vector-effect: non-scaling-stroke (not inherited)
+  std::string marker_start, marker_mid, marker_end;  // marker references (url(#id)), inherited
 };
 
 struct Viewport {
@@ -149,12 +154,22 @@ class SvgLoader {
   void shape(const pugi::xml_node& n, const Ctx& ctx);
 
   // ---- gradients (svg_paint.cpp) -----------------------------------------------------
-  // A gradient fill as a texture over the shape's rest bounds (`points`, character units) and
-  // the map from a rest point to its texture coordinates; nullptr when `server` is no gradient
-  // with stops, or the shape or gradient is degenerate (the caller falls back to one colour).
+  // A gradient as a texture over the shape's rest bounds (`points`, character units; a stroke's
+  // widened by `pad` each side) and the map from a rest point to its texture coordinates;
+  // nullptr when `server` is no gradient with stops, or the shape or gradient is degenerate
+  // (the caller falls back to one colour).
   std::shared_ptr<const Texture> gradient_texture(const pugi::xml_node& server, const Ctx& ctx, std::span<const Vec2> points,
-                                                  Affine2& uv);
+                                                  double pad, Affine2& uv);
+  // A paint naming a gradient, as a texture (gradient_texture) within the texel budget; nullptr
+  // when it names none (or the budget is spent: said).
+  std::shared_ptr<const Texture> gradient_paint(const Paint& p, const pugi::xml_node& n, const Ctx& ctx,
+                                                std::span<const Vec2> points, double pad, Affine2& uv);
   size_t gradient_texels_ = 0;  // all gradients' textures so far (SvgOptions::max_gradient_texels)
+
+  // ---- markers (svg_marker.cpp) ----------------------------------------------------
+  // The markers a shape names, drawn at its vertices as shapes of
+  // their own after it, oriented and scaled as the marker element says.
+  void markers(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds);
 
   // ---- images ------------------------------------------------------------------------
   std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href);
@@ -169,6 +184,8 @@ class SvgLoader {
   void emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds);
 
   int layer_index(const Ctx& ctx);
+
+  void dash(const pugi::xml_node& n, const Style& st, double scale, SubShape& s);
 
   void make_ids_unique();
 

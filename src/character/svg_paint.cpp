@@ -1,5 +1,6 @@
-// Gradients (character/svg_loader.h): a linearGradient or radialGradient fill is evaluated at
-// load into a texture over the shape's rest bounds, sampled through the shape's mesh as an
+// Gradients (character/svg_loader.h): a linearGradient or radialGradient fill or stroke is
+// evaluated at load into a texture over the shape's rest bounds (a stroke's widened by half its
+// width), sampled through the shape's mesh as an
 // <image> is: it deforms with the shape in every renderer and output. Attributes and stops are
 // inherited along href chains (16 hops at most); objectBoundingBox and userSpaceOnUse units,
 // gradientTransform, spreadMethod pad, reflect and repeat, the focal point of a radial one
@@ -45,7 +46,7 @@ double spread(double t, std::string_view method) {
 }  // namespace
 
 std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node& server, const Ctx& ctx,
-                                                         std::span<const Vec2> points, Affine2& uv) {
+                                                         std::span<const Vec2> points, double pad, Affine2& uv) {
   const std::string_view kind = local_name(server);
   const bool radial = kind == "radialGradient";
   if (!radial && kind != "linearGradient") return nullptr;
@@ -86,10 +87,12 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
     if (!stops.empty()) break;
   }
   if (stops.empty() || points.empty()) return nullptr;
-  // The shape's rest bounds (character units), where the texture lies.
+  // The shape's rest bounds (character units), widened for a stroke: where the texture lies.
   Bounds b;
   for (const Vec2& p : points) b.add(p);
-  if (b.empty() || !(b.hi - b.lo).allFinite()) return nullptr;
+  if (b.empty() || !(b.hi - b.lo).allFinite() || !std::isfinite(pad)) return nullptr;
+  b.lo -= Vec2(pad, pad);
+  b.hi += Vec2(pad, pad);
   // Gradient space -> character: the element's CTM, the bounding box (objectBoundingBox units:
   // the box of the shape in its own user space), then gradientTransform.
   const Affine2 to_user = ctx.ctm.inverse();
@@ -164,6 +167,22 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
       for (int k = 0; k < 4; ++k) o[k] = uint8_t(std::lround(std::clamp(comp[k], 0.0f, 1.0f) * 255.0f));
     }
   uv = Affine2{1.0 / size.x(), 0, 0, 1.0 / size.y(), -b.lo.x() / size.x(), -b.lo.y() / size.y()};
+  return tex;
+}
+
+std::shared_ptr<const Texture> SvgLoader::gradient_paint(const Paint& p, const pugi::xml_node& n, const Ctx& ctx,
+                                                       std::span<const Vec2> points, double pad, Affine2& uv) {
+  if (p.kind != Paint::Url) return nullptr;
+  const pugi::xml_node server = lookup_iri(p.url);
+  const std::string_view k = server ? local_name(server) : std::string_view{};
+  if (k != "linearGradient" && k != "radialGradient") return nullptr;
+  if (gradient_texels_ >= opt_.max_gradient_texels) {
+    warn(n, "more gradients than the texture budget (" + std::to_string(opt_.max_gradient_texels) +
+                " texels); drawn as its mean colour");
+    return nullptr;
+  }
+  auto tex = gradient_texture(server, ctx, points, pad, uv);
+  if (tex) gradient_texels_ += size_t(tex->width) * size_t(tex->height);
   return tex;
 }
 

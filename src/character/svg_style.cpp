@@ -3,6 +3,7 @@
 #include "character/svg_loader_impl.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace mar::svg_load {
@@ -15,7 +16,8 @@ SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
       "fill", "fill-opacity", "fill-rule", "stroke", "stroke-width", "stroke-opacity",
       "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
       "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
-      "mask", "clip-path"};
+      "mask", "clip-path", "stroke-dashoffset", "paint-order", "vector-effect", "marker-start", "marker-mid",
+      "marker-end"};
   for (const char* p : kPresentation) {
     if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
   }
@@ -158,9 +160,49 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
     if (j == "visible") s.visible = true;
   }
   if (auto v = prop(d, "opacity"); v) s.group_opacity *= svg::parse_opacity(*v, 1);
-  if (auto v = prop(d, "stroke-dasharray"); v && trim_space(*v) != "none") {
-    warn(n, "stroke-dasharray is not supported; drawn solid");
+  if (auto v = prop(d, "stroke-dasharray"); v && !is_inherit(*v)) {
+    // Lengths (user units, % of the viewport's diagonal), by commas or spaces; an odd list is
+    // repeated; none, all zeros or a negative length draw the stroke solid (SVG 2, 13.5.1).
+    std::vector<double> dashes;
+    bool bad = false;
+    std::string_view rest = trim_space(*v);
+    while (!rest.empty() && rest != "none" && !bad) {
+      const size_t end = rest.find_first_of(", \t\r\n");
+      const std::string_view item = rest.substr(0, end);
+      rest = end == std::string_view::npos ? std::string_view{} : trim_space(rest.substr(end + 1));
+      if (!rest.empty() && rest.front() == ',') rest = trim_space(rest.substr(1));
+      if (item.empty()) continue;
+      const auto len = svg::parse_length(item, 2, current_vp_.w, current_vp_.h);
+      if (!len || !(*len >= 0) || dashes.size() >= 64) bad = true;
+      else dashes.push_back(*len);
+    }
+    double sum = 0;
+    for (double x : dashes) sum += x;
+    if (bad) warn(n, "stroke-dasharray=\"" + std::string(*v) + "\" is not a list of at most 64 lengths of 0 or more; drawn solid");
+    if (bad || !(sum > 0)) dashes.clear();
+    if (dashes.size() % 2) dashes.insert(dashes.end(), dashes.begin(), dashes.end());
+    s.dashes = std::move(dashes);
   }
+  if (auto v = prop(d, "stroke-dashoffset"); v && !is_inherit(*v)) {
+    if (auto o = svg::parse_length(*v, 2, current_vp_.w, current_vp_.h); o && std::isfinite(*o)) s.dash_offset = *o;
+  }
+  if (auto v = prop(d, "paint-order"); v && !is_inherit(*v)) {
+    // "stroke" before "fill" (or named with fill left out: "stroke markers" puts fill last).
+    const std::string_view o = trim_space(*v);
+    const size_t st = o.find("stroke"), fi = o.find("fill");
+    s.stroke_first = o != "normal" && st != std::string_view::npos && (fi == std::string_view::npos || st < fi);
+  }
+  // Markers: the `marker` shorthand (style sheets and the style attribute only), then each.
+  for (const auto& [k, v] : d) {
+    std::string* slot = k == "marker-start" ? &s.marker_start : k == "marker-mid" ? &s.marker_mid : k == "marker-end" ? &s.marker_end : nullptr;
+    if (k == "marker" && !n.attribute("marker")) {
+      s.marker_start = s.marker_mid = s.marker_end = std::string(trim_space(v));
+    } else if (slot && !is_inherit(v)) {
+      *slot = std::string(trim_space(v));
+    }
+  }
+  s.non_scaling = false;
+  if (auto v = prop(d, "vector-effect"); v) s.non_scaling = trim_space(*v) == "non-scaling-stroke";
   if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") {
     warn(n, "filter ignored");
     count(ch_.approximated, "a filter ignored");

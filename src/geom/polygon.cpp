@@ -1,5 +1,7 @@
 #include "geom/polygon.h"
 
+#include <Eigen/LU>
+
 namespace mar {
 
 double signed_area(std::span<const Vec2> ring) {
@@ -138,6 +140,33 @@ double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to) {
   double sum = 0;
   for (size_t i = 0; i < n; ++i) sum += (m.apply(from[i]) - to[i]).squaredNorm();
   return std::sqrt(sum / static_cast<double>(n));
+}
+
+Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
+  const size_t n = std::min(from.size(), to.size());
+  if (n == 0) return {};
+  Vec2 cf = Vec2::Zero(), ct = Vec2::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    cf += from[i];
+    ct += to[i];
+  }
+  cf /= double(n);
+  ct /= double(n);
+  // Centred, the linear part is A = S_tf S_ff^-1.
+  Eigen::Matrix2d sff = Eigen::Matrix2d::Zero(), stf = Eigen::Matrix2d::Zero();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 f = from[i] - cf, t = to[i] - ct;
+    sff += f * f.transpose();
+    stf += t * f.transpose();
+  }
+  const double tr = sff.trace();
+  if (tr > 0 && sff.determinant() > 1e-12 * tr * tr) {
+    const Eigen::Matrix2d m = stf * sff.inverse();
+    const Vec2 t = ct - m * cf;
+    if (m.allFinite() && t.allFinite()) return {m(0, 0), m(1, 0), m(0, 1), m(1, 1), t.x(), t.y()};
+  }
+  const Vec2 d = ct - cf;
+  return Affine2::translate(d.x(), d.y());
 }
 
 }  // namespace mar

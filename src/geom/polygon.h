@@ -28,6 +28,11 @@ struct RigidMotion {
 /// (the first min(sizes) points); the identity rotation when they have no spread.
 RigidMotion rigid_fit(std::span<const Vec2> from, std::span<const Vec2> to);
 
+/// The affine map that best takes `from` onto `to` (least squares over the first min(sizes)
+/// points); the translation between their centroids where `from` does not span the plane (a
+/// line). Allocates nothing.
+Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to);
+
 /// RMS residual of the best rigid fit (rotation + translation, 2D Procrustes) of `from`
 /// onto `to` (same sizes): how much a part's shape changed, wherever it went. Allocates nothing.
 double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to);

@@ -494,6 +494,72 @@ void stroke_polyline(std::span<const Vec2> pts, bool closed, const StrokeStyle& 
   cap(pts[last_end], last_dir);
 }
 
+namespace {
+
+// A textured stroke (a gradient): each of its vertices (from `first_vertex` on, in pixels) takes
+// the texture coordinates of the rest point it stands for — through the view's inverse, and
+// for a deformed shape through the affine map that best fits its deformation back to rest.
+void texture_stroke(const SubShape& s, std::span<const Vec2> pts, const Affine2& view, size_t first_vertex, DrawList& out) {
+  Affine2 to_rest = view.inverse();
+  if (pts.data() != s.points.data()) to_rest = affine_fit(pts, s.points) * to_rest;
+  const Affine2 uv = s.stroke.uv_from_point * to_rest;
+  for (size_t v = first_vertex; v < out.vertices.size(); ++v) {
+    SDL_Vertex& x = out.vertices[v];
+    const Vec2 t = uv.apply(Vec2(x.position.x, x.position.y));
+    x.tex_coord = {std::clamp(float(t.x()), 0.0f, 1.0f), std::clamp(float(t.y()), 0.0f, 1.0f)};
+    // The GPU's textures are premultiplied, and so are its modulation colours (DrawList::fringe).
+    if (out.fringe) x.color = {Uint8(x.color.r * x.color.a / 255), Uint8(x.color.g * x.color.a / 255), Uint8(x.color.b * x.color.a / 255), x.color.a};
+  }
+}
+
+// A dashed stroke: the contour `c` of `s` (its points in pixels: `px`) cut where the dash
+// pattern says, measured along the rest outline, so that a dash stretches with its stretch of
+// outline. Each dash is stroked as an open polyline.
+void stroke_dashes(const SubShape& s, const Contour& c, std::span<const Vec2> px, const StrokeStyle& st, SDL_Color col, DrawList& out) {
+  const std::vector<double>& dash = s.stroke.dashes;
+  double period = 0;
+  for (double d : dash) period += d;
+  if (!(period > 0)) return;
+  // Where the pattern is at the contour's start.
+  double at = std::fmod(s.stroke.dash_offset, period);
+  if (at < 0) at += period;
+  size_t k = 0;
+  for (size_t guard = 0; at >= dash[k] && guard < dash.size(); ++guard) {
+    at -= dash[k];
+    k = (k + 1) % dash.size();
+  }
+  double left = dash[k] - at;  // of the current dash (even k) or gap (odd k)
+  auto& piece = out.dash_scratch;
+  piece.clear();
+  if (k % 2 == 0) piece.push_back(px[0]);
+  const int segments = c.count - (c.closed ? 0 : 1);
+  for (int j = 0; j < segments; ++j) {
+    const size_t i0 = size_t(j), i1 = size_t((j + 1) % c.count);
+    const Vec2 &a = px[i0], &b = px[i1];
+    const double len = (s.points[size_t(c.begin) + i1] - s.points[size_t(c.begin) + i0]).norm();
+    double done = 0;  // of this segment, in rest units
+    while (len - done > left) {
+      done += left;
+      const Vec2 p = a + (b - a) * (done / len);
+      if (k % 2 == 0) {
+        piece.push_back(p);
+        if (piece.size() >= 2) stroke_polyline(piece, false, st, col, out);
+        piece.clear();
+      } else {
+        piece.clear();
+        piece.push_back(p);
+      }
+      k = (k + 1) % dash.size();
+      left = dash[k];
+    }
+    left -= len - done;
+    if (k % 2 == 0) piece.push_back(b);
+  }
+  if (k % 2 == 0 && piece.size() >= 2) stroke_polyline(piece, false, st, col, out);
+}
+
+}  // namespace
+
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view, double tolerance_px,
                      DrawList& out, std::span<const char> shown) {
@@ -504,6 +570,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     const SubShape& s = ch.shapes[i];
     const Points& pts = positions.empty() ? s.points : positions[i];
     if (pts.size() != s.points.size()) continue;
+    auto draw_fill = [&] {
     if (s.fill.enabled && i < mesh.shapes.size() && !mesh.shapes[i].fill.triangles.empty()) {
       const ShapeMesh& sm = mesh.shapes[i];
       const Texture* tex = s.fill.texture.get();
@@ -539,6 +606,8 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       out.item_outline.push_back({outline_begin, static_cast<int>(out.outline.size())});
       end_batch(out);
     }
+    };
+    auto draw_stroke = [&] {
     if (s.stroke.enabled) {
       StrokeStyle st;
       st.half_width = 0.5 * s.stroke.width * scale;
@@ -547,16 +616,28 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       st.miter_limit = s.stroke.miter_limit;
       st.tolerance = tolerance_px;
       const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity);
-      begin_batch(out, nullptr);
+      const Texture* tex = s.stroke.texture.get();
+      begin_batch(out, tex);
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
       out.item_outline.push_back({static_cast<int>(out.outline.size()), static_cast<int>(out.outline.size())});
+      const size_t first_vertex = out.vertices.size();
       for (const Contour& c : s.contours) {
         if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));
         for (int k = 0; k < c.count; ++k) out.scratch[static_cast<size_t>(k)] = view.apply(pts[static_cast<size_t>(c.begin + k)]);
-        stroke_polyline(out.scratch, c.closed, st, col, out);
+        if (s.stroke.dashes.empty()) stroke_polyline(out.scratch, c.closed, st, col, out);
+        else stroke_dashes(s, c, out.scratch, st, col, out);
       }
+      if (tex) texture_stroke(s, pts, view, first_vertex, out);
       end_batch(out);
+    }
+    };
+    if (s.stroke.under_fill) {
+      draw_stroke();
+      draw_fill();
+    } else {
+      draw_fill();
+      draw_stroke();
     }
   }
 }

@@ -50,6 +50,7 @@ struct DrawList {
   std::vector<std::array<int, 2>> item_outline;
   std::vector<int> outline;
   std::vector<Vec2> scratch;  ///< working space
+  std::vector<Vec2> dash_scratch;  ///< working space (one dash of a dashed stroke)
   /// Anti-aliased geometry for renderers that only draw aliased triangles (the GPU's): when
   /// set before build_draw_list(), every fill and stroke comes with a fringe, a strip one pixel
   /// wide along its outline whose alpha falls from the item's to 0 (docs/algorithms.md §8, NanoVG's

@@ -231,7 +231,7 @@ TEST(load_svg, StrokeWidthFollowsTransformScale) {
   EXPECT_DOUBLE_EQ(ch.shapes.at(0).stroke.width, 6);
 }
 
-TEST(load_svg, PatternsTextFiltersWarnAndGradientStrokesAreTheirMeanColour) {
+TEST(load_svg, PatternsTextAndFiltersWarnAndGradientStrokesAreTextures) {
   auto ch = load(R"svg(<defs><linearGradient id="g"><stop offset="0" stop-color="#ff0000"/>
                       <stop offset="1" stop-color="#0000ff"/></linearGradient>
                       <linearGradient id="g2" xlink:href="#g"/>
@@ -242,15 +242,84 @@ TEST(load_svg, PatternsTextFiltersWarnAndGradientStrokesAreTheirMeanColour) {
                     <rect id="d" width="1" height="1" fill="url(#missing) #00ffff"/>
                     <text x="0" y="0">hi</text>
                     <rect id="e" width="1" height="1" filter="url(#f)"/>)svg");
-  EXPECT_EQ(color_hex(find(ch, "a")->stroke.color), "#800080");  // a stroke: the mean of red and blue
-  EXPECT_EQ(color_hex(find(ch, "b")->stroke.color), "#800080");  // stops through href
+  // A gradient stroke samples a texture over the shape's bounds widened by half its width.
+  for (const char* id : {"a", "b"}) {
+    const SubShape& s = *find(ch, id);
+    ASSERT_TRUE(s.stroke.enabled && s.stroke.texture) << id;
+    EXPECT_NEAR(s.stroke.uv_from_point.apply(Vec2(-0.5, -0.5)).x(), 0, 1e-9);
+    EXPECT_NEAR(s.stroke.uv_from_point.apply(Vec2(1.5, 1.5)).y(), 1, 1e-9);
+    const Texture& t = *s.stroke.texture;  // red on the left, blue on the right (stops via href for b)
+    EXPECT_GT(t.rgba[0], 200);
+    EXPECT_GT(t.rgba[size_t(t.width - 1) * 4 + 2], 200);
+  }
   EXPECT_EQ(color_hex(find(ch, "c")->fill.color), "#00ff00");
   EXPECT_EQ(color_hex(find(ch, "d")->fill.color), "#00ffff");  // fallback colour
   EXPECT_TRUE(find(ch, "e"));
-  EXPECT_TRUE(has_warning(ch, "linearGradient 'g' drawn as its mean colour"));
+  EXPECT_FALSE(has_warning(ch, "linearGradient 'g' drawn as its mean colour"));
   EXPECT_TRUE(has_warning(ch, "pattern 'pat'"));
   EXPECT_TRUE(has_warning(ch, "text is not supported"));
   EXPECT_TRUE(has_warning(ch, "filter ignored"));
+}
+
+TEST(load_svg, DashesPaintOrderAndNonScalingStrokes) {
+  auto ch = load(R"svg(<g transform="scale(2)" stroke="black" fill="red">
+                      <path id="odd" d="M0 0 H40" stroke-dasharray="4, 2 1" stroke-dashoffset="3"/>
+                      <path id="pct" d="M0 0 H40" stroke-dasharray="10%"/>
+                      <path id="zero" d="M0 0 H40" stroke-dasharray="0 0"/>
+                      <path id="neg" d="M0 0 H40" stroke-dasharray="4 -1"/>
+                      <path id="many" d="M0 0 H40" stroke-dasharray="0.0001"/>
+                      <rect id="under" width="5" height="5" paint-order="stroke fill"/>
+                      <rect id="markers" width="5" height="5" paint-order="markers stroke"/>
+                      <rect id="normal" width="5" height="5" paint-order="fill"/>
+                      <rect id="thin" width="5" height="5" stroke-width="3" vector-effect="non-scaling-stroke"/>
+                    </g>)svg");
+  // An odd list repeats; lengths and offset scale with the transform (x2).
+  EXPECT_EQ(find(ch, "odd")->stroke.dashes, (std::vector<double>{8, 4, 2, 8, 4, 2}));
+  EXPECT_DOUBLE_EQ(find(ch, "odd")->stroke.dash_offset, 6);
+  // A percentage is of the viewport's normalised diagonal (100 x 100: 10 % is 10), doubled.
+  ASSERT_EQ(find(ch, "pct")->stroke.dashes.size(), 2u);
+  EXPECT_NEAR(find(ch, "pct")->stroke.dashes[0], 20, 1e-9);
+  EXPECT_TRUE(find(ch, "zero")->stroke.dashes.empty());  // all zero: solid
+  EXPECT_TRUE(find(ch, "neg")->stroke.dashes.empty());   // negative: solid, said
+  EXPECT_TRUE(has_warning(ch, "stroke-dasharray=\"4 -1\""));
+  EXPECT_TRUE(find(ch, "many")->stroke.dashes.empty());  // 800,000 dashes: solid, said
+  EXPECT_TRUE(has_warning(ch, "more than 20000 dashes"));
+  EXPECT_TRUE(find(ch, "under")->stroke.under_fill);
+  EXPECT_TRUE(find(ch, "markers")->stroke.under_fill);  // (fill, left out, comes last)
+  EXPECT_FALSE(find(ch, "normal")->stroke.under_fill);
+  EXPECT_DOUBLE_EQ(find(ch, "thin")->stroke.width, 3);  // not 6
+  EXPECT_DOUBLE_EQ(find(ch, "normal")->stroke.width, 2);
+}
+
+TEST(load_svg, MarkersAtVerticesTurnedScaledAndPlaced) {
+  auto ch = load(R"svg(<defs>
+      <marker id="arrow" orient="auto" markerUnits="userSpaceOnUse" refX="1" refY="0" overflow="visible">
+        <path id="tip" d="M1 0 L5 0" stroke="black" stroke-width="1"/></marker>
+      <marker id="dot" markerWidth="2" markerHeight="2" viewBox="0 0 10 10" refX="5" refY="5" orient="90">
+        <rect id="sq" width="10" height="4" fill="red"/></marker></defs>
+    <path id="p" d="M10 10 L50 10 L50 50" fill="none" stroke="blue" stroke-width="2"
+          marker-start="url(#arrow)" marker-mid="url(#arrow)" marker-end="url(#dot)"/>
+    <path id="q" d="M0 90 L10 90" style="marker: url(#missing)"/>)svg");
+  // The path, then its markers in vertex order, named after it.
+  ASSERT_NE(find(ch, "p:tip"), nullptr);
+  ASSERT_NE(find(ch, "p:tip.2"), nullptr);
+  ASSERT_NE(find(ch, "p:sq"), nullptr);
+  auto near = [](const Vec2& a, const Vec2& b) { return (a - b).norm() < 1e-6; };
+  // Start: along the first segment, the ref point (1, 0) on the vertex.
+  const SubShape& start = *find(ch, "p:tip");
+  EXPECT_TRUE(near(start.points.front(), {10, 10}));
+  EXPECT_TRUE(near(start.points.back(), {14, 10}));
+  // The corner: the bisector of east and south, 45 degrees.
+  const SubShape& mid = *find(ch, "p:tip.2");
+  EXPECT_TRUE(near(mid.points.back(), Vec2(50, 10) + 4 * Vec2(1, 1) / std::sqrt(2.0)));
+  // End: viewBox 10 x 10 into 2 x 2 stroke widths (x 2: 4 units), centred by refX/refY on the
+  // vertex and turned 90 degrees: the 10 x 4 rectangle becomes 1.6 wide, 4 tall.
+  const Bounds b = find(ch, "p:sq")->bounds();
+  EXPECT_NEAR(b.width(), 1.6, 1e-6);
+  EXPECT_NEAR(b.height(), 4, 1e-6);
+  EXPECT_NEAR(b.hi.x(), 52, 1e-6);  // (the rect's top edge, y = 0 -> 5 above the ref, turned)
+  EXPECT_NEAR(b.lo.y(), 48, 1e-6);
+  EXPECT_TRUE(has_warning(ch, "marker 'url(#missing)' is no marker"));
 }
 
 TEST(load_svg, InkscapeLayersInDocumentOrder) {

@@ -56,3 +56,23 @@ TEST(remove_duplicate_points, DropsRepeatsAndClosingPoint) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+TEST(affine_fit, RecoversAnAffineMapAndFallsBackOnALine) {
+  const Affine2 m{1.5, 0.25, -0.5, 0.75, 10, -4};
+  std::vector<Vec2> from{{0, 0}, {10, 0}, {10, 5}, {0, 5}, {3, 2}}, to;
+  for (const Vec2& p : from) to.push_back(m.apply(p));
+  const Affine2 f = affine_fit(from, to);
+  for (double v : {f.a - m.a, f.b - m.b, f.c - m.c, f.d - m.d, f.e - m.e, f.f - m.f}) EXPECT_NEAR(v, 0, 1e-9);
+  // Points on one line do not fix the map across it: the centroids' translation.
+  const std::vector<Vec2> line{{0, 0}, {10, 0}}, moved{{1, 2}, {11, 2}};
+  const Affine2 t = affine_fit(line, moved);
+  EXPECT_NEAR(t.apply(Vec2(5, 7)).x(), 6, 1e-9);
+  EXPECT_NEAR(t.apply(Vec2(5, 7)).y(), 9, 1e-9);
+  EXPECT_NEAR(affine_fit({}, {}).det(), 1, 1e-12);
+}
+
+}  // namespace
+}  // namespace mar

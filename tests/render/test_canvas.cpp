@@ -102,6 +102,55 @@ TEST(render_character, TexturedFillSamplesTheImage) {
   EXPECT_EQ(rgb(7, 7), 7);  // white
 }
 
+// A gradient stroke samples its texture where the stroke lies, at rest and when the shape moves:
+// red on the left, blue on the right, wherever the shape goes.
+TEST(render_character, GradientStrokesFollowTheirShape) {
+  const Character ch = svg(R"svg(<defs><linearGradient id="g"><stop offset="0" stop-color="#f00"/>
+      <stop offset="1" stop-color="#00f"/></linearGradient></defs>
+      <rect x="4" y="4" width="40" height="12" fill="none" stroke="url(#g)" stroke-width="4"/>)svg", 60, 40);
+  const CharacterMesh mesh = prepare_mesh(ch);
+  auto rest = render_character(ch, mesh, RenderOptions{});
+  ASSERT_TRUE(rest.ok()) << rest.error;
+  auto red = [](const uint8_t* p) { return p[0] > 180 && p[2] < 80 && p[3] > 200; };
+  auto blue = [](const uint8_t* p) { return p[2] > 180 && p[0] < 80 && p[3] > 200; };
+  EXPECT_TRUE(red(px(*rest.value, 4, 10)));
+  EXPECT_TRUE(blue(px(*rest.value, 44, 10)));
+  EXPECT_EQ(px(*rest.value, 24, 10)[3], 0);  // (no fill)
+  // Moved 10 right and 20 down: the colours go with it.
+  std::vector<Points> moved{ch.shapes[0].points};
+  for (Vec2& p : moved[0]) p += Vec2(10, 20);
+  auto img = render_character(ch, mesh, RenderOptions{}, moved);
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_TRUE(red(px(*img.value, 14, 30)));
+  EXPECT_TRUE(blue(px(*img.value, 54, 30)));
+  EXPECT_EQ(px(*img.value, 4, 10)[3], 0);
+}
+
+TEST(render_character, DashesFollowThePatternAndTheirOffset) {
+  const Character ch = svg(R"(<path d="M0 5 H60" stroke="#000" stroke-width="4" stroke-dasharray="10 5" stroke-dashoffset="5"/>)", 60, 10);
+  auto img = render_character(ch, prepare_mesh(ch), RenderOptions{});
+  ASSERT_TRUE(img.ok()) << img.error;
+  // Offset 5: dash 0-5, gap 5-10, dash 10-20, gap 20-25, dash 25-35 ...
+  for (int x : {2, 12, 18, 27, 33}) EXPECT_EQ(px(*img.value, x, 5)[3], 255) << x;
+  for (int x : {7, 22, 37}) EXPECT_EQ(px(*img.value, x, 5)[3], 0) << x;
+  // Squeezed to half its length, every dash and gap is half as long (dashes are measured along
+  // the rest outline): dash 0-2.5, gap 2.5-5, dash 5-10, gap 10-12.5, dash 12.5-17.5.
+  std::vector<Points> squeezed{ch.shapes[0].points};
+  for (Vec2& p : squeezed[0]) p.x() *= 0.5;
+  auto half = render_character(ch, prepare_mesh(ch), RenderOptions{}, squeezed);
+  ASSERT_TRUE(half.ok()) << half.error;
+  for (int x : {1, 6, 8, 13, 16}) EXPECT_EQ(px(*half.value, x, 5)[3], 255) << x;
+  for (int x : {3, 10, 40}) EXPECT_EQ(px(*half.value, x, 5)[3], 0) << x;
+}
+
+TEST(render_character, PaintOrderPutsTheStrokeUnderTheFill) {
+  const Character ch = svg(R"(<rect x="5" y="5" width="10" height="10" fill="#f00" stroke="#00f" stroke-width="4" paint-order="stroke"/>)");
+  auto img = render_character(ch, prepare_mesh(ch), RenderOptions{});
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_EQ(px(*img.value, 6, 10)[0], 255);  // inside the outline: the fill, over the stroke
+  EXPECT_EQ(px(*img.value, 4, 10)[2], 255);  // outside: the stroke's outer half
+}
+
 TEST(Canvas, RejectsBadSizes) {
   EXPECT_FALSE(Canvas::offscreen(0, 10).ok());
   EXPECT_FALSE(Canvas::offscreen(10, 100000).ok());

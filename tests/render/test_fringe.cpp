@@ -3,6 +3,7 @@
 // way here, on the CPU, the fringed triangles must give what the exact-coverage rasterizer gives
 // for the plain ones.
 #include "character/load.h"
+#include "character/svg_loader.h"
 #include "render/canvas.h"
 #include "render/raster.h"
 #include "test_util.h"
@@ -97,6 +98,32 @@ TEST(Fringe, AThickStrokeHasAnOpaqueCoreAndEdgesAtTheirCoverage) {
   EXPECT_NEAR(s.alpha(30, 10), 0.25, 0.01);  // the end at x = 30.25
   EXPECT_NEAR(s.alpha(5, 10), 1.0, 0.01);
   EXPECT_NEAR(s.alpha(4, 10), 0.0, 0.01);
+}
+
+// A gradient stroke on the GPU: its triangles sample the gradient's texture, which is uploaded
+// premultiplied, so their modulation colours are premultiplied too; texture coordinates run
+// from the left of the stroke (0) to its right (1). (A gradient in objectBoundingBox units on a
+// straight line paints nothing, as SVG says: its box has no height.)
+TEST(Fringe, AGradientStrokeCarriesPremultipliedColoursAndItsTextureCoordinates) {
+  auto ch = load_svg_string(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="60" height="30">
+      <defs><linearGradient id="g" gradientUnits="userSpaceOnUse" x1="5" x2="55"><stop offset="0" stop-color="#f00"/>
+      <stop offset="1" stop-color="#00f"/></linearGradient></defs>
+      <path d="M5 15 H55" fill="none" stroke="url(#g)" stroke-width="6" stroke-opacity="0.5"/></svg>)svg", "g.svg");
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  DrawList l;
+  l.fringe = true;
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, l);
+  ASSERT_EQ(l.batches.size(), 1u);
+  ASSERT_TRUE(l.batches[0].texture);
+  float left = 1, right = 0;
+  for (const SDL_Vertex& v : l.vertices) {
+    EXPECT_LE(v.color.r, v.color.a);
+    EXPECT_LE(v.color.a, 128);
+    if (v.position.x < 6) left = std::min(left, v.tex_coord.x);
+    if (v.position.x > 54) right = std::max(right, v.tex_coord.x);
+  }
+  EXPECT_LT(left, 0.1f);
+  EXPECT_GT(right, 0.9f);
 }
 
 // Fills: one thinner than a pixel is drawn at its coverage (0.4 px wide: alpha 0.4 along its
