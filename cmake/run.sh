@@ -22,7 +22,8 @@ PACKAGES=(cmake g++ pkg-config
   libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool openbox espeak-ng
   libpipewire-0.3-dev pipewire wireplumber dbus gstreamer1.0-pipewire gstreamer1.0-tools gstreamer1.0-plugins-good
   libavcodec-dev libavformat-dev libavutil-dev libswscale-dev ffmpeg liblo-tools
-  clang libclang-rt-14-dev python3)
+  clang libclang-rt-14-dev python3
+  openclipart-svg librsvg2-bin)
 
 install_deps() {
   # Installed for this machine's architecture: `bash cmake/run.sh arm64` may have put the arm64

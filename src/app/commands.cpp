@@ -67,6 +67,8 @@ int cmd_render(const RenderArgs& a) {
   ro.supersample = a.supersample;
   LoadOptions lo;
   lo.mask_path = a.mask;
+  if (ro.width > 0 && ro.height > 0)  // (curves within 0.1 px at the picture's size)
+    lo.pixels_per_unit = [&ro](double w, double h) { return fit_view(w, h, ro.width, ro.height).max_scale(); };
   Result<Character> ch = load_character(a.input, lo);
   if (!ch.ok()) {
     std::cerr << "error: " << ch.error << "\n";

@@ -82,6 +82,16 @@ std::string LiveShow::validate(const std::string& path) {
   return s.ok() ? std::string() : s.error;
 }
 
+namespace {
+
+// The canvas: [output]'s size, else the window's (a run's --size before either).
+std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh) {
+  return {o.width > 0 ? o.width : sh.out_width > 0 ? sh.out_width : sh.width,
+          o.height > 0 ? o.height : sh.out_height > 0 ? sh.out_height : sh.height};
+}
+
+}  // namespace
+
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o, LiveShow* previous) {
   auto s = prepare(path, o);
   if (!s.ok()) return s;
@@ -96,7 +106,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   // against the loaded puppet: its handles and the settings a binding may drive.
   std::vector<SolverParameter> params;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    auto puppet = load_puppet(header.character, header.rig, "", true, header.images_anywhere);
+    // (on the canvas begin() makes, curves are flattened to within 0.1 px)
+    auto puppet = load_puppet(header.character, header.rig, "", true, header.images_anywhere, canvas_size(o, header));
     if (!puppet.ok()) return Result<ShowRig>::failure(puppet.error);
     s->puppet_ = std::move(*puppet.value);
     const Puppet& p = *s->puppet_;
@@ -255,8 +266,7 @@ bool LiveShow::open_output(std::string* err) {
   const ShowConfig& sh = show_;
   // The canvas: [output]'s size, else the window's; at N x with --supersample N (dumps are
   // box-filtered back down).
-  const int canvas_w = opt_.width > 0 ? opt_.width : sh.out_width > 0 ? sh.out_width : sh.width,
-            canvas_h = opt_.height > 0 ? opt_.height : sh.out_height > 0 ? sh.out_height : sh.height;
+  const auto [canvas_w, canvas_h] = canvas_size(opt_, sh);
   const int ss = std::clamp(opt_.supersample, 1, 8);
   if (!opt_.headless && display_present()) {
     WindowOptions wo;
@@ -297,7 +307,7 @@ bool LiveShow::open_output(std::string* err) {
     }
     canvas_ = std::move(*c.value);
   }
-  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
+  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
   canvas_->set_antialias(!opt_.aliased);
   if (!opt_.replay_path.empty()) {
     auto r = Playback::open(opt_.replay_path);

@@ -181,7 +181,7 @@ void LiveShow::adopt(LiveShow& old) {
       std::cerr << "warning: the HUD has no text: " << e << "\n";
   }
   const int ss = std::clamp(opt_.supersample, 1, 8);
-  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), 16.0 * ss);
+  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
   if (started_) {  // the OSC address space follows the rig
     OutputsSpec out;
     out.set_osc(show_, puppet_->rig);

@@ -2,6 +2,7 @@
 #include "rig/auto_rig.h"
 
 #include "character/load.h"
+#include "render/canvas.h"
 #include "render/overlay.h"
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
@@ -42,14 +43,14 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path, bool physics, bool images_anywhere) {
+                                            const std::string& mask_path, bool physics, bool images_anywhere, std::array<int, 2> canvas) {
   Result<Rig> rig = load_rig(rig_path);
   if (!rig.ok()) return Result<std::unique_ptr<Puppet>>::failure(rig.error);
-  return load_puppet(character_path, std::move(*rig.value), mask_path, physics, images_anywhere);
+  return load_puppet(character_path, std::move(*rig.value), mask_path, physics, images_anywhere, canvas);
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path, bool physics,
-                                            bool images_anywhere) {
+                                            bool images_anywhere, std::array<int, 2> canvas) {
   using R = Result<std::unique_ptr<Puppet>>;
   auto p = std::make_unique<Puppet>();
   p->rig = std::move(rig);
@@ -62,6 +63,8 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   LoadOptions lo;
   lo.mask_path = mask_path;
   lo.images_anywhere = images_anywhere;
+  if (canvas[0] > 0 && canvas[1] > 0)  // (as the show places it: LiveShow's view)
+    lo.pixels_per_unit = [canvas](double w, double h) { return fit_view(w, h, canvas[0], canvas[1], kShowMargin).max_scale(); };
   if (mask_path.empty()) {  // the rig's mask goes with the rig's character
     std::error_code ec;
     const bool own = character_path.empty() || std::filesystem::weakly_canonical(character_path, ec) ==

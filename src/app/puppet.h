@@ -8,6 +8,7 @@
 #include "rig/chains.h"
 #include "solve/solver.h"
 
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -58,16 +59,23 @@ struct Puppet {
 /// rigid grid) with handles at `handle_points`, mapped by `view`.
 void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points, const Affine2& view, DrawList& list);
 
+/// The margin a show keeps around its character on the canvas (px at the canvas's size).
+inline constexpr double kShowMargin = 16.0;
+
 /// Loads the rig, then the character (`character_path`, or the rig's own when empty).
 /// Errors are bad input (file:line).
 /// `mask_path`: a PNG character's mask (non-black = figure); empty: the rig's `mask` when the
 /// character is the rig's own file, else the PNG's alpha.
 /// `physics`: the rig's [[physics]] chains get their handles (a show's motion stage drives them).
 /// `images_anywhere`: an SVG character may name images outside its folder ([show] images).
+/// `canvas`: the canvas it is drawn on (width, height in px; 0: not known), where an SVG's curves
+/// are flattened to within 0.1 px (LoadOptions::pixels_per_unit).
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
-                                            const std::string& mask_path = "", bool physics = false, bool images_anywhere = false);
+                                            const std::string& mask_path = "", bool physics = false, bool images_anywhere = false,
+                                            std::array<int, 2> canvas = {0, 0});
 /// The same with a rig already read (a bench or tool that changes its solver first).
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, Rig rig, const std::string& mask_path = "",
-                                            bool physics = false, bool images_anywhere = false);
+                                            bool physics = false, bool images_anywhere = false,
+                                            std::array<int, 2> canvas = {0, 0});
 
 }  // namespace mar

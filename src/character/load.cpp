@@ -5,6 +5,7 @@
 #include "input/read_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -46,7 +47,17 @@ Result<Character> load_character(const std::string& path, const LoadOptions& opt
   SvgOptions so;
   so.tolerance = options.svg_tolerance;
   so.images_anywhere = options.images_anywhere;
-  return load_svg_file(path, so);
+  Result<Character> first = load_svg_file(path, so);
+  if (!first.ok() || !options.pixels_per_unit) return first;
+  const double k = options.pixels_per_unit(first.value->width, first.value->height);
+  if (!(k > 1.0001) || !std::isfinite(k)) return first;
+  so.tolerance = options.svg_tolerance / std::min(k, 64.0);
+  Result<Character> fine = load_svg_file(path, so);
+  if (fine.ok()) return fine;
+  // (finer curves can pass a bound the file kept at its own units: keep those, and say so)
+  first.value->warnings.push_back(path + ": curves kept within " + std::to_string(options.svg_tolerance) +
+                                  " units, coarser than 0.1 px at the canvas's scale: " + fine.error);
+  return first;
 }
 
 }  // namespace mar

@@ -4,16 +4,22 @@
 
 #include "character/character.h"
 
+#include <functional>
 #include <string>
 
 namespace mar {
 
 struct LoadOptions {
-  double svg_tolerance = 0.1;    ///< curve flattening tolerance, output units
+  double svg_tolerance = 0.1;    ///< curve flattening tolerance, document units (or canvas px, below)
   std::string mask_path;         ///< PNG characters: mask image (non-black = figure)
   double raster_tolerance = 0.75;
   /// An SVG's <image> may name a file outside the SVG's folder (default: skipped with a warning).
   bool images_anywhere = false;
+  /// The canvas an SVG character is drawn on: given the document's size, how many canvas pixels
+  /// a document unit covers there. Where that is more than 1 (a small drawing shown large),
+  /// curves are flattened to within svg_tolerance *pixels* of the true curve instead of units
+  /// (at most 64 times finer; the file is read twice). Unset: units.
+  std::function<double(double width, double height)> pixels_per_unit;
 };
 
 /// Chooses the loader by content (a folder: its PNG layers; a PNG signature; else SVG/XML). Every failure is

@@ -110,7 +110,7 @@ TEST(Layers, AFolderWithNoUsableLayerIsAnError) {
   ch = load_character(bad.string());
   ASSERT_FALSE(ch.ok());
   EXPECT_NE(ch.error.find("1-empty.png"), std::string::npos) << ch.error;
-  auto masked = load_character((test::characters_dir() / "owl").string(), LoadOptions{0.1, "mask.png", 0.75});
+  auto masked = load_character((test::characters_dir() / "owl").string(), LoadOptions{0.1, "mask.png", 0.75, false, {}});
   EXPECT_FALSE(masked.ok());
 }
 

@@ -82,7 +82,7 @@ TEST(load_character, PngFilesAndErrors) {
   auto r = load_character(path);
   ASSERT_TRUE(r.ok()) << r.error;
   EXPECT_EQ(r.value->shapes.size(), 2u);
-  auto bad_mask = load_character(path, LoadOptions{0.1, "/nonexistent/mask.png", 0.75});
+  auto bad_mask = load_character(path, LoadOptions{0.1, "/nonexistent/mask.png", 0.75, false, {}});
   EXPECT_FALSE(bad_mask.ok());
   const std::string junk = test::write_temp("junk.png", "\x89PNG\r\n\x1a\nnot really");
   auto j = load_character(junk);

@@ -1,4 +1,5 @@
 #include "character/color.h"
+#include "character/load.h"
 #include "character/svg_loader.h"
 #include "character/svg_parse.h"
 #include "geom/polygon.h"
@@ -671,6 +672,48 @@ TEST(load_svg, ImageElementBecomesTexturedRectangle) {
   EXPECT_NEAR(ch.shapes[1].fill.uv_from_point.apply(Vec2(80, 80)).x(), 0.5, 1e-12);
   EXPECT_TRUE(has_warning(ch, "No such file or directory"));
   EXPECT_TRUE(has_warning(ch, "cannot decode image"));
+}
+
+}  // namespace
+}  // namespace mar
+
+namespace mar {
+namespace {
+
+// Curves are flattened against the canvas: a 20-unit circle shown 40 times larger is within
+// 0.1 px of the true circle there (0.0025 units), not 0.1 units (4 px); shown smaller, it keeps
+// its 0.1 units.
+TEST(load_character, CurvesAreFlattenedAgainstTheCanvasTheyAreDrawnOn) {
+  const std::string path = test::write_temp("small.svg", R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="20" height="20">
+      <circle cx="10" cy="10" r="8"/></svg>)svg");
+  auto deviation = [](const Character& ch) {
+    double worst = 0;
+    const Points& p = ch.shapes.at(0).points;
+    for (size_t i = 0; i < p.size(); ++i) {
+      const Vec2 mid = 0.5 * (p[i] + p[(i + 1) % p.size()]);  // (a chord's middle is its farthest point)
+      worst = std::max(worst, 8 - (mid - Vec2(10, 10)).norm());
+    }
+    return worst;
+  };
+  auto plain = load_character(path);
+  ASSERT_TRUE(plain.ok()) << plain.error;
+  EXPECT_LE(deviation(*plain.value), 0.1);
+  EXPECT_GT(deviation(*plain.value), 0.0025);
+  LoadOptions lo;
+  double asked_w = 0;
+  lo.pixels_per_unit = [&](double w, double) {
+    asked_w = w;
+    return 40.0;
+  };
+  auto large = load_character(path, lo);
+  ASSERT_TRUE(large.ok()) << large.error;
+  EXPECT_EQ(asked_w, 20);  // (the document's size)
+  EXPECT_LE(deviation(*large.value), 0.1 / 40);
+  EXPECT_GT(large.value->shapes[0].points.size(), 3 * plain.value->shapes[0].points.size());
+  lo.pixels_per_unit = [](double, double) { return 0.5; };
+  auto small = load_character(path, lo);
+  ASSERT_TRUE(small.ok());
+  EXPECT_EQ(small.value->shapes[0].points.size(), plain.value->shapes[0].points.size());
 }
 
 }  // namespace
