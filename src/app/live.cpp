@@ -278,6 +278,12 @@ bool LiveShow::open_output(std::string* err) {
     wo.screen_name = sh.kiosk.enabled ? std::string() : sh.screen_name;
     wo.transparent = background_.a < 1;
     wo.vsync = sh.vsync;
+    // Blur, shadows, clip paths and masks are composited by the software rasterizer: a character
+    // that has them is drawn there and uploaded, in a GPU window too (group opacity the GPU does).
+    for (const Composite& c : puppet_->character.composites)
+      wo.gpu = wo.gpu && !(c.blur > 0 || c.shadow || c.offset.squaredNorm() > 0 || !c.clip.empty() || !c.mask.empty());
+    if (!wo.gpu && !opt_.quiet)
+      std::cout << "drawn in software: " << puppet_->character.source << " has blur, shadows, clip paths or masks" << std::endl;
     std::string note;
     auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
     if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] " << note << "\n";
@@ -528,6 +534,9 @@ void LiveShow::render() {
   list_.clear();
   list_.fringe = canvas_->wants_fringe();
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
+  // Warming up, the list makes room for twice what it holds: a pose later in the show may need
+  // more triangles than the first ones did (a stroke's round joins change with its angles).
+  if (stats_.frames < opt_.warmup) list_.reserve_twice();
   canvas_->draw(list_);
 }
 

@@ -68,6 +68,10 @@ struct Contour {
   bool closed = false;
 };
 
+/// What a shape is for: drawn (the default), or the outline of a composite's clip path, or the
+/// content of its mask — drawn only into that composite's clip or mask. All deform alike.
+enum class ShapeRole { Paint, Clip, Mask };
+
 /// One element of the character: one or more contours (sub-paths, or outline + holes)
 /// sharing one style. Points are in character units (document px after viewBox).
 struct SubShape {
@@ -88,6 +92,8 @@ struct SubShape {
   std::vector<Contour> contours;
   Fill fill;
   Stroke stroke;
+  ShapeRole role = ShapeRole::Paint;
+  int owner = -1;  ///< a clip or mask shape's composite (Character::composites)
 
   /// True when every contour is closed (one-point contours, interior points a solver
   /// added, do not count).
@@ -102,11 +108,31 @@ struct SubShape {
   std::vector<Ring> rings() const;
 };
 
+/// A group drawn as one layer, then put onto what lies below it (SVG: `opacity` on a group,
+/// `filter` with feGaussianBlur, `clip-path`, `mask`): its shapes are drawn into a layer of
+/// their own, which is blurred and shifted, clipped by the union of its clip shapes, masked by
+/// its mask shapes, and composited at its opacity. Composites nest (listed outer first).
+struct Composite {
+  int first = 0, end = 0;     ///< its shapes, [first, end) in paint order (nested composites' too)
+  float opacity = 1.0f;
+  double blur = 0;            ///< the Gaussian blur's standard deviation, character units (0: none)
+  Vec2 offset{0, 0};          ///< shift of the blurred layer (feOffset), character units
+  /// A drop shadow (Inkscape's filter, or a blur of SourceAlpha merged under SourceGraphic):
+  /// the blur and offset make a shadow of this colour from the layer's alpha, drawn under it.
+  bool shadow = false;
+  Rgba shadow_color{0, 0, 0, 1};
+  std::vector<int> clip;      ///< its clip shapes (ShapeRole::Clip), whose union clips; empty: none
+  std::vector<int> mask;      ///< its mask shapes (ShapeRole::Mask); empty: none
+  bool mask_alpha = false;    ///< the mask's alpha (mask-type: alpha), else its luminance
+  std::string id;             ///< the element's id, or "<tag>-L<line>"
+};
+
 struct Character {
   std::string source;                 ///< file it came from
   double width = 0, height = 0;       ///< document size in character units
   std::vector<std::string> layers;    ///< layer names, in paint order
   std::vector<SubShape> shapes;       ///< in paint order (document order)
+  std::vector<Composite> composites;  ///< groups drawn as layers (outer first)
   std::vector<std::string> warnings;  ///< what was approximated or skipped
   /// Shapes not drawn at all, and things drawn approximately, counted by reason (`inspect`).
   std::map<std::string, int> dropped, approximated;

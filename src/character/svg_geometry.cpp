@@ -63,7 +63,7 @@ void SvgLoader::shape(const pugi::xml_node& n, const Ctx& ctx) {
     if (name == "polygon") close(pts[0]);
   }
   emit(n, ctx, cmds);
-  if (ctx.style.visible) markers(n, ctx, cmds);  // (on every shape, as SVG 2 has it)
+  if (ctx.style.visible && ctx.role != ShapeRole::Clip) markers(n, ctx, cmds);  // (on every shape, as SVG 2 has it)
 }
 
 std::shared_ptr<const Texture> SvgLoader::load_image(const pugi::xml_node& n, std::string_view href) {
@@ -160,6 +160,16 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   if (total_points_ > opt_.max_points) return too_complex(n);
   const double op = st.group_opacity;
   paint_failed_ = false;
+  s.role = ctx.role;
+  s.owner = ctx.owner;
+  if (ctx.role == ShapeRole::Clip) {  // a clip path's shape: its geometry, by clip-rule
+    s.fill.enabled = true;
+    s.fill.color = Rgba{1, 1, 1, 1};
+    s.fill.rule = st.clip_rule;
+    s.layer = layer_index(ctx);
+    ch_.shapes.push_back(std::move(s));
+    return;
+  }
   // A gradient fill or stroke: a texture that deforms with the shape (svg_paint.cpp).
   if (s.element != "line") {
     Affine2 uv;

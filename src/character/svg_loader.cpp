@@ -202,6 +202,9 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   current_vp_ = parent.vp;
   ctx.style = compute_style(n, parent.style);
   ctx.ctm = parent.ctm * element_transform(n);
+  // Drawn as one layer (opacity, filter, clip-path, mask: svg_composite.cpp)? Its content is
+  // what this element draws below; its clip and mask come after.
+  const int composite = begin_composite(n, parent, ctx);
 
   if (name == "g" || name == "a") {
     const bool inkscape_layer = std::string_view(n.attribute("inkscape:groupmode").value()) == "layer";
@@ -245,6 +248,7 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   } else {
     warn(n, "unsupported element skipped");
   }
+  if (composite >= 0) end_composite(composite, n, ctx);
 }
 
 bool SvgLoader::passes_conditions(const pugi::xml_node& c) {

@@ -55,6 +55,7 @@ struct Style {
   bool stroke_first = false;   // paint-order puts the stroke under the fill
   bool non_scaling = false;    // vector-effect: non-scaling-stroke (not inherited)
   std::string marker_start, marker_mid, marker_end;  // marker references (url(#id)), inherited
+  FillRule clip_rule = FillRule::NonZero;            // (inherited)
 };
 
 struct Viewport {
@@ -72,6 +73,8 @@ struct Ctx {
   int group_key = -1; // offset of the innermost <g>, -1 = none
   bool hidden = false; // inside an alternative hidden with display: none (see alternative())
   int depth = 0;
+  ShapeRole role = ShapeRole::Paint;  // inside a clipPath or mask: what its shapes are for
+  int owner = -1;                     // and whose (Character::composites)
 };
 
 class SvgLoader {
@@ -165,6 +168,18 @@ class SvgLoader {
   std::shared_ptr<const Texture> gradient_paint(const Paint& p, const pugi::xml_node& n, const Ctx& ctx,
                                                 std::span<const Vec2> points, double pad, Affine2& uv);
   size_t gradient_texels_ = 0;  // all gradients' textures so far (SvgOptions::max_gradient_texels)
+
+  // ---- composites (svg_composite.cpp) ------------------------------------------------
+  // An element drawn as a layer (Character::composites): opacity on a group (or on a shape with
+  // both fill and stroke), a filter with feGaussianBlur/feOffset, a clip-path, a mask. Returns
+  // the composite's index (its content is what the element draws next), or -1; takes the
+  // element's own opacity out of `ctx` (the layer applies it).
+  int begin_composite(const pugi::xml_node& n, const Ctx& parent, Ctx& ctx);
+  bool read_filter(const pugi::xml_node& f, const Ctx& ctx, Composite& c);
+  // After its content: its clip path's and mask's shapes.
+  void end_composite(int index, const pugi::xml_node& n, const Ctx& ctx);
+  // The shapes of a clipPath or mask's content, for composite `index`.
+  void matte(int index, const pugi::xml_node& server, const Ctx& ctx, ShapeRole role);
 
   // ---- markers (svg_marker.cpp) ----------------------------------------------------
   // The markers a shape names, drawn at its vertices as shapes of

@@ -17,7 +17,7 @@ SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
       "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
       "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
       "mask", "clip-path", "stroke-dashoffset", "paint-order", "vector-effect", "marker-start", "marker-mid",
-      "marker-end"};
+      "marker-end", "clip-rule", "mask-type"};
   for (const char* p : kPresentation) {
     if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
   }
@@ -131,6 +131,10 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   if (s.stroke.kind == Paint::CurrentColor) s.stroke = Paint{Paint::Color, s.color, {}, false, {}, false};
   if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = svg::parse_opacity(*v, 1);
   if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = svg::parse_opacity(*v, 1);
+  if (auto v = prop(d, "clip-rule"); v) {
+    if (trim_space(*v) == "evenodd") s.clip_rule = FillRule::EvenOdd;
+    if (trim_space(*v) == "nonzero") s.clip_rule = FillRule::NonZero;
+  }
   if (auto v = prop(d, "fill-rule"); v) {
     if (trim_space(*v) == "evenodd") s.fill_rule = FillRule::EvenOdd;
     if (trim_space(*v) == "nonzero") s.fill_rule = FillRule::NonZero;
@@ -203,18 +207,6 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   }
   s.non_scaling = false;
   if (auto v = prop(d, "vector-effect"); v) s.non_scaling = trim_space(*v) == "non-scaling-stroke";
-  if (auto v = prop(d, "filter"); v && trim_space(*v) != "none") {
-    warn(n, "filter ignored");
-    count(ch_.approximated, "a filter ignored");
-  }
-  if (auto v = prop(d, "mask"); v && trim_space(*v) != "none") {
-    warn(n, "mask ignored");
-    count(ch_.approximated, "a mask ignored");
-  }
-  if (auto v = prop(d, "clip-path"); v && trim_space(*v) != "none") {
-    warn(n, "clip-path ignored");
-    count(ch_.approximated, "a clip-path ignored");
-  }
   return s;
 }
 

@@ -195,6 +195,8 @@ Canvas::~Canvas() {
   for (auto& cache : gpu_textures_)
     for (auto& [k, t] : cache) SDL_DestroyTexture(t);
   if (target_) SDL_DestroyTexture(target_);
+  for (SDL_Texture* t : gpu_layers_)
+    if (t) SDL_DestroyTexture(t);
   if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
@@ -287,32 +289,96 @@ SDL_Texture* Canvas::gpu_texture_for(const Texture* t, bool premultiplied) {
 
 // The GPU draws the list into the canvas texture: SDL queues the triangles (batched) and hands
 // them to the driver at present or read-back.
-std::string Canvas::draw_gpu(const DrawList& list) {
-  SDL_SetRenderTarget(wrenderer_, target_);
-  SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+void Canvas::paint_ranges(const DrawList& list) {
+  skip_.clear();
+  for (const DrawList::Layer& l : list.layers)
+    if (l.mask_end > l.content_end) skip_.push_back({l.content_end, l.mask_end});
+  std::sort(skip_.begin(), skip_.end());
+}
+
+// The triangles of indices [index_begin, index_end), batch by batch, onto the current target.
+std::string Canvas::gpu_geometry(const DrawList& list, int index_begin, int index_end) {
   for (const DrawList::Batch& b : list.batches) {
-    if (b.index_count <= 0) continue;
+    const int from = std::max(b.first_index, index_begin), to = std::min(b.first_index + b.index_count, index_end);
+    if (to <= from) continue;
     SDL_Texture* tex = b.texture ? gpu_texture_for(b.texture, list.fringe) : nullptr;
     if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    if (SDL_RenderGeometry(wrenderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()),
-                           list.indices.data() + b.first_index, b.index_count) != 0)
+    if (SDL_RenderGeometry(wrenderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()), list.indices.data() + from,
+                           to - from) != 0)
       return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
   }
   return {};
+}
+
+// Layers on the GPU: one with only an opacity is drawn into a texture of its own (drawn over
+// transparent with SDL's blending, its pixels are premultiplied) and put onto the target at its
+// opacity. Blur, shadows, clips and masks need the software rasterizer (a show whose character
+// has them draws there); here such a layer's content is drawn straight, its clip and mask left out.
+std::string Canvas::gpu_range(const DrawList& list, SDL_Texture* into, int index_begin, int index_end, size_t& layer, size_t depth) {
+  int at = index_begin;
+  while (layer < list.layers.size() && list.layers[layer].begin < index_end) {
+    const DrawList::Layer& l = list.layers[layer++];
+    if (l.begin < at) continue;
+    if (std::string e = gpu_geometry(list, at, l.begin); !e.empty()) return e;
+    at = l.mask_end;
+    const bool alone = l.opacity < 1.0f && !l.clipped && !l.masked && !l.shadow && !(l.blur_px > 0) && l.offset_px.squaredNorm() == 0;
+    if (!alone || depth >= 8) {
+      if (!(l.opacity > 0)) continue;
+      if (std::string e = gpu_range(list, into, l.begin, l.content_end, layer, depth); !e.empty()) return e;
+      continue;
+    }
+    if (gpu_layers_.size() <= depth) gpu_layers_.resize(depth + 1, nullptr);
+    SDL_Texture*& t = gpu_layers_[depth];
+    if (!t) {
+      t = SDL_CreateTexture(wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_TARGET, width_, height_);
+      if (!t || SDL_SetTextureBlendMode(t, premultiplied_) != 0) return std::string("cannot create a layer: ") + SDL_GetError();
+    }
+    SDL_SetRenderTarget(wrenderer_, t);
+    SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, 0);
+    SDL_RenderClear(wrenderer_);
+    if (std::string e = gpu_range(list, t, l.begin, l.content_end, layer, depth + 1); !e.empty()) return e;
+    SDL_SetRenderTarget(wrenderer_, into);
+    const Uint8 a = static_cast<Uint8>(std::lround(std::clamp(l.opacity, 0.0f, 1.0f) * 255.0f));
+    SDL_SetTextureColorMod(t, a, a, a);  // (premultiplied: the colour scales with the alpha)
+    SDL_SetTextureAlphaMod(t, a);
+    if (SDL_RenderCopy(wrenderer_, t, nullptr, nullptr) != 0) return std::string("SDL_RenderCopy failed: ") + SDL_GetError();
+  }
+  return gpu_geometry(list, at, index_end);
+}
+
+std::string Canvas::draw_gpu(const DrawList& list) {
+  SDL_SetRenderTarget(wrenderer_, target_);
+  SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+  size_t layer = 0;
+  return gpu_range(list, target_, 0, static_cast<int>(list.indices.size()), layer, 0);
 }
 
 std::string Canvas::draw(const DrawList& list) {
   composed_ = false;
   if (gpu_) return draw_gpu(list);
   if (antialias_) {
-    raster_.draw(list, pixels());
+    if (list.layers.empty()) raster_.draw(list, pixels());
+    else compositor_.draw(raster_, list, pixels());
     return {};
   }
+  paint_ranges(list);
   for (const DrawList::Batch& b : list.batches) {
     if (b.index_count <= 0) continue;
     SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
     if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    if (std::string e = draw_software(list, b, tex); !e.empty()) return e;
+    int at = b.first_index;
+    const int end = b.first_index + b.index_count;
+    for (size_t k = 0; at < end; ++k) {
+      const int stop = k < skip_.size() ? std::clamp(skip_[k][0], at, end) : end;
+      if (stop > at) {
+        DrawList::Batch part = b;
+        part.first_index = at;
+        part.index_count = stop - at;
+        if (std::string e = draw_software(list, part, tex); !e.empty()) return e;
+      }
+      if (k >= skip_.size()) break;
+      at = std::max(at, skip_[k][1]);
+    }
   }
   return {};
 }

@@ -10,12 +10,14 @@
 #pragma once
 
 #include "character/character.h"
+#include "render/composite.h"
 #include "render/image.h"
 #include "render/raster.h"
 #include "render/tessellate.h"
 
 #include <SDL2/SDL_rect.h>
 
+#include <array>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -125,8 +127,16 @@ class Canvas {
   int width_ = 0, height_ = 0;
   bool antialias_ = true;
   Rasterizer raster_;
+  Compositor compositor_;  ///< layers (DrawList::layers) on the software rasterizer
+  /// Where neither draws them (the GPU, SDL's aliased triangles), a layer's content is drawn
+  /// straight onto the canvas and its clip and mask items are left out: these ranges of indices.
+  std::vector<std::array<int, 2>> skip_;
+  void paint_ranges(const DrawList& list);
   std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
   std::string draw_gpu(const DrawList& list);
+  std::string gpu_range(const DrawList& list, SDL_Texture* into, int index_begin, int index_end, size_t& layer, size_t depth);
+  std::string gpu_geometry(const DrawList& list, int index_begin, int index_end);
+  std::vector<SDL_Texture*> gpu_layers_;  ///< one per depth of opacity layers (draw_gpu)
   SDL_Texture* gpu_texture_for(const Texture* t, bool premultiplied);
   void place();  ///< where the canvas shows in the window
   bool gpu_ = false;

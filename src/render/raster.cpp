@@ -284,8 +284,8 @@ void Rasterizer::band(Band& b) {
   size_t next_start = 0;  // into list.item_starts
   for (const DrawList::Batch& batch : list.batches) {
     const Texture* tex = batch.texture;
-    const int end = batch.first_index + batch.index_count;
-    int k = batch.first_index;
+    const int end = std::min(batch.first_index + batch.index_count, index_end_);
+    int k = std::max(batch.first_index, index_begin_);
     while (k + 2 < end) {
       // One paint item: from k to the next item start, colour change or batch end.
       while (next_start < list.item_starts.size() && list.item_starts[next_start] <= k) ++next_start;
@@ -351,9 +351,13 @@ Rasterizer::~Rasterizer() {
   worker_.join();
 }
 
-void Rasterizer::draw(const DrawList& list, const PixelTarget& t) {
-  if (!t.px || t.width <= 0 || t.height <= 0) return;
+void Rasterizer::draw(const DrawList& list, const PixelTarget& t) { draw(list, t, 0, static_cast<int>(list.indices.size())); }
+
+void Rasterizer::draw(const DrawList& list, const PixelTarget& t, int index_begin, int index_end) {
+  if (!t.px || t.width <= 0 || t.height <= 0 || index_end <= index_begin) return;
   begin(t);
+  index_begin_ = index_begin;
+  index_end_ = index_end;
   list_ = &list;
   target_ = t;
   bands_ = (h_ + kChunk - 1) / kChunk;

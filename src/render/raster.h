@@ -38,6 +38,9 @@ class Rasterizer {
   /// Draws the list's triangles in order. A paint item starts at each of the list's item
   /// starts, and wherever the colour or the texture changes.
   void draw(const DrawList& list, const PixelTarget& target);
+  /// The same for the triangles of indices [index_begin, index_end) only (a layer's content,
+  /// clip or mask: DrawList::layers), which begin and end at item starts.
+  void draw(const DrawList& list, const PixelTarget& target, int index_begin, int index_end);
   /// 1 or 2 threads (default: 2 where the machine has two cores). The target is cut into bands
   /// of kChunk rows that both threads take in turn; each band is drawn whole (every item, in
   /// order) by one thread, so the pixels do not depend on which thread drew them.
@@ -73,6 +76,7 @@ class Rasterizer {
   // The frame being drawn, and the bands handed out.
   const DrawList* list_ = nullptr;
   PixelTarget target_;
+  int index_begin_ = 0, index_end_ = 0;  ///< the range of indices being drawn
   std::atomic<int> next_band_{0};
   int bands_ = 0;
   Band own_, helper_;

@@ -560,21 +560,19 @@ void stroke_dashes(const SubShape& s, const Contour& c, std::span<const Vec2> px
 
 }  // namespace
 
-void build_draw_list(const Character& ch, const CharacterMesh& mesh,
-                     std::span<const Points> positions, const Affine2& view, double tolerance_px,
-                     DrawList& out, std::span<const char> shown) {
+namespace {
+
+// One shape's fill and stroke, in its paint order; a clip shape as its fill alone, opaque white
+// (the clip is the union of its shapes' coverage).
+void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> pts, const Affine2& view, double tolerance_px,
+                DrawList& out) {
   const double scale = std::sqrt(std::abs(view.det()));
-  for (size_t i = 0; i < ch.shapes.size(); ++i) {
-    // A swap member not showing, a trigger that is off; with no `shown`, an alternative the file hides.
-    if (i < shown.size() ? !shown[i] : ch.shapes[i].hidden) continue;
-    const SubShape& s = ch.shapes[i];
-    const Points& pts = positions.empty() ? s.points : positions[i];
-    if (pts.size() != s.points.size()) continue;
+  const bool clip = s.role == ShapeRole::Clip;
     auto draw_fill = [&] {
-    if (s.fill.enabled && i < mesh.shapes.size() && !mesh.shapes[i].fill.triangles.empty()) {
-      const ShapeMesh& sm = mesh.shapes[i];
-      const Texture* tex = s.fill.texture.get();
-      const SDL_Color col = to_sdl(s.fill.color, s.fill.opacity);
+    if ((s.fill.enabled || clip) && mesh && !mesh->fill.triangles.empty()) {
+      const ShapeMesh& sm = *mesh;
+      const Texture* tex = clip ? nullptr : s.fill.texture.get();
+      const SDL_Color col = clip ? SDL_Color{255, 255, 255, 255} : to_sdl(s.fill.color, s.fill.opacity);
       begin_batch(out, tex);
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
       const int base = static_cast<int>(out.vertices.size());
@@ -608,7 +606,7 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     }
     };
     auto draw_stroke = [&] {
-    if (s.stroke.enabled) {
+    if (s.stroke.enabled && !clip) {
       StrokeStyle st;
       st.half_width = 0.5 * s.stroke.width * scale;
       st.join = s.stroke.join;
@@ -639,7 +637,65 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       draw_fill();
       draw_stroke();
     }
+}
+
+}  // namespace
+
+void build_draw_list(const Character& ch, const CharacterMesh& mesh,
+                     std::span<const Points> positions, const Affine2& view, double tolerance_px,
+                     DrawList& out, std::span<const char> shown) {
+  auto draw = [&](size_t i) {
+    const SubShape& s = ch.shapes[i];
+    const Points& pts = positions.empty() ? s.points : positions[i];
+    if (pts.size() != s.points.size()) return;
+    draw_shape(s, i < mesh.shapes.size() ? &mesh.shapes[i] : nullptr, pts, view, tolerance_px, out);
+  };
+  // Layers (Character::composites): opened where their first shape is, closed after their last,
+  // with their clip and mask shapes drawn then.
+  const auto& comps = ch.composites;
+  auto& open = out.layer_stack;
+  open.clear();
+  size_t next = 0;
+  auto close_through = [&](size_t i) {
+    while (!open.empty() && size_t(comps[size_t(out.layers[size_t(open.back())].composite)].end) <= i) {
+      DrawList::Layer& layer = out.layers[size_t(open.back())];
+      open.pop_back();
+      const Composite& c = comps[size_t(layer.composite)];
+      layer.content_end = static_cast<int>(out.indices.size());
+      for (int k : c.clip) draw(size_t(k));
+      layer.clip_end = static_cast<int>(out.indices.size());
+      for (int k : c.mask) draw(size_t(k));
+      layer.mask_end = static_cast<int>(out.indices.size());
+    }
+  };
+  const double scale = std::sqrt(std::abs(view.det()));
+  for (size_t i = 0; i <= ch.shapes.size(); ++i) {
+    close_through(i);
+    for (; next < comps.size() && size_t(comps[next].first) <= i; ++next) {
+      const Composite& c = comps[next];
+      DrawList::Layer l;
+      l.begin = static_cast<int>(out.indices.size());
+      l.composite = static_cast<int>(next);
+      l.opacity = c.opacity;
+      l.blur_px = static_cast<float>(c.blur * scale);
+      l.offset_px = view.apply_linear(c.offset);
+      l.clipped = !c.clip.empty();
+      l.masked = !c.mask.empty();
+      l.mask_alpha = c.mask_alpha;
+      l.shadow = c.shadow;
+      l.shadow_color = to_sdl(c.shadow_color, 1.0f);
+      out.layers.push_back(l);
+      open.push_back(static_cast<int>(out.layers.size()) - 1);
+      close_through(i);
+    }
+    if (i == ch.shapes.size()) break;
+    // A swap member not showing, a trigger that is off; with no `shown`, an alternative the file
+    // hides; a clip or mask shape (drawn with its layer).
+    if (i < shown.size() ? !shown[i] : ch.shapes[i].hidden) continue;
+    if (ch.shapes[i].role != ShapeRole::Paint) continue;
+    draw(i);
   }
+  close_through(ch.shapes.size() + 1);
 }
 
 }  // namespace mar

@@ -49,6 +49,23 @@ struct DrawList {
   /// of the edges (plain lists only).
   std::vector<std::array<int, 2>> item_outline;
   std::vector<int> outline;
+  /// Layers (Character::composites), as ranges of `indices`: the content [begin, content_end)
+  /// is drawn into a layer of its own (nested layers inside it likewise), the clip items
+  /// [content_end, clip_end) into its clip (opaque white: their union), the mask items
+  /// [clip_end, mask_end) into its mask; the layer is then blurred (`blur_px`: the standard
+  /// deviation), shifted, clipped, masked and put onto what lies below at `opacity`. Listed in
+  /// the order they begin (outer first). Items outside every layer are drawn as before.
+  struct Layer {
+    int begin = 0, content_end = 0, clip_end = 0, mask_end = 0;
+    float opacity = 1.0f, blur_px = 0.0f;
+    Vec2 offset_px{0, 0};
+    bool clipped = false, masked = false, mask_alpha = false;
+    bool shadow = false;              ///< blur and offset make a shadow under the layer
+    SDL_Color shadow_color{0, 0, 0, 255};  ///< its colour (straight alpha)
+    int composite = -1;  ///< which of the character's composites
+  };
+  std::vector<Layer> layers;
+  std::vector<int> layer_stack;  ///< working space (build_draw_list)
   std::vector<Vec2> scratch;  ///< working space
   std::vector<Vec2> dash_scratch;  ///< working space (one dash of a dashed stroke)
   /// Anti-aliased geometry for renderers that only draw aliased triangles (the GPU's): when
@@ -67,7 +84,25 @@ struct DrawList {
   };
   std::vector<FringeVertex> fringe_scratch;  ///< working space
 
+  /// Room for twice what each buffer holds now (a show's warm-up: later poses may need more).
+  void reserve_twice() {
+    auto twice = [](auto& v) {
+      if (v.capacity() < 2 * v.size()) v.reserve(2 * v.size());
+    };
+    twice(vertices);
+    twice(indices);
+    twice(batches);
+    twice(item_starts);
+    twice(item_outline);
+    twice(outline);
+    twice(scratch);
+    twice(dash_scratch);
+    twice(fringe_scratch);
+    twice(layers);
+  }
+
   void clear() {
+    layers.clear();
     vertices.clear();
     indices.clear();
     batches.clear();

@@ -46,7 +46,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   std::vector<Geo> geo;
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
     const SubShape& sh = ch.shapes[s];
-    if (members.count(int(s))) continue;
+    if (members.count(int(s)) || sh.role != ShapeRole::Paint) continue;  // (a clip or mask shape rides along)
     Geo g;
     g.shape = int(s);
     g.ring = sh.largest_ring();

@@ -203,14 +203,18 @@ TEST(load_svg, InheritanceAndOpacity) {
                       <rect id="a" width="1" height="1" fill-opacity="0.5"/>
                       <rect id="b" width="1" height="1" fill="inherit" stroke="none" style="opacity:.5"/>
                     </g>)svg");
+  // The group's opacity is its layer's (Character::composites); a shape with one paint keeps its
+  // own opacity in that paint.
+  ASSERT_EQ(ch.composites.size(), 1u);
+  EXPECT_FLOAT_EQ(ch.composites[0].opacity, 0.5f);
   const SubShape& a = *find(ch, "a");
   EXPECT_EQ(color_hex(a.fill.color), "#008000");
-  EXPECT_NEAR(a.fill.opacity, 0.25, 1e-6);
-  EXPECT_NEAR(a.stroke.opacity, 0.5, 1e-6);
+  EXPECT_NEAR(a.fill.opacity, 0.5, 1e-6);
+  EXPECT_NEAR(a.stroke.opacity, 1, 1e-6);
   EXPECT_EQ(a.stroke.join, LineJoin::Round);
   const SubShape& b = *find(ch, "b");
   EXPECT_FALSE(b.stroke.enabled);
-  EXPECT_NEAR(b.fill.opacity, 0.25, 1e-6);
+  EXPECT_NEAR(b.fill.opacity, 0.5, 1e-6);
 }
 
 TEST(load_svg, CurrentColor) {
@@ -259,7 +263,7 @@ TEST(load_svg, PatternsTextAndFiltersWarnAndGradientStrokesAreTextures) {
   EXPECT_FALSE(has_warning(ch, "linearGradient 'g' drawn as its mean colour"));
   EXPECT_TRUE(has_warning(ch, "pattern 'pat'"));
   EXPECT_TRUE(has_warning(ch, "text is not supported"));
-  EXPECT_TRUE(has_warning(ch, "filter ignored"));
+  EXPECT_TRUE(has_warning(ch, "filter 'url(#f)' names no filter"));
 }
 
 TEST(load_svg, DashesPaintOrderAndNonScalingStrokes) {
@@ -458,7 +462,7 @@ TEST(load_svg, ADroppedShapeIsSaidAndCounted) {
   ASSERT_TRUE(r.ok()) << r.error;
   EXPECT_EQ(r.value->shapes.size(), 1u);
   EXPECT_EQ(r.value->dropped.at("its paint could not be resolved"), 2);
-  EXPECT_EQ(r.value->approximated.at("a filter ignored"), 1);
+  EXPECT_EQ(r.value->approximated.at("a filter not found"), 1);
   std::string all;
   for (const std::string& w : r.value->warnings) all += w + "\n";
   EXPECT_NE(all.find("<rect id=\"body\">: linearGradient 'empty' has no stops; painted as none"), std::string::npos) << all;

@@ -35,11 +35,25 @@ TEST(build_draw_list, NoHeapAllocationAfterWarmUp) {
   EXPECT_GT(list.indices.size(), 100u);
 }
 
+// A drawing with layers (a clip path, a mask, blur, group opacity) and dashed gradient strokes.
+const char* kLayered = R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="200" height="140">
+  <defs><clipPath id="c"><circle cx="50" cy="40" r="30"/></clipPath>
+    <mask id="m"><rect x="110" y="10" width="80" height="60" fill="#808080"/></mask>
+    <filter id="b"><feGaussianBlur stdDeviation="4"/><feOffset dx="3" dy="3"/></filter>
+    <linearGradient id="g"><stop offset="0" stop-color="red"/><stop offset="1" stop-color="blue"/></linearGradient></defs>
+  <rect x="10" y="10" width="80" height="60" fill="#c00" clip-path="url(#c)"/>
+  <rect x="110" y="10" width="80" height="60" fill="#00c" mask="url(#m)"/>
+  <g opacity="0.5" filter="url(#b)"><rect x="10" y="80" width="40" height="40" fill="#0a0"/>
+    <rect x="30" y="90" width="40" height="40" fill="#0a0" stroke="url(#g)" stroke-width="3" stroke-dasharray="6 3"/></g>
+</svg>)svg";
+
 // Drawing a frame with the anti-aliased rasterizer allocates nothing once its buffers have
-// grown to the canvas: a drawing and a textured (raster) character, moving every frame.
+// grown to the canvas: a drawing, a textured (raster) character and a drawing with layers,
+// moving every frame.
 TEST(Canvas, AntiAliasedFramesAllocateNothingAfterWarmUp) {
-  for (const char* file : {"figure.svg", "boy.png"}) {
-    auto ch = load_character((test::characters_dir() / file).string());
+  const std::string layered = test::write_temp("layered.svg", kLayered);
+  for (const std::string& file : {std::string("figure.svg"), std::string("boy.png"), layered}) {
+    auto ch = load_character(file == layered ? file : (test::characters_dir() / file).string());
     ASSERT_TRUE(ch.ok()) << ch.error;
     const CharacterMesh mesh = prepare_mesh(*ch.value);
     auto canvas = Canvas::offscreen(640, 720);
@@ -58,6 +72,9 @@ TEST(Canvas, AntiAliasedFramesAllocateNothingAfterWarmUp) {
     const long before = test::allocation_count();
     for (int f = 30; f < 90; ++f) frame(f);
     EXPECT_EQ(test::allocation_count() - before, 0) << file;
+    if (file == layered) {
+      EXPECT_EQ(list.layers.size(), 3u);
+    }
   }
 }
 

@@ -1,0 +1,113 @@
+// Groups drawn as layers (Character::composites): opacity, filter, clip-path and mask as the
+// loader reads them.
+#include "character/svg_loader.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+namespace mar {
+namespace {
+
+Character load(const std::string& body) {
+  auto r = load_svg_string("<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">" + body + "</svg>", "c.svg");
+  EXPECT_TRUE(r.ok()) << r.error;
+  return r.ok() ? *r.value : Character{};
+}
+
+bool said(const Character& ch, const std::string& part) {
+  for (const std::string& w : ch.warnings)
+    if (w.find(part) != std::string::npos) return true;
+  return false;
+}
+
+TEST(composites, GroupOpacityIsALayerAndALoneShapeKeepsItInItsPaint) {
+  const Character ch = load(R"svg(<g id="pair" opacity="0.5"><rect width="10" height="10" fill="red" opacity="0.8"/>
+      <rect x="5" width="10" height="10" fill="blue"/></g>
+      <rect id="lone" y="20" width="10" height="10" fill="green" opacity="0.5"/>
+      <rect id="both" y="40" width="10" height="10" fill="green" stroke="black" opacity="0.5"/>)svg");
+  ASSERT_EQ(ch.composites.size(), 2u);
+  const Composite& g = ch.composites[0];
+  EXPECT_EQ(g.id, "pair");
+  EXPECT_FLOAT_EQ(g.opacity, 0.5f);
+  EXPECT_EQ(g.first, 0);
+  EXPECT_EQ(g.end, 2);
+  // Inside the layer, the children keep only their own opacity.
+  EXPECT_FLOAT_EQ(ch.shapes[0].fill.opacity, 0.8f);
+  EXPECT_FLOAT_EQ(ch.shapes[1].fill.opacity, 1.0f);
+  // One paint: no layer, the opacity in the paint; fill and stroke: a layer.
+  EXPECT_FLOAT_EQ(ch.shapes[2].fill.opacity, 0.5f);
+  EXPECT_EQ(ch.composites[1].id, "both");
+  EXPECT_FLOAT_EQ(ch.shapes[3].fill.opacity, 1.0f);
+}
+
+TEST(composites, ClipPathsAndMasksAreShapesOfTheirOwnThatDeformAlong) {
+  const Character ch = load(R"svg(<defs>
+        <clipPath id="c" clipPathUnits="objectBoundingBox"><rect width="0.5" height="1" clip-rule="evenodd"/></clipPath>
+        <mask id="m" style="mask-type: alpha"><circle cx="70" cy="70" r="10" fill="white"/></mask></defs>
+      <g transform="translate(10 0)"><rect id="clipped" width="40" height="20" fill="red" clip-path="url(#c)"/></g>
+      <rect id="masked" x="60" y="60" width="20" height="20" fill="blue" mask="url(#m)"/>)svg");
+  ASSERT_EQ(ch.composites.size(), 2u);
+  const Composite& c = ch.composites[0];
+  ASSERT_EQ(c.clip.size(), 1u);
+  const SubShape& clip = ch.shapes[size_t(c.clip[0])];
+  EXPECT_EQ(clip.role, ShapeRole::Clip);
+  EXPECT_EQ(clip.owner, 0);
+  EXPECT_EQ(clip.fill.rule, FillRule::EvenOdd);
+  // The box of the clipped rect (its left half), in character units: the group's translate too.
+  EXPECT_NEAR(clip.bounds().lo.x(), 10, 1e-9);
+  EXPECT_NEAR(clip.bounds().hi.x(), 30, 1e-9);
+  EXPECT_NEAR(clip.bounds().hi.y(), 20, 1e-9);
+  const Composite& m = ch.composites[1];
+  ASSERT_EQ(m.mask.size(), 1u);
+  EXPECT_TRUE(m.mask_alpha);
+  EXPECT_EQ(ch.shapes[size_t(m.mask[0])].role, ShapeRole::Mask);
+  EXPECT_EQ(m.first + 1, m.end);  // (the masked rect)
+}
+
+TEST(composites, BlurOffsetAndDropShadowsAreDrawnAndOtherFiltersAreSaid) {
+  const Character ch = load(R"svg(<defs><filter id="f"><feGaussianBlur stdDeviation="2"/><feOffset dx="3" dy="1"/></filter>
+        <filter id="two"><feGaussianBlur stdDeviation="1 4"/></filter>
+        <filter id="ink"><feFlood flood-opacity="0.5" flood-color="rgb(0,0,255)" result="flood"/>
+          <feComposite in="flood" in2="SourceGraphic" operator="in" result="c1"/><feGaussianBlur in="c1" stdDeviation="3"/>
+          <feOffset dx="6" dy="6" result="offset"/><feComposite in="SourceGraphic" in2="offset" operator="over"/></filter>
+        <filter id="old"><feGaussianBlur in="SourceAlpha" stdDeviation="2"/><feOffset dx="1" dy="1" result="o"/>
+          <feMerge><feMergeNode in="o"/><feMergeNode in="SourceGraphic"/></feMerge></filter>
+        <filter id="grey"><feGaussianBlur stdDeviation="2"/><feColorMatrix type="saturate" values="0"/></filter></defs>
+      <g transform="scale(2)"><rect width="10" height="10" filter="url(#f)"/></g>
+      <rect y="50" width="10" height="10" filter="url(#two)"/>
+      <rect x="20" width="10" height="10" filter="url(#ink)"/>
+      <rect x="40" width="10" height="10" filter="url(#old)"/>
+      <rect x="60" width="10" height="10" filter="url(#grey)"/>
+      <rect y="70" width="10" height="10" filter="url(#none)" clip-path="url(#none)"/>)svg");
+  ASSERT_EQ(ch.composites.size(), 4u);
+  EXPECT_NEAR(ch.composites[0].blur, 4, 1e-9);
+  EXPECT_NEAR(ch.composites[0].offset.x(), 6, 1e-9);
+  EXPECT_NEAR(ch.composites[0].offset.y(), 2, 1e-9);
+  EXPECT_FALSE(ch.composites[0].shadow);
+  EXPECT_NEAR(ch.composites[1].blur, 2, 1e-9);  // (sqrt(1 x 4): one radius for both)
+  // Inkscape's drop shadow: its flood's colour and opacity, blurred and shifted, under the shape.
+  const Composite& ink = ch.composites[2];
+  EXPECT_TRUE(ink.shadow);
+  EXPECT_NEAR(ink.blur, 3, 1e-9);
+  EXPECT_NEAR(ink.offset.x(), 6, 1e-9);
+  EXPECT_FLOAT_EQ(ink.shadow_color.b, 1.0f);
+  EXPECT_FLOAT_EQ(ink.shadow_color.a, 0.5f);
+  EXPECT_TRUE(ch.composites[3].shadow);  // (the older one, black)
+  EXPECT_FLOAT_EQ(ch.composites[3].shadow_color.a, 1.0f);
+  EXPECT_TRUE(said(ch, "filter 'url(#grey)' is more than a blur"));
+  EXPECT_TRUE(said(ch, "filter 'url(#none)' names no filter"));
+  EXPECT_TRUE(said(ch, "clip-path 'url(#none)' names no clipPath"));
+  EXPECT_EQ(ch.shapes.size(), 6u);  // (drawn without them)
+}
+
+TEST(composites, AnEmptyClipShowsNothingAndAClipInsideItselfIsCut) {
+  const Character ch = load(R"svg(<defs><clipPath id="e"/><clipPath id="self"><rect width="5" height="5" clip-path="url(#self)"/></clipPath></defs>
+      <rect width="10" height="10" clip-path="url(#e)"/><rect y="20" width="10" height="10" clip-path="url(#self)"/>)svg");
+  ASSERT_EQ(ch.composites.size(), 2u);
+  EXPECT_EQ(ch.composites[0].opacity, 0.0f);
+  EXPECT_EQ(ch.composites[1].clip.size(), 1u);
+  EXPECT_TRUE(said(ch, "clip-path inside a clip path or mask is not drawn"));
+}
+
+}  // namespace
+}  // namespace mar
