@@ -182,7 +182,12 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
       s.fill.uv_from_point = uv;
     }
   }
-  if (!s.fill.enabled) {
+  // A pattern fill: its tiles as shapes of a layer clipped by this shape (svg_paint.cpp).
+  bool patterned = false;
+  if (!s.fill.enabled && s.element != "line" && st.fill.kind == Paint::Url && ctx.role == ShapeRole::Paint)
+    if (pugi::xml_node server = lookup_iri(st.fill.url); server && local_name(server) == "pattern")
+      patterned = pattern_fill(server, n, ctx, s);
+  if (!s.fill.enabled && !patterned) {
     if (auto c = resolve(st.fill, n, st); c && s.element != "line") {  // (lines never fill; other open
       s.fill.enabled = true;                                             // sub-paths fill as if closed)
       s.fill.color = *c;
@@ -216,6 +221,7 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
     }
   }
   if (!s.fill.enabled && !s.stroke.enabled) {
+    if (patterned) return;
     if (paint_failed_) {  // (its warning, naming it, was given where the paint was resolved)
       count(ch_.dropped, "its paint could not be resolved");
     }

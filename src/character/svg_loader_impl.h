@@ -167,7 +167,11 @@ class SvgLoader {
   // when it names none (or the budget is spent: said).
   std::shared_ptr<const Texture> gradient_paint(const Paint& p, const pugi::xml_node& n, const Ctx& ctx,
                                                 std::span<const Vec2> points, double pad, Affine2& uv);
-  size_t gradient_texels_ = 0;  // all gradients' textures so far (SvgOptions::max_gradient_texels)
+  size_t gradient_texels_ = 0;
+  // A pattern fill of shape `s` (being emitted): a composite of the pattern's tiles over the
+  // shape's bounds, clipped by the shape; false (nothing added) when it cannot be (no content,
+  // a degenerate tile, more than 256 tiles: said), and the caller paints a colour instead.
+  bool pattern_fill(const pugi::xml_node& server, const pugi::xml_node& n, const Ctx& ctx, const SubShape& s);  // all gradients' textures so far (SvgOptions::max_gradient_texels)
 
   // ---- composites (svg_composite.cpp) ------------------------------------------------
   // An element drawn as a layer (Character::composites): opacity on a group (or on a shape with

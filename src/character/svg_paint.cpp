@@ -186,4 +186,114 @@ std::shared_ptr<const Texture> SvgLoader::gradient_paint(const Paint& p, const p
   return tex;
 }
 
+// Patterns: the tiles that cover the shape, each a copy of the pattern's content placed by x, y,
+// width, height (patternUnits both ways), viewBox or patternContentUnits, and
+// patternTransform; attributes and content inherited along href chains. They are shapes of a
+// layer clipped by the shape (Character::composites), so the pattern deforms with it. Tiles
+// are not clipped to their own box (overflow is taken as visible).
+bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node& n, const Ctx& ctx, const SubShape& s) {
+  std::vector<pugi::xml_node> chain;
+  for (pugi::xml_node g = server; g && chain.size() < 16 && local_name(g) == "pattern"; g = lookup_iri(href_of(g))) {
+    if (std::find(chain.begin(), chain.end(), g) != chain.end()) break;
+    chain.push_back(g);
+  }
+  auto attr = [&](const char* name) -> pugi::xml_attribute {
+    for (const pugi::xml_node& g : chain)
+      if (pugi::xml_attribute a = g.attribute(name)) return a;
+    return {};
+  };
+  pugi::xml_node content;
+  for (const pugi::xml_node& g : chain) {
+    for (pugi::xml_node c : g.children())
+      if (c.type() == pugi::node_element) {
+        content = g;
+        break;
+      }
+    if (content) break;
+  }
+  if (!content || s.points.empty()) return false;
+  if (std::find(use_stack_.begin(), use_stack_.end(), server) != use_stack_.end() || use_stack_.size() > 32) {
+    warn(n, "a pattern drawn inside itself; painted as its colour");
+    return false;
+  }
+  const Style& st = ctx.style;
+  const Affine2 to_user = ctx.ctm.inverse();
+  Bounds ub;
+  for (const Vec2& p : s.points) ub.add(to_user.apply(p));
+  if (ub.empty() || !(ub.hi - ub.lo).allFinite()) return false;
+  const bool bbox_units = std::string_view(attr("patternUnits").value()) != "userSpaceOnUse";
+  const bool content_bbox = std::string_view(attr("patternContentUnits").value()) == "objectBoundingBox";
+  // x, y, width, height: fractions of the shape's box (objectBoundingBox), else user lengths.
+  auto value = [&](const char* name, int axis) {
+    const std::string_view v = trim_space(attr(name).value());
+    if (!bbox_units) return svg::parse_length(v, axis, ctx.vp.w, ctx.vp.h).value_or(0.0);
+    if (!v.empty() && v.back() == '%') return svg::parse_number(v.substr(0, v.size() - 1)).value_or(0) / 100.0;
+    return svg::parse_number(v).value_or(0.0);
+  };
+  double x = value("x", 0), y = value("y", 1), w = value("width", 0), h = value("height", 1);
+  if (bbox_units) {
+    x = ub.lo.x() + x * ub.width();
+    y = ub.lo.y() + y * ub.height();
+    w *= ub.width();
+    h *= ub.height();
+  }
+  if (!(w > 0) || !(h > 0) || !std::isfinite(x + y + w + h)) return false;
+  Affine2 pt;
+  if (auto t = svg::parse_transform(attr("patternTransform").value()); t && t->is_finite()) pt = *t;
+  Affine2 inner;
+  Viewport vp{w, h};
+  if (auto vb = svg::parse_viewbox(attr("viewBox").value()); vb && (*vb)[2] > 0 && (*vb)[3] > 0) {
+    inner = svg::viewbox_transform(*vb, w, h, attr("preserveAspectRatio").value());
+    vp = {(*vb)[2], (*vb)[3]};
+  } else if (content_bbox) {
+    if (!(ub.width() > 0) || !(ub.height() > 0)) return false;
+    inner = Affine2::scale(ub.width(), ub.height());
+  }
+  // The tiles that cover the shape: its bounds in the pattern's space.
+  const Affine2 to_pattern = (ctx.ctm * pt).inverse();
+  Bounds pb;
+  for (const Vec2& p : s.points) pb.add(to_pattern.apply(p));
+  if (pb.empty() || !(pb.hi - pb.lo).allFinite()) return false;
+  const double i0 = std::floor((pb.lo.x() - x) / w), i1 = std::ceil((pb.hi.x() - x) / w);
+  const double j0 = std::floor((pb.lo.y() - y) / h), j1 = std::ceil((pb.hi.y() - y) / h);
+  if (!((i1 - i0) * (j1 - j0) <= 256)) {
+    warn(n, std::string("pattern '") + server.attribute("id").value() + "' would take more than 256 tiles to cover it; painted as its colour");
+    count(ch_.approximated, "a pattern of too many tiles painted as a colour");
+    return false;
+  }
+  Composite c;
+  c.id = s.id + ":pattern";
+  c.opacity = static_cast<float>(std::clamp(st.fill_opacity * st.group_opacity, 0.0, 1.0));
+  c.first = static_cast<int>(ch_.shapes.size());
+  const int ci = static_cast<int>(ch_.composites.size());
+  ch_.composites.push_back(std::move(c));
+  Ctx pc = ctx;
+  pc.style = compute_style(content, Style{});
+  pc.vp = vp;
+  pc.depth = ctx.depth + 1;
+  pc.id_prefix = ctx.id_prefix + s.id + ":pattern:";
+  use_stack_.push_back(server);
+  for (double i = i0; i < i1 && fatal_.empty(); ++i)
+    for (double j = j0; j < j1 && fatal_.empty(); ++j) {
+      pc.ctm = ctx.ctm * pt * Affine2::translate(x + i * w, y + j * h) * inner;
+      for (pugi::xml_node k : content.children()) visit(k, pc);
+    }
+  use_stack_.pop_back();
+  ch_.composites[size_t(ci)].end = static_cast<int>(ch_.shapes.size());
+  // The shape itself clips its tiles.
+  SubShape clip = s;
+  clip.id = s.id + ":pattern-clip";
+  clip.role = ShapeRole::Clip;
+  clip.owner = ci;
+  clip.fill = Fill{};
+  clip.fill.enabled = true;
+  clip.fill.color = Rgba{1, 1, 1, 1};
+  clip.fill.rule = st.fill_rule;
+  clip.stroke = Stroke{};
+  clip.layer = layer_index(ctx);
+  ch_.composites[size_t(ci)].clip.push_back(static_cast<int>(ch_.shapes.size()));
+  ch_.shapes.push_back(std::move(clip));
+  return true;
+}
+
 }  // namespace mar::svg_load

@@ -142,23 +142,19 @@ double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to) {
   return std::sqrt(sum / static_cast<double>(n));
 }
 
-Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
-  const size_t n = std::min(from.size(), to.size());
-  if (n == 0) return {};
-  Vec2 cf = Vec2::Zero(), ct = Vec2::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    cf += from[i];
-    ct += to[i];
-  }
-  cf /= double(n);
-  ct /= double(n);
+void AffineFit::add(const Vec2& from, const Vec2& to) {
+  n_ += 1;
+  sf_ += from;
+  st_ += to;
+  sff_ += from * from.transpose();
+  stf_ += to * from.transpose();
+}
+
+Affine2 AffineFit::result() const {
+  if (n_ == 0) return {};
+  const Vec2 cf = sf_ / n_, ct = st_ / n_;
   // Centred, the linear part is A = S_tf S_ff^-1.
-  Eigen::Matrix2d sff = Eigen::Matrix2d::Zero(), stf = Eigen::Matrix2d::Zero();
-  for (size_t i = 0; i < n; ++i) {
-    const Vec2 f = from[i] - cf, t = to[i] - ct;
-    sff += f * f.transpose();
-    stf += t * f.transpose();
-  }
+  const Eigen::Matrix2d sff = sff_ - n_ * cf * cf.transpose(), stf = stf_ - n_ * ct * cf.transpose();
   const double tr = sff.trace();
   if (tr > 0 && sff.determinant() > 1e-12 * tr * tr) {
     const Eigen::Matrix2d m = stf * sff.inverse();
@@ -167,6 +163,12 @@ Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
   }
   const Vec2 d = ct - cf;
   return Affine2::translate(d.x(), d.y());
+}
+
+Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to) {
+  AffineFit fit;
+  for (size_t i = 0; i < std::min(from.size(), to.size()); ++i) fit.add(from[i], to[i]);
+  return fit.result();
 }
 
 }  // namespace mar

@@ -33,6 +33,18 @@ RigidMotion rigid_fit(std::span<const Vec2> from, std::span<const Vec2> to);
 /// line). Allocates nothing.
 Affine2 affine_fit(std::span<const Vec2> from, std::span<const Vec2> to);
 
+/// The same over pairs given one at a time (points of several shapes).
+class AffineFit {
+ public:
+  void add(const Vec2& from, const Vec2& to);
+  Affine2 result() const;
+
+ private:
+  double n_ = 0;
+  Vec2 sf_ = Vec2::Zero(), st_ = Vec2::Zero();
+  Eigen::Matrix2d sff_ = Eigen::Matrix2d::Zero(), stf_ = Eigen::Matrix2d::Zero();
+};
+
 /// RMS residual of the best rigid fit (rotation + translation, 2D Procrustes) of `from`
 /// onto `to` (same sizes): how much a part's shape changed, wherever it went. Allocates nothing.
 double rigid_fit_rms(std::span<const Vec2> from, std::span<const Vec2> to);

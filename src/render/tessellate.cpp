@@ -641,6 +641,21 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
 
 }  // namespace
 
+namespace {
+
+// The affine map that best takes a composite's shapes at rest to where they are now.
+Affine2 part_motion(const Character& ch, std::span<const Points> positions, const Composite& c) {
+  AffineFit fit;
+  for (int k = std::max(0, c.first); k < c.end && size_t(k) < std::min(ch.shapes.size(), positions.size()); ++k) {
+    const Points &rest = ch.shapes[size_t(k)].points, &now = positions[size_t(k)];
+    if (rest.size() == now.size())
+      for (size_t i = 0; i < rest.size(); ++i) fit.add(rest[i], now[i]);
+  }
+  return fit.result();
+}
+
+}  // namespace
+
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view, double tolerance_px,
                      DrawList& out, std::span<const char> shown) {
@@ -677,8 +692,12 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
       l.begin = static_cast<int>(out.indices.size());
       l.composite = static_cast<int>(next);
       l.opacity = c.opacity;
-      l.blur_px = static_cast<float>(c.blur * scale);
-      l.offset_px = view.apply_linear(c.offset);
+      // A blur and its shift go with the part: through the affine map that best fits its
+      // shapes' deformation (a part drawn twice as large is blurred twice as far).
+      Affine2 part;
+      if (!positions.empty() && (c.blur > 0 || c.offset.squaredNorm() > 0)) part = part_motion(ch, positions, c);
+      l.blur_px = static_cast<float>(c.blur * scale * std::sqrt(std::abs(part.det())));
+      l.offset_px = view.apply_linear(part.apply_linear(c.offset));
       l.clipped = !c.clip.empty();
       l.masked = !c.mask.empty();
       l.mask_alpha = c.mask_alpha;

@@ -109,5 +109,36 @@ TEST(composites, AnEmptyClipShowsNothingAndAClipInsideItselfIsCut) {
   EXPECT_TRUE(said(ch, "clip-path inside a clip path or mask is not drawn"));
 }
 
+// A pattern fill: its tiles over the shape's box, in a layer the shape clips; the shape keeps
+// its stroke. Too many tiles, or a tile with no size, paint a colour instead, said.
+TEST(composites, APatternIsTilesClippedByTheShape) {
+  const Character ch = load(R"svg(<defs><pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse">
+        <rect width="5" height="5" fill="red"/></pattern>
+      <pattern id="tiny" width="0.1" height="0.1" patternUnits="userSpaceOnUse"><rect width="0.05" height="0.05"/></pattern>
+      <pattern id="bbox" width="0.5" height="1"><rect width="2" height="4" fill="blue"/></pattern></defs>
+      <rect id="r" x="0" y="0" width="30" height="20" fill="url(#p)" stroke="black"/>
+      <rect id="t" y="30" width="30" height="20" fill="url(#tiny)"/>
+      <rect id="b" x="40" y="0" width="8" height="4" fill="url(#bbox)"/>)svg");
+  ASSERT_GE(ch.composites.size(), 2u);
+  const Composite& p = ch.composites[0];
+  EXPECT_EQ(p.end - p.first, 6);  // 3 x 2 tiles, one square each
+  ASSERT_EQ(p.clip.size(), 1u);
+  const SubShape& clip = ch.shapes[size_t(p.clip[0])];
+  EXPECT_EQ(clip.role, ShapeRole::Clip);
+  EXPECT_NEAR(clip.bounds().hi.x(), 30, 1e-9);
+  EXPECT_NEAR(ch.shapes[size_t(p.first + 1)].bounds().lo.y(), 10, 1e-9);  // (the tile below the first)
+  const SubShape* r = nullptr;
+  for (const SubShape& s : ch.shapes)
+    if (s.id == "r") r = &s;
+  ASSERT_NE(r, nullptr);
+  EXPECT_FALSE(r->fill.enabled);
+  EXPECT_TRUE(r->stroke.enabled);
+  EXPECT_TRUE(said(ch, "pattern 'tiny' would take more than 256 tiles"));
+  // objectBoundingBox tiles: half the 8 x 4 box each, two of them.
+  const Composite& b = ch.composites.back();
+  EXPECT_EQ(b.end - b.first, 2);
+  EXPECT_NEAR(ch.shapes[size_t(b.first + 1)].bounds().lo.x(), 44, 1e-9);
+}
+
 }  // namespace
 }  // namespace mar

@@ -86,6 +86,43 @@ TEST(Composite, ABlurSoftensEdgesAndKeepsTheInk) {
   EXPECT_NEAR(double(ink_b) / double(ink_a), 1.0, 0.03);
 }
 
+// A blur and its shift go with the part: grown to twice its size and turned a quarter, a
+// blurred, shifted shape is blurred twice as far and shifted along its turn.
+TEST(Composite, ABlurScalesAndTurnsWithItsPart) {
+  const Character ch = svg(R"svg(<defs><filter id="b"><feGaussianBlur stdDeviation="2"/><feOffset dx="4" dy="0"/></filter></defs>
+      <rect x="30" y="15" width="40" height="30" fill="#000" filter="url(#b)"/>)svg");
+  DrawList rest, grown;
+  build_draw_list(ch, prepare_mesh(ch), {}, Affine2{}, 0.25, rest);
+  std::vector<Points> at{ch.shapes[0].points};
+  for (Vec2& p : at[0]) p = Vec2(50, 30) + 2 * Vec2(-(p.y() - 30), p.x() - 50);  // (x2, turned 90 degrees)
+  build_draw_list(ch, prepare_mesh(ch), at, Affine2{}, 0.25, grown);
+  ASSERT_EQ(rest.layers.size(), 1u);
+  ASSERT_EQ(grown.layers.size(), 1u);
+  EXPECT_NEAR(rest.layers[0].blur_px, 2, 1e-4);
+  EXPECT_NEAR(grown.layers[0].blur_px, 4, 1e-4);
+  EXPECT_NEAR(grown.layers[0].offset_px.x(), 0, 1e-6);
+  EXPECT_NEAR(grown.layers[0].offset_px.y(), 8, 1e-6);
+}
+
+// A pattern fill: tiles inside the shape, none outside it; the tiles move with the shape.
+TEST(Composite, APatternFillsItsShapeWithTiles) {
+  const Character ch = svg(R"svg(<defs><pattern id="p" width="10" height="10" patternUnits="userSpaceOnUse">
+      <rect width="5" height="5" fill="#f00"/></pattern></defs>
+      <circle cx="30" cy="30" r="20" fill="url(#p)"/>)svg");
+  const Image img = draw(ch);
+  EXPECT_EQ(px(img, 22, 22)[1], 0);    // a red square (20..25)
+  EXPECT_EQ(px(img, 27, 27)[1], 255);  // between squares
+  EXPECT_EQ(px(img, 2, 2)[1], 255);    // the square at 0..5 is outside the circle
+  std::vector<Points> moved;
+  for (const SubShape& s : ch.shapes) {
+    moved.push_back(s.points);
+    for (Vec2& p : moved.back()) p += Vec2(3, 0);
+  }
+  const Image m = draw(ch, moved);
+  EXPECT_EQ(px(m, 24, 22)[1], 0);
+  EXPECT_EQ(px(m, 22, 22)[1], 255);
+}
+
 // Inkscape's drop shadow: the shape as drawn, over a blurred copy of its silhouette in the
 // flood's colour, shifted.
 TEST(Composite, ADropShadowLiesUnderTheShapeShifted) {
