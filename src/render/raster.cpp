@@ -219,9 +219,23 @@ void Rasterizer::sample_triangle(Band& bd, const SDL_Vertex& a, const SDL_Vertex
   const int xlo = pixel_lo(std::min({a.position.x, b.position.x, c.position.x}), 0, xright + 1);
   const int xhi = pixel_hi(std::max({a.position.x, b.position.x, c.position.x}), -1, xright);
   const float tw = float(tex.width), th = float(tex.height);
+  // Each barycentric coordinate is linear along a row: l = A px + B. Where each is at least 0
+  // bounds the row's span, so only the pixels of the span are visited (a sliver across the
+  // shape costs its area, not its bounding box).
+  const float a1 = e2y * inv, a2 = -e1y * inv, a0 = -(a1 + a2);
   for (int y = ylo; y <= yhi; ++y) {
     const float py = float(y) + 0.5f - y0;
-    for (int x = xlo; x <= xhi; ++x) {
+    const float b1 = -py * e2x * inv, b2 = e1x * py * inv, b0 = 1 - (b1 + b2);
+    float lo = -1e30f, hi = 1e30f;
+    for (const auto& [ak, bk] : {std::pair{a0, b0}, std::pair{a1, b1}, std::pair{a2, b2}}) {
+      if (ak > 0) lo = std::max(lo, (-1e-6f - bk) / ak);
+      else if (ak < 0) hi = std::min(hi, (-1e-6f - bk) / ak);
+      else if (bk < -1e-6f) hi = -1e30f;
+    }
+    if (!(hi >= lo)) continue;
+    const int sx0 = std::max(xlo, int(std::clamp(std::floor(lo + x0 - 0.5f), -1.0f, xright + 1)));
+    const int sx1 = std::min(xhi, int(std::clamp(std::ceil(hi + x0 - 0.5f), -1.0f, xright + 1)));
+    for (int x = sx0; x <= sx1; ++x) {
       const float px = float(x) + 0.5f - x0;
       const float l1 = (px * e2y - py * e2x) * inv, l2 = (e1x * py - e1y * px) * inv;
       if (l1 < -1e-6f || l2 < -1e-6f || l1 + l2 > 1 + 1e-6f) continue;
