@@ -247,8 +247,9 @@ std::optional<Affine2> parse_transform(std::string_view s) {
       a[n++] = *v;
       skip_separators(s, pos);
     }
-    if (pos >= s.size()) return std::nullopt;
-    ++pos;  // ')'
+    // A last transform whose ')' is missing at the very end is read as closed, as librsvg does
+    // (drawings saved that way look as their authors saw them there).
+    if (pos < s.size()) ++pos;  // ')'
     Affine2 t;
     if (name == "matrix" && n == 6) {
       t = {a[0], a[1], a[2], a[3], a[4], a[5]};

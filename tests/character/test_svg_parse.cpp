@@ -169,7 +169,8 @@ TEST(parse_transform, ListsComposeLeftToRight) {
 }
 
 TEST(parse_transform, RejectsMalformed) {
-  EXPECT_FALSE(parse_transform("translate(10"));
+  EXPECT_EQ(parse_transform("translate(10")->apply({1, 1}), Vec2(11, 1));  // (unclosed at the end: as librsvg)
+  EXPECT_FALSE(parse_transform("translate(10 scale(2)"));
   EXPECT_FALSE(parse_transform("foo(1)"));
   EXPECT_FALSE(parse_transform("scale()"));
   EXPECT_FALSE(parse_transform("rotate(1 2)"));
