@@ -179,7 +179,7 @@ void SvgLoader::matte(int index, const pugi::xml_node& server, const Ctx& ctx, S
   const bool bbox = std::string_view(server.attribute(clip ? "clipPathUnits" : "maskContentUnits").value()) == "objectBoundingBox";
   mc.ctm = ctx.ctm;
   if (clip) {
-    if (auto t = svg::parse_transform(server.attribute("transform").value()); t && t->is_finite()) mc.ctm = mc.ctm * *t;
+    if (auto t = svg::parse_transform(server.attribute("transform").value()); t && t->is_finite()) mc.ctm = mc.ctm * about_origin(server, *t);
   }
   if (bbox) {
     const Affine2 to_user = ctx.ctm.inverse();

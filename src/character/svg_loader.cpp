@@ -160,6 +160,45 @@ const char* SvgLoader::href_of(const pugi::xml_node& n) {
   return n.attribute("href").value();
 }
 
+// transform-origin (SVG 2, CSS): x and y as lengths, percentages of the viewport (the view-box
+// reference box) or keywords, in either order where the keywords say which is which.
+std::optional<Vec2> SvgLoader::transform_origin(const pugi::xml_node& n) {
+  std::string value = n.attribute("transform-origin").value();
+  if (const std::string_view style = n.attribute("style").value(); style.find("transform-origin") != std::string_view::npos)
+    for (const auto& [k, v] : css::parse_declarations(style, nullptr))
+      if (k == "transform-origin") value = v;
+  std::vector<std::string_view> parts;
+  std::string_view rest = trim_space(value);
+  while (!rest.empty() && parts.size() < 3) {
+    const size_t e = std::min(rest.find_first_of(" \t\r\n,"), rest.size());
+    parts.push_back(rest.substr(0, e));
+    rest = trim_space(rest.substr(std::min(e + 1, rest.size())));
+  }
+  if (parts.empty()) return std::nullopt;
+  auto vertical = [](std::string_view k) { return k == "top" || k == "bottom"; };
+  auto horizontal = [](std::string_view k) { return k == "left" || k == "right"; };
+  // One value: x, or y when it can only be y; two: x then y, unless the keywords say otherwise.
+  if (parts.size() == 1) {
+    if (vertical(parts[0])) parts.insert(parts.begin(), "center");
+    else parts.push_back("center");
+  } else if (vertical(parts[0]) || horizontal(parts[1])) {
+    std::swap(parts[0], parts[1]);
+  }
+  auto coord = [&](std::string_view v, int axis) -> std::optional<double> {
+    const double size = axis == 0 ? current_vp_.w : current_vp_.h;
+    if (v == "center") return 0.5 * size;
+    if (v == "left" || v == "top") return 0.0;
+    if (v == "right" || v == "bottom") return size;
+    return svg::parse_length(v, axis, current_vp_.w, current_vp_.h);
+  };
+  const auto x = coord(parts[0], 0), y = coord(parts[1], 1);
+  if (!x || !y || !std::isfinite(*x) || !std::isfinite(*y)) {
+    warn(n, "bad transform-origin \"" + value + "\"; ignored");
+    return std::nullopt;
+  }
+  return Vec2(*x, *y);
+}
+
 Affine2 SvgLoader::element_transform(const pugi::xml_node& n) {
   pugi::xml_attribute t = n.attribute("transform");
   if (!t) return Affine2::identity();
@@ -168,7 +207,7 @@ Affine2 SvgLoader::element_transform(const pugi::xml_node& n) {
     warn(n, std::string("bad transform \"") + t.value() + "\"; element not drawn");
     return Affine2{0, 0, 0, 0, 0, 0};
   }
-  return *m;
+  return about_origin(n, *m);
 }
 
 void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {

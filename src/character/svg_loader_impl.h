@@ -141,6 +141,12 @@ class SvgLoader {
 
   // ---- viewports ---------------------------------------------------------------------
   Affine2 element_transform(const pugi::xml_node& n);
+  std::optional<Vec2> transform_origin(const pugi::xml_node& n);
+  // `m` about `n`'s transform-origin, if it has one.
+  Affine2 about_origin(const pugi::xml_node& n, const Affine2& m) {
+    const auto o = transform_origin(n);
+    return o ? Affine2::translate(o->x(), o->y()) * m * Affine2::translate(-o->x(), -o->y()) : m;
+  }
 
   // ---- traversal ---------------------------------------------------------------------
   void visit(const pugi::xml_node& n, const Ctx& parent);

@@ -106,7 +106,13 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
     g_to_char = g_to_char * Affine2{size.x(), 0, 0, size.y(), ub.lo.x(), ub.lo.y()};
   }
   if (pugi::xml_attribute t = attr("gradientTransform")) {
-    if (auto m = svg::parse_transform(t.value()); m && m->is_finite()) g_to_char = g_to_char * *m;
+    pugi::xml_node holder = server;  // (the gradient along the chain that sets it, for its transform-origin)
+    for (const pugi::xml_node& g : chain)
+      if (g.attribute("gradientTransform")) {
+        holder = g;
+        break;
+      }
+    if (auto m = svg::parse_transform(t.value()); m && m->is_finite()) g_to_char = g_to_char * about_origin(holder, *m);
   }
   if (!(std::abs(g_to_char.det()) > 0)) return nullptr;
   const Affine2 char_to_g = g_to_char.inverse();
@@ -239,7 +245,11 @@ bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node&
   }
   if (!(w > 0) || !(h > 0) || !std::isfinite(x + y + w + h)) return false;
   Affine2 pt;
-  if (auto t = svg::parse_transform(attr("patternTransform").value()); t && t->is_finite()) pt = *t;
+  for (const pugi::xml_node& g : chain)  // (the pattern along the chain that sets it, for its transform-origin)
+    if (pugi::xml_attribute a = g.attribute("patternTransform")) {
+      if (auto t = svg::parse_transform(a.value()); t && t->is_finite()) pt = about_origin(g, *t);
+      break;
+    }
   Affine2 inner;
   Viewport vp{w, h};
   if (auto vb = svg::parse_viewbox(attr("viewBox").value()); vb && (*vb)[2] > 0 && (*vb)[3] > 0) {

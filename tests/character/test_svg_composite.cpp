@@ -142,3 +142,31 @@ TEST(composites, APatternIsTilesClippedByTheShape) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// transform-origin: the transform turns about that point (lengths, percentages of the viewport,
+// keywords in either order), on shapes, gradients and clip paths alike.
+TEST(TransformOrigin, TheTransformTurnsAboutIt) {
+  auto r = load_svg_string(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="200" height="100">
+      <rect id="px" x="90" y="40" width="20" height="20" transform="scale(2)" transform-origin="100px 50px"/>
+      <rect id="kw" x="90" y="40" width="20" height="20" transform="scale(2)" transform-origin="top left"/>
+      <rect id="pc" x="90" y="40" width="20" height="20" transform="scale(2)" style="transform-origin: 50% 50%"/>
+      <rect id="one" x="90" y="40" width="20" height="20" transform="scale(2)" transform-origin="bottom"/></svg>)svg", "o.svg");
+  ASSERT_TRUE(r.ok()) << r.error;
+  auto box = [&](const char* id) {
+    for (const SubShape& s : r.value->shapes)
+      if (s.id == id) return s.bounds();
+    return Bounds{};
+  };
+  EXPECT_NEAR(box("px").lo.x(), 80, 1e-9);  // (about the square's centre: it grows both ways)
+  EXPECT_NEAR(box("px").lo.y(), 30, 1e-9);
+  EXPECT_NEAR(box("kw").lo.x(), 180, 1e-9);  // (about 0, 0)
+  EXPECT_NEAR(box("pc").lo.x(), 80, 1e-9);   // (50% of 200 x 100)
+  EXPECT_NEAR(box("one").lo.x(), 80, 1e-9);  // (bottom: x centre, y 100)
+  EXPECT_NEAR(box("one").lo.y(), -20, 1e-9);
+}
+
+}  // namespace
+}  // namespace mar
