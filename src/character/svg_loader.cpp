@@ -306,6 +306,7 @@ void SvgLoader::visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::x
   double h = use_h > 0 ? use_h : length_attr(content, "height", 1, ctx.vp, ctx.vp.h);
   if (!(w > 0) || !(h > 0)) return;  // zero-size viewport draws nothing
   ctx.ctm = ctx.ctm * Affine2::translate(x, y);
+  const Affine2 port = ctx.ctm;  // (the viewport's own space: [0, w] x [0, h])
   const auto vb = svg::parse_viewbox(content.attribute("viewBox").value());
   if (vb) {
     ctx.ctm = ctx.ctm * svg::viewbox_transform(*vb, w, h, content.attribute("preserveAspectRatio").value());
@@ -313,7 +314,51 @@ void SvgLoader::visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::x
   } else {
     ctx.vp = {w, h};
   }
+  // The viewport clips what it holds (overflow: hidden, the default for svg and symbol): a layer
+  // clipped by its rectangle, kept only where something crosses it.
+  std::string overflow = content.attribute("overflow").value();
+  for (const auto& [k, v] : declarations(content))
+    if (k == "overflow") overflow = std::string(trim_space(v));
+  const bool clips = ctx.role == ShapeRole::Paint && overflow != "visible" && overflow != "auto";
+  const size_t first = ch_.shapes.size(), comps = ch_.composites.size();
+  if (clips) {
+    Composite c;
+    c.id = std::string(local_name(content)) + "-L" + std::to_string(line_of(content));
+    c.first = static_cast<int>(first);
+    ch_.composites.push_back(std::move(c));
+  }
   for (pugi::xml_node c : content.children()) visit(c, ctx);
+  if (!clips) return;
+  Composite& comp = ch_.composites[comps];
+  comp.end = static_cast<int>(ch_.shapes.size());
+  const Affine2 to_port = port.inverse();
+  bool crosses = false;
+  for (size_t k = first; k < ch_.shapes.size() && !crosses; ++k)
+    for (const Vec2& p : ch_.shapes[k].points) {
+      const Vec2 q = to_port.apply(p);
+      const double slack = 1e-6 * (w + h);
+      if (!(q.x() >= -slack && q.y() >= -slack && q.x() <= w + slack && q.y() <= h + slack)) {
+        crosses = true;
+        break;
+      }
+    }
+  if (!crosses) {  // (nothing to clip: no layer; one that nests others stays, and is drawn straight)
+    if (ch_.composites.size() == comps + 1) ch_.composites.pop_back();
+    return;
+  }
+  SubShape r;
+  r.id = comp.id + ":viewport";
+  r.element = "viewport";
+  r.line = line_of(content);
+  r.role = ShapeRole::Clip;
+  r.owner = static_cast<int>(comps);
+  r.points = {port.apply(Vec2(0, 0)), port.apply(Vec2(w, 0)), port.apply(Vec2(w, h)), port.apply(Vec2(0, h))};
+  r.contours = {{0, 4, true}};
+  r.fill.enabled = true;
+  r.fill.color = Rgba{1, 1, 1, 1};
+  r.layer = layer_index(ctx);
+  comp.clip.push_back(static_cast<int>(ch_.shapes.size()));
+  ch_.shapes.push_back(std::move(r));
 }
 
 void SvgLoader::visit_use(const pugi::xml_node& n, Ctx ctx) {

@@ -688,6 +688,8 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     close_through(i);
     for (; next < comps.size() && size_t(comps[next].first) <= i; ++next) {
       const Composite& c = comps[next];
+      // (a layer that changes nothing is drawn straight)
+      if (c.opacity >= 1.0f && !(c.blur > 0) && c.offset.squaredNorm() == 0 && !c.shadow && c.clip.empty() && c.mask.empty()) continue;
       DrawList::Layer l;
       l.begin = static_cast<int>(out.indices.size());
       l.composite = static_cast<int>(next);

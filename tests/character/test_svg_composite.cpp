@@ -109,6 +109,21 @@ TEST(composites, AnEmptyClipShowsNothingAndAClipInsideItselfIsCut) {
   EXPECT_TRUE(said(ch, "clip-path inside a clip path or mask is not drawn"));
 }
 
+// A nested svg clips what crosses its viewport (a layer clipped by its rectangle); content
+// inside it, or overflow: visible, needs no layer.
+TEST(composites, ANestedViewportClipsWhatCrossesIt) {
+  const Character ch = load(R"svg(<svg x="10" y="10" width="20" height="20"><circle cx="20" cy="10" r="8"/></svg>
+      <svg x="50" y="10" width="20" height="20"><circle cx="10" cy="10" r="5"/></svg>
+      <svg x="10" y="50" width="20" height="20" overflow="visible"><circle cx="20" cy="10" r="8"/></svg>)svg");
+  ASSERT_EQ(ch.composites.size(), 1u);
+  const Composite& c = ch.composites[0];
+  ASSERT_EQ(c.clip.size(), 1u);
+  const Bounds b = ch.shapes[size_t(c.clip[0])].bounds();
+  EXPECT_NEAR(b.lo.x(), 10, 1e-9);
+  EXPECT_NEAR(b.hi.x(), 30, 1e-9);
+  EXPECT_EQ(c.end - c.first, 1);
+}
+
 // A pattern fill: its tiles over the shape's box, in a layer the shape clips; the shape keeps
 // its stroke. Too many tiles, or a tile with no size, paint a colour instead, said.
 TEST(composites, APatternIsTilesClippedByTheShape) {
