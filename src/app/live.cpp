@@ -279,7 +279,8 @@ bool LiveShow::open_output(std::string* err) {
     wo.transparent = background_.a < 1;
     wo.vsync = sh.vsync;
     // Blur, shadows, clip paths and masks are composited by the software rasterizer: a character
-    // that has them is drawn there and uploaded, in a GPU window too (group opacity the GPU does).
+    // that has them is drawn there and uploaded, in a GPU window too (the GPU multiplies a
+    // group's opacity into its shapes).
     for (const Composite& c : puppet_->character.composites)
       wo.gpu = wo.gpu && !(c.blur > 0 || c.shadow || c.offset.squaredNorm() > 0 || !c.clip.empty() || !c.mask.empty());
     if (!wo.gpu && !opt_.quiet)

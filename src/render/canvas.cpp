@@ -195,8 +195,6 @@ Canvas::~Canvas() {
   for (auto& cache : gpu_textures_)
     for (auto& [k, t] : cache) SDL_DestroyTexture(t);
   if (target_) SDL_DestroyTexture(target_);
-  for (SDL_Texture* t : gpu_layers_)
-    if (t) SDL_DestroyTexture(t);
   if (white_) SDL_DestroyTexture(white_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
@@ -310,38 +308,19 @@ std::string Canvas::gpu_geometry(const DrawList& list, int index_begin, int inde
   return {};
 }
 
-// Layers on the GPU: one with only an opacity is drawn into a texture of its own (drawn over
-// transparent with SDL's blending, its pixels are premultiplied) and put onto the target at its
-// opacity. Blur, shadows, clips and masks need the software rasterizer (a show whose character
-// has them draws there); here such a layer's content is drawn straight, its clip and mask left out.
-std::string Canvas::gpu_range(const DrawList& list, SDL_Texture* into, int index_begin, int index_end, size_t& layer, size_t depth) {
+// Layers on the GPU: none is drawn as a layer. The GPU's list has a group's opacity multiplied
+// into its shapes (build_draw_list); blur, shadows, clips and masks need the software rasterizer
+// (a show whose character has them draws there): here such a layer's content is drawn straight,
+// its clip and mask left out.
+std::string Canvas::gpu_range(const DrawList& list, int index_begin, int index_end, size_t& layer) {
   int at = index_begin;
   while (layer < list.layers.size() && list.layers[layer].begin < index_end) {
     const DrawList::Layer& l = list.layers[layer++];
     if (l.begin < at) continue;
     if (std::string e = gpu_geometry(list, at, l.begin); !e.empty()) return e;
     at = l.mask_end;
-    const bool alone = l.opacity < 1.0f && !l.clipped && !l.masked && !l.shadow && !(l.blur_px > 0) && l.offset_px.squaredNorm() == 0;
-    if (!alone || depth >= 8) {
-      if (!(l.opacity > 0)) continue;
-      if (std::string e = gpu_range(list, into, l.begin, l.content_end, layer, depth); !e.empty()) return e;
-      continue;
-    }
-    if (gpu_layers_.size() <= depth) gpu_layers_.resize(depth + 1, nullptr);
-    SDL_Texture*& t = gpu_layers_[depth];
-    if (!t) {
-      t = SDL_CreateTexture(wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_TARGET, width_, height_);
-      if (!t || SDL_SetTextureBlendMode(t, premultiplied_) != 0) return std::string("cannot create a layer: ") + SDL_GetError();
-    }
-    SDL_SetRenderTarget(wrenderer_, t);
-    SDL_SetRenderDrawColor(wrenderer_, 0, 0, 0, 0);
-    SDL_RenderClear(wrenderer_);
-    if (std::string e = gpu_range(list, t, l.begin, l.content_end, layer, depth + 1); !e.empty()) return e;
-    SDL_SetRenderTarget(wrenderer_, into);
-    const Uint8 a = static_cast<Uint8>(std::lround(std::clamp(l.opacity, 0.0f, 1.0f) * 255.0f));
-    SDL_SetTextureColorMod(t, a, a, a);  // (premultiplied: the colour scales with the alpha)
-    SDL_SetTextureAlphaMod(t, a);
-    if (SDL_RenderCopy(wrenderer_, t, nullptr, nullptr) != 0) return std::string("SDL_RenderCopy failed: ") + SDL_GetError();
+    if (!(l.opacity > 0)) continue;
+    if (std::string e = gpu_range(list, l.begin, l.content_end, layer); !e.empty()) return e;
   }
   return gpu_geometry(list, at, index_end);
 }
@@ -350,7 +329,7 @@ std::string Canvas::draw_gpu(const DrawList& list) {
   SDL_SetRenderTarget(wrenderer_, target_);
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
   size_t layer = 0;
-  return gpu_range(list, target_, 0, static_cast<int>(list.indices.size()), layer, 0);
+  return gpu_range(list, 0, static_cast<int>(list.indices.size()), layer);
 }
 
 std::string Canvas::draw(const DrawList& list) {

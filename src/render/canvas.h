@@ -134,9 +134,8 @@ class Canvas {
   void paint_ranges(const DrawList& list);
   std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
   std::string draw_gpu(const DrawList& list);
-  std::string gpu_range(const DrawList& list, SDL_Texture* into, int index_begin, int index_end, size_t& layer, size_t depth);
+  std::string gpu_range(const DrawList& list, int index_begin, int index_end, size_t& layer);
   std::string gpu_geometry(const DrawList& list, int index_begin, int index_end);
-  std::vector<SDL_Texture*> gpu_layers_;  ///< one per depth of opacity layers (draw_gpu)
   SDL_Texture* gpu_texture_for(const Texture* t, bool premultiplied);
   void place();  ///< where the canvas shows in the window
   bool gpu_ = false;

@@ -565,14 +565,14 @@ namespace {
 // One shape's fill and stroke, in its paint order; a clip shape as its fill alone, opaque white
 // (the clip is the union of its shapes' coverage).
 void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> pts, const Affine2& view, double tolerance_px,
-                DrawList& out) {
+                float alpha, DrawList& out) {
   const double scale = std::sqrt(std::abs(view.det()));
   const bool clip = s.role == ShapeRole::Clip;
     auto draw_fill = [&] {
     if ((s.fill.enabled || clip) && mesh && !mesh->fill.triangles.empty()) {
       const ShapeMesh& sm = *mesh;
       const Texture* tex = clip ? nullptr : s.fill.texture.get();
-      const SDL_Color col = clip ? SDL_Color{255, 255, 255, 255} : to_sdl(s.fill.color, s.fill.opacity);
+      const SDL_Color col = clip ? SDL_Color{255, 255, 255, 255} : to_sdl(s.fill.color, s.fill.opacity * alpha);
       begin_batch(out, tex);
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
       const int base = static_cast<int>(out.vertices.size());
@@ -613,7 +613,7 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
       st.cap = s.stroke.cap;
       st.miter_limit = s.stroke.miter_limit;
       st.tolerance = tolerance_px;
-      const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity);
+      const SDL_Color col = to_sdl(s.stroke.color, s.stroke.opacity * alpha);
       const Texture* tex = s.stroke.texture.get();
       begin_batch(out, tex);
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
@@ -663,7 +663,10 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     const SubShape& s = ch.shapes[i];
     const Points& pts = positions.empty() ? s.points : positions[i];
     if (pts.size() != s.points.size()) return;
-    draw_shape(s, i < mesh.shapes.size() ? &mesh.shapes[i] : nullptr, pts, view, tolerance_px, out);
+    float alpha = 1.0f;
+    for (const auto& [end, a] : out.alpha_stack)
+      if (size_t(end) > i) alpha *= a;
+    draw_shape(s, i < mesh.shapes.size() ? &mesh.shapes[i] : nullptr, pts, view, tolerance_px, alpha, out);
   };
   // Layers (Character::composites): opened where their first shape is, closed after their last,
   // with their clip and mask shapes drawn then.
@@ -684,12 +687,20 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     }
   };
   const double scale = std::sqrt(std::abs(view.det()));
+  out.alpha_stack.clear();
   for (size_t i = 0; i <= ch.shapes.size(); ++i) {
     close_through(i);
+    while (!out.alpha_stack.empty() && size_t(out.alpha_stack.back().first) <= i) out.alpha_stack.pop_back();
     for (; next < comps.size() && size_t(comps[next].first) <= i; ++next) {
       const Composite& c = comps[next];
-      // (a layer that changes nothing is drawn straight)
-      if (c.opacity >= 1.0f && !(c.blur > 0) && c.offset.squaredNorm() == 0 && !c.shadow && c.clip.empty() && c.mask.empty()) continue;
+      // (a layer that changes nothing is drawn straight; on the GPU's list, one that only has an
+      // opacity has it multiplied into its shapes: a GPU draws no layers)
+      const bool only_opacity = !(c.blur > 0) && c.offset.squaredNorm() == 0 && !c.shadow && c.clip.empty() && c.mask.empty();
+      if (only_opacity && c.opacity >= 1.0f) continue;
+      if (only_opacity && out.fringe) {
+        out.alpha_stack.push_back({c.end, c.opacity});
+        continue;
+      }
       DrawList::Layer l;
       l.begin = static_cast<int>(out.indices.size());
       l.composite = static_cast<int>(next);

@@ -66,6 +66,7 @@ struct DrawList {
   };
   std::vector<Layer> layers;
   std::vector<int> layer_stack;  ///< working space (build_draw_list)
+  std::vector<std::pair<int, float>> alpha_stack;  ///< working space: opacity groups on the GPU's list (their end, opacity)
   std::vector<Vec2> scratch;  ///< working space
   std::vector<Vec2> dash_scratch;  ///< working space (one dash of a dashed stroke)
   /// Anti-aliased geometry for renderers that only draw aliased triangles (the GPU's): when
@@ -99,6 +100,8 @@ struct DrawList {
     twice(dash_scratch);
     twice(fringe_scratch);
     twice(layers);
+    twice(layer_stack);
+    twice(alpha_stack);
   }
 
   void clear() {

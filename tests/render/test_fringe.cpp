@@ -126,6 +126,28 @@ TEST(Fringe, AGradientStrokeCarriesPremultipliedColoursAndItsTextureCoordinates)
   EXPECT_GT(right, 0.9f);
 }
 
+// The GPU draws no layers: on its list a group's opacity is multiplied into its shapes.
+TEST(Fringe, AGroupsOpacityIsInItsShapesOnTheGpusList) {
+  auto ch = load_svg_string(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="60" height="30">
+      <g opacity="0.5"><rect width="20" height="20" fill="#f00"/><rect x="10" width="20" height="20" fill="#00f" fill-opacity="0.5"/></g>
+      <rect x="40" width="10" height="10" fill="#0f0"/></svg>)svg", "o.svg");
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  DrawList gpu, cpu;
+  gpu.fringe = true;
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, gpu);
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, cpu);
+  EXPECT_TRUE(gpu.layers.empty());
+  ASSERT_EQ(cpu.layers.size(), 1u);
+  int most[3] = {0, 0, 0};  // the largest alpha of red, blue and green vertices
+  for (const SDL_Vertex& v : gpu.vertices) {
+    const int k = v.color.r > 200 ? 0 : v.color.b > 200 ? 1 : v.color.g > 200 ? 2 : -1;
+    if (k >= 0) most[k] = std::max(most[k], int(v.color.a));
+  }
+  EXPECT_NEAR(most[0], 128, 1);
+  EXPECT_NEAR(most[1], 64, 1);
+  EXPECT_EQ(most[2], 255);  // (after the group)
+}
+
 // Fills: one thinner than a pixel is drawn at its coverage (0.4 px wide: alpha 0.4 along its
 // middle), and a long rectangle, triangulated into slivers from side to side, stays opaque
 // inside (a sliver turned over by the pull is not a thin part).
@@ -161,7 +183,8 @@ TEST(Fringe, EveryExampleCharacterMatchesTheExactRasterizer) {
     build_draw_list(*ch.value, mesh, {}, view, 0.2, fringed);
     std::vector<std::uint8_t> exact(size_t(w) * size_t(h) * 4, 0);
     Rasterizer r;
-    r.draw(plain, {exact.data(), w, h, w * 4});
+    Compositor layers;  // (the koi's fin, stroked and at 0.9 opacity, is a layer)
+    layers.draw(r, plain, {exact.data(), w, h, w * 4});
     Sampled f(w, h), a(w, h);
     sample_centres(fringed, f.px, w, h);
     sample_centres(plain, a.px, w, h);
