@@ -29,6 +29,7 @@
 #include "render/canvas.h"
 
 #include <atomic>
+#include <array>
 #include <memory>
 #include <string>
 
@@ -67,6 +68,12 @@ bool take_reload_request();
 /// Counts heap allocations in the program (set by main; tests install their own).
 using AllocationCounter = uint64_t (*)();
 void set_allocation_counter(AllocationCounter f);
+
+/// What a show's names resolve against once its rig is loaded (load_show's RigLoader): the
+/// puppet's handles, the loop's and the solver's settings, key poses, swap sets and triggers.
+ShowRig show_rig(const Puppet& p, const ShowConfig& header);
+/// The canvas a show draws on: [output]'s size, else the window's (a run's --size before either).
+std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh);
 
 class LiveShow : private LedSink {
  public:
