@@ -37,6 +37,7 @@ bool display_present() {
 }  // namespace
 
 void set_allocation_counter(AllocationCounter f) { g_counter = f; }
+uint64_t LiveShow::allocation_count() { return allocations(); }
 
 LiveShow::~LiveShow() {
   if (simulation_) simulation_->stop();
@@ -707,9 +708,13 @@ int LiveShow::run() {
   while (!quit_ && !stop_ && !quit_requested() && (limit < 0 || stats_.frames < limit)) {
     // SIGHUP, or a saved edit (between frames: a non-blocking read): the edited show is
     // prepared on a thread of its own while this one plays on (live_reload.cpp).
+    // (a saved edit noticed and its preparation started: the reload's allocations, counted apart
+    // from the frames' as the swap's are, LiveShow::reloaded)
+    const uint64_t before_reload = allocations();
     if (take_reload_request()) start_reload("SIGHUP");
     if (watch_ && stats_.frames % 8 == 0)
       if (const std::string cause = watch_->poll(monotonic_ns()); !cause.empty()) start_reload(cause);
+    alloc_base_ += allocations() - before_reload;
     if (reload_ready()) {
       reload_asked_ = true;
       break;

@@ -88,6 +88,7 @@ bool LiveShow::reload_ready() {
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::take_prepared() {
+  swap_allocs_ = allocation_count();
   if (!reload_job_ || !reload_job_->done.load(std::memory_order_acquire))
     return Result<std::unique_ptr<LiveShow>>::failure("no reload prepared");
   auto r = std::move(reload_job_->result);
@@ -144,6 +145,7 @@ void LiveShow::adopt(LiveShow& old) {
   last_compute_ms_ = old.last_compute_ms_;
   allocs_ = old.allocs_;
   alloc_base_ = old.alloc_base_;
+  swap_allocs_ = old.swap_allocs_;
   present_allocs_ = old.present_allocs_;
   dropped_events_ = old.dropped_events_;
   dropped_records_ = old.dropped_records_;
@@ -172,6 +174,7 @@ void LiveShow::adopt(LiveShow& old) {
   }
   // the window and the outputs (the HUD's lines follow the new show's devices and bindings)
   canvas_ = std::move(old.canvas_);
+  list_ = std::move(old.list_);  // (its buffers' capacity: the new drawing's frames allocate nothing)
   recorder_ = std::move(old.recorder_);
   outputs_ = std::move(old.outputs_);
   hud_ = old.hud_;
@@ -191,6 +194,10 @@ void LiveShow::adopt(LiveShow& old) {
 }
 
 void LiveShow::reloaded(const std::string& what, const std::string& refused) {
+  struct Apart {  // (what the swap allocated, to the end of this)
+    LiveShow& s;
+    ~Apart() { s.alloc_base_ += allocation_count() - s.swap_allocs_; }
+  } apart{*this};
   const std::string stem = std::filesystem::path(show_.path).stem().string();
   if (!refused.empty()) {
     ++refused_;

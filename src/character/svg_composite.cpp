@@ -16,18 +16,9 @@ bool container(std::string_view name) { return name == "g" || name == "a" || nam
 
 // The standard deviation of an feGaussianBlur (one radius: the mean of two).
 double std_deviation(const pugi::xml_node& p) {
-  std::vector<double> sd;
-  std::string_view rest = p.attribute("stdDeviation").value();
-  while (sd.size() < 2) {
-    const size_t b = rest.find_first_not_of(" ,\t\r\n");
-    if (b == std::string_view::npos) break;
-    rest.remove_prefix(b);
-    const size_t e = std::min(rest.find_first_of(" ,\t\r\n"), rest.size());
-    sd.push_back(svg::parse_number(rest.substr(0, e)).value_or(0));
-    rest.remove_prefix(e);
-  }
+  const std::vector<std::string_view> sd = svg::split_list(p.attribute("stdDeviation").value(), 2);
   if (sd.empty()) return 0;
-  const double sx = sd[0], sy = sd.size() > 1 ? sd[1] : sd[0];
+  const double sx = svg::parse_number(sd[0]).value_or(0), sy = sd.size() > 1 ? svg::parse_number(sd[1]).value_or(0) : sx;
   return sx > 0 && sy > 0 && std::isfinite(sx * sy) ? std::sqrt(sx * sy) : 0;
 }
 
@@ -104,6 +95,7 @@ int SvgLoader::begin_composite(const pugi::xml_node& n, const Ctx& parent, Ctx& 
       }
     return -1;
   }
+  const double folded = ctx.style.group_opacity;  // (the opacity as multiplied into the paints)
   Composite c;
   c.id = *n.attribute("id").value() ? n.attribute("id").value() : std::string(name) + "-L" + std::to_string(line_of(n));
   bool layer = false;
@@ -143,6 +135,12 @@ int SvgLoader::begin_composite(const pugi::xml_node& n, const Ctx& parent, Ctx& 
     layer = true;
   }
   if (!layer) return -1;
+  if (layer_depth_ >= kMaxLayerDepth) {  // (each layer nesting takes a canvas-sized buffer)
+    ctx.style.group_opacity = folded;
+    warn(n, "layers nested deeper than " + std::to_string(kMaxLayerDepth) + "; drawn without its opacity layer, filter, clip or mask");
+    count(ch_.approximated, "layers nested too deep, drawn without them");
+    return -1;
+  }
   c.first = static_cast<int>(ch_.shapes.size());
   c.end = c.first;
   ch_.composites.push_back(std::move(c));

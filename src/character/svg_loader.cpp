@@ -167,13 +167,7 @@ std::optional<Vec2> SvgLoader::transform_origin(const pugi::xml_node& n) {
   if (const std::string_view style = n.attribute("style").value(); style.find("transform-origin") != std::string_view::npos)
     for (const auto& [k, v] : css::parse_declarations(style, nullptr))
       if (k == "transform-origin") value = v;
-  std::vector<std::string_view> parts;
-  std::string_view rest = trim_space(value);
-  while (!rest.empty() && parts.size() < 3) {
-    const size_t e = std::min(rest.find_first_of(" \t\r\n,"), rest.size());
-    parts.push_back(rest.substr(0, e));
-    rest = trim_space(rest.substr(std::min(e + 1, rest.size())));
-  }
+  std::vector<std::string_view> parts = svg::split_list(value, 3);
   if (parts.empty()) return std::nullopt;
   auto vertical = [](std::string_view k) { return k == "top" || k == "bottom"; };
   auto horizontal = [](std::string_view k) { return k == "left" || k == "right"; };
@@ -215,7 +209,7 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   const std::string_view name = local_name(n);
   if (++elements_ > opt_.max_elements) {
     fatal_ = where(n) + ": more than " + std::to_string(opt_.max_elements) +
-             " elements once <use> references are expanded (the limit); file refused";
+             " elements once <use> references are expanded (markers and pattern tiles count too; the limit); file refused";
     return;
   }
   if (parent.depth > 200) {
@@ -244,6 +238,7 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   // Drawn as one layer (opacity, filter, clip-path, mask: svg_composite.cpp)? Its content is
   // what this element draws below; its clip and mask come after.
   const int composite = begin_composite(n, parent, ctx);
+  if (composite >= 0) ++layer_depth_;
 
   if (name == "g" || name == "a") {
     const bool inkscape_layer = std::string_view(n.attribute("inkscape:groupmode").value()) == "layer";
@@ -287,7 +282,10 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   } else {
     warn(n, "unsupported element skipped");
   }
-  if (composite >= 0) end_composite(composite, n, ctx);
+  if (composite >= 0) {
+    --layer_depth_;
+    end_composite(composite, n, ctx);
+  }
 }
 
 bool SvgLoader::passes_conditions(const pugi::xml_node& c) {
@@ -316,10 +314,10 @@ void SvgLoader::visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::x
   }
   // The viewport clips what it holds (overflow: hidden, the default for svg and symbol): a layer
   // clipped by its rectangle, kept only where something crosses it.
-  std::string overflow = content.attribute("overflow").value();
-  for (const auto& [k, v] : declarations(content))
-    if (k == "overflow") overflow = std::string(trim_space(v));
-  const bool clips = ctx.role == ShapeRole::Paint && overflow != "visible" && overflow != "auto";
+  const Decls decls = declarations(content);
+  const auto overflow = prop(decls, "overflow");
+  const std::string_view o = overflow ? trim_space(*overflow) : std::string_view{};
+  const bool clips = ctx.role == ShapeRole::Paint && o != "visible" && o != "auto" && layer_depth_ < kMaxLayerDepth;
   const size_t first = ch_.shapes.size(), comps = ch_.composites.size();
   if (clips) {
     Composite c;
@@ -327,8 +325,10 @@ void SvgLoader::visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::x
     c.first = static_cast<int>(first);
     ch_.composites.push_back(std::move(c));
   }
+  if (clips) ++layer_depth_;
   for (pugi::xml_node c : content.children()) visit(c, ctx);
   if (!clips) return;
+  --layer_depth_;
   Composite& comp = ch_.composites[comps];
   comp.end = static_cast<int>(ch_.shapes.size());
   const Affine2 to_port = port.inverse();

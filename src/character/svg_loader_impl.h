@@ -58,6 +58,12 @@ struct Style {
   FillRule clip_rule = FillRule::NonZero;            // (inherited)
 };
 
+// A gradient's stop: where (0..1, never before the one before it) and its colour with opacity.
+struct GradientStop {
+  double offset = 0;
+  Rgba color{0, 0, 0, 1};
+};
+
 struct Viewport {
   double w = 100, h = 100;
 };
@@ -106,6 +112,13 @@ class SvgLoader {
   pugi::xml_node lookup_iri(std::string_view ref) const;
 
   static const char* href_of(const pugi::xml_node& n);
+
+  // A paint server and what it names by href, while they are of `kinds` (16 at most, no loops);
+  // an attribute is the first one set along it: chain_node says which node sets it (or none).
+  std::vector<pugi::xml_node> href_chain(const pugi::xml_node& first, std::initializer_list<std::string_view> kinds) const;
+  static pugi::xml_node chain_node(const std::vector<pugi::xml_node>& chain, const char* name);
+  // The stops of a gradient's chain: those of the first gradient along it that has any.
+  std::vector<GradientStop> gradient_stops(const std::vector<pugi::xml_node>& chain, const Rgba& current);
 
   // ---- properties ------------------------------------------------------------------
   using Decls = std::vector<std::pair<std::string, std::string>>;
@@ -174,6 +187,11 @@ class SvgLoader {
   std::shared_ptr<const Texture> gradient_paint(const Paint& p, const pugi::xml_node& n, const Ctx& ctx,
                                                 std::span<const Vec2> points, double pad, Affine2& uv);
   size_t gradient_texels_ = 0;
+  // Layers open around what is being read: at most kMaxLayerDepth nest (each nesting is a
+  // canvas-sized buffer when drawn: 190 nested opacity groups took 1.6 GB at 1920x1080); deeper
+  // ones are drawn without their layer, said.
+  static constexpr int kMaxLayerDepth = 8;
+  int layer_depth_ = 0;
   // A pattern fill of shape `s` (being emitted): a composite of the pattern's tiles over the
   // shape's bounds, clipped by the shape; false (nothing added) when it cannot be (no content,
   // a degenerate tile, more than 256 tiles: said), and the caller paints a colour instead.

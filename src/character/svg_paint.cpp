@@ -13,17 +13,13 @@
 namespace mar::svg_load {
 namespace {
 
-struct Stop {
-  double offset = 0;
-  Rgba color;
-};
 
 // The colour at t (after the spread), interpolated between the stops (not premultiplied).
-Rgba stop_color(const std::vector<Stop>& stops, double t) {
+Rgba stop_color(const std::vector<GradientStop>& stops, double t) {
   if (t <= stops.front().offset) return stops.front().color;
   if (t >= stops.back().offset) return stops.back().color;
   for (size_t k = 1; k < stops.size(); ++k) {
-    const Stop &a = stops[k - 1], &b = stops[k];
+    const GradientStop &a = stops[k - 1], &b = stops[k];
     if (t > b.offset) continue;
     const double span = b.offset - a.offset;
     const float u = span > 1e-12 ? float((t - a.offset) / span) : 1.0f;
@@ -45,6 +41,46 @@ double spread(double t, std::string_view method) {
 
 }  // namespace
 
+std::vector<pugi::xml_node> SvgLoader::href_chain(const pugi::xml_node& first, std::initializer_list<std::string_view> kinds) const {
+  std::vector<pugi::xml_node> chain;
+  for (pugi::xml_node g = first; g && chain.size() < 16; g = lookup_iri(href_of(g))) {
+    if (std::find(chain.begin(), chain.end(), g) != chain.end()) break;
+    if (std::find(kinds.begin(), kinds.end(), local_name(g)) == kinds.end()) break;
+    chain.push_back(g);
+  }
+  return chain;
+}
+
+pugi::xml_node SvgLoader::chain_node(const std::vector<pugi::xml_node>& chain, const char* name) {
+  for (const pugi::xml_node& g : chain)
+    if (g.attribute(name)) return g;
+  return {};
+}
+
+std::vector<GradientStop> SvgLoader::gradient_stops(const std::vector<pugi::xml_node>& chain, const Rgba& current) {
+  std::vector<GradientStop> stops;
+  for (const pugi::xml_node& g : chain) {
+    for (pugi::xml_node s : g.children()) {
+      if (s.type() != pugi::node_element || local_name(s) != "stop") continue;
+      const Decls d = declarations(s);
+      GradientStop st;
+      if (auto v = prop(d, "stop-color")) {
+        if (trim_space(*v) == "currentColor") st.color = current;
+        else if (auto pc = parse_color(*v)) st.color = *pc;
+      }
+      if (auto v = prop(d, "stop-opacity")) st.color.a *= static_cast<float>(svg::parse_opacity(*v, 1));
+      const std::string_view off = trim_space(s.attribute("offset").value());
+      const double o = !off.empty() && off.back() == '%' ? svg::parse_number(off.substr(0, off.size() - 1)).value_or(0) / 100.0
+                                                         : svg::parse_number(off).value_or(0);
+      st.offset = std::clamp(o, 0.0, 1.0);
+      if (!stops.empty()) st.offset = std::max(st.offset, stops.back().offset);  // (never backwards)
+      stops.push_back(st);
+    }
+    if (!stops.empty()) break;
+  }
+  return stops;
+}
+
 std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node& server, const Ctx& ctx,
                                                          std::span<const Vec2> points, double pad, Affine2& uv) {
   const std::string_view kind = local_name(server);
@@ -52,40 +88,9 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
   if (!radial && kind != "linearGradient") return nullptr;
   // The chain: this gradient, then what it names by href. An attribute is the first one set
   // along it; the stops are those of the first one that has any.
-  std::vector<pugi::xml_node> chain;
-  for (pugi::xml_node g = server; g && chain.size() < 16; g = lookup_iri(href_of(g))) {
-    if (std::find(chain.begin(), chain.end(), g) != chain.end()) break;
-    const std::string_view k = local_name(g);
-    if (k != "linearGradient" && k != "radialGradient") break;
-    chain.push_back(g);
-  }
-  auto attr = [&](const char* name) -> pugi::xml_attribute {
-    for (const pugi::xml_node& g : chain)
-      if (pugi::xml_attribute a = g.attribute(name)) return a;
-    return {};
-  };
-  std::vector<Stop> stops;
-  for (const pugi::xml_node& g : chain) {
-    for (pugi::xml_node s : g.children()) {
-      if (s.type() != pugi::node_element || local_name(s) != "stop") continue;
-      const Decls d = declarations(s);
-      Stop st;
-      st.color = Rgba{0, 0, 0, 1};
-      if (auto v = prop(d, "stop-color")) {
-        if (trim_space(*v) == "currentColor") st.color = ctx.style.color;
-        else if (auto pc = parse_color(*v)) st.color = *pc;
-      }
-      if (auto v = prop(d, "stop-opacity")) st.color.a *= static_cast<float>(svg::parse_opacity(*v, 1));
-      std::string_view off = trim_space(s.attribute("offset").value());
-      double o = 0;
-      if (!off.empty() && off.back() == '%') o = svg::parse_number(off.substr(0, off.size() - 1)).value_or(0) / 100.0;
-      else o = svg::parse_number(off).value_or(0);
-      st.offset = std::clamp(o, 0.0, 1.0);
-      if (!stops.empty()) st.offset = std::max(st.offset, stops.back().offset);  // (never backwards)
-      stops.push_back(st);
-    }
-    if (!stops.empty()) break;
-  }
+  const std::vector<pugi::xml_node> chain = href_chain(server, {"linearGradient", "radialGradient"});
+  auto attr = [&](const char* name) { return chain_node(chain, name).attribute(name); };
+  const std::vector<GradientStop> stops = gradient_stops(chain, ctx.style.color);
   if (stops.empty() || points.empty()) return nullptr;
   // The shape's rest bounds (character units), widened for a stroke: where the texture lies.
   Bounds b;
@@ -106,13 +111,8 @@ std::shared_ptr<const Texture> SvgLoader::gradient_texture(const pugi::xml_node&
     g_to_char = g_to_char * Affine2{size.x(), 0, 0, size.y(), ub.lo.x(), ub.lo.y()};
   }
   if (pugi::xml_attribute t = attr("gradientTransform")) {
-    pugi::xml_node holder = server;  // (the gradient along the chain that sets it, for its transform-origin)
-    for (const pugi::xml_node& g : chain)
-      if (g.attribute("gradientTransform")) {
-        holder = g;
-        break;
-      }
-    if (auto m = svg::parse_transform(t.value()); m && m->is_finite()) g_to_char = g_to_char * about_origin(holder, *m);
+    if (auto m = svg::parse_transform(t.value()); m && m->is_finite())
+      g_to_char = g_to_char * about_origin(chain_node(chain, "gradientTransform"), *m);  // (its transform-origin too)
   }
   if (!(std::abs(g_to_char.det()) > 0)) return nullptr;
   const Affine2 char_to_g = g_to_char.inverse();
@@ -198,16 +198,8 @@ std::shared_ptr<const Texture> SvgLoader::gradient_paint(const Paint& p, const p
 // layer clipped by the shape (Character::composites), so the pattern deforms with it. Tiles
 // are not clipped to their own box (overflow is taken as visible).
 bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node& n, const Ctx& ctx, const SubShape& s) {
-  std::vector<pugi::xml_node> chain;
-  for (pugi::xml_node g = server; g && chain.size() < 16 && local_name(g) == "pattern"; g = lookup_iri(href_of(g))) {
-    if (std::find(chain.begin(), chain.end(), g) != chain.end()) break;
-    chain.push_back(g);
-  }
-  auto attr = [&](const char* name) -> pugi::xml_attribute {
-    for (const pugi::xml_node& g : chain)
-      if (pugi::xml_attribute a = g.attribute(name)) return a;
-    return {};
-  };
+  const std::vector<pugi::xml_node> chain = href_chain(server, {"pattern"});
+  auto attr = [&](const char* name) { return chain_node(chain, name).attribute(name); };
   pugi::xml_node content;
   for (const pugi::xml_node& g : chain) {
     for (pugi::xml_node c : g.children())
@@ -218,6 +210,10 @@ bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node&
     if (content) break;
   }
   if (!content || s.points.empty()) return false;
+  if (layer_depth_ >= kMaxLayerDepth) {
+    warn(n, "a pattern inside layers nested deeper than " + std::to_string(kMaxLayerDepth) + "; painted as its colour");
+    return false;
+  }
   if (std::find(use_stack_.begin(), use_stack_.end(), server) != use_stack_.end() || use_stack_.size() > 32) {
     warn(n, "a pattern drawn inside itself; painted as its colour");
     return false;
@@ -245,11 +241,8 @@ bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node&
   }
   if (!(w > 0) || !(h > 0) || !std::isfinite(x + y + w + h)) return false;
   Affine2 pt;
-  for (const pugi::xml_node& g : chain)  // (the pattern along the chain that sets it, for its transform-origin)
-    if (pugi::xml_attribute a = g.attribute("patternTransform")) {
-      if (auto t = svg::parse_transform(a.value()); t && t->is_finite()) pt = about_origin(g, *t);
-      break;
-    }
+  if (pugi::xml_node g = chain_node(chain, "patternTransform"))  // (its transform-origin too)
+    if (auto t = svg::parse_transform(g.attribute("patternTransform").value()); t && t->is_finite()) pt = about_origin(g, *t);
   Affine2 inner;
   Viewport vp{w, h};
   if (auto vb = svg::parse_viewbox(attr("viewBox").value()); vb && (*vb)[2] > 0 && (*vb)[3] > 0) {
@@ -283,11 +276,13 @@ bool SvgLoader::pattern_fill(const pugi::xml_node& server, const pugi::xml_node&
   pc.depth = ctx.depth + 1;
   pc.id_prefix = ctx.id_prefix + s.id + ":pattern:";
   use_stack_.push_back(server);
+  ++layer_depth_;
   for (double i = i0; i < i1 && fatal_.empty(); ++i)
     for (double j = j0; j < j1 && fatal_.empty(); ++j) {
       pc.ctm = ctx.ctm * pt * Affine2::translate(x + i * w, y + j * h) * inner;
       for (pugi::xml_node k : content.children()) visit(k, pc);
     }
+  --layer_depth_;
   use_stack_.pop_back();
   ch_.composites[size_t(ci)].end = static_cast<int>(ch_.shapes.size());
   // The shape itself clips its tiles.

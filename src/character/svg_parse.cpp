@@ -349,6 +349,20 @@ std::optional<double> parse_length(std::string_view v, int axis, double vp_w, do
   return out;
 }
 
+std::vector<std::string_view> split_list(std::string_view s, size_t max_items) {
+  std::vector<std::string_view> out;
+  size_t pos = 0;
+  while (out.size() < max_items) {
+    while (pos < s.size() && (is_ws(s[pos]) || s[pos] == ',')) ++pos;
+    if (pos >= s.size()) break;
+    size_t end = pos;
+    while (end < s.size() && !is_ws(s[end]) && s[end] != ',') ++end;
+    out.push_back(s.substr(pos, end - pos));
+    pos = end;
+  }
+  return out;
+}
+
 bool system_language_matches(std::string_view l) {
   size_t pos = 0;
   while (pos <= l.size()) {

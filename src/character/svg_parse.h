@@ -58,6 +58,10 @@ std::optional<Affine2> parse_transform(std::string_view s);
 /// Parses a points list for polyline/polygon; an odd trailing number is dropped.
 std::vector<Vec2> parse_points(std::string_view s, bool* odd = nullptr);
 
+/// The items of a list separated by whitespace and/or commas (stroke-dasharray, stdDeviation,
+/// transform-origin), at most `max_items` of them.
+std::vector<std::string_view> split_list(std::string_view s, size_t max_items = SIZE_MAX);
+
 /// A whole attribute value as one finite number (surrounding whitespace allowed).
 std::optional<double> parse_number(std::string_view v);
 

@@ -17,7 +17,7 @@ SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
       "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
       "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
       "mask", "clip-path", "stroke-dashoffset", "paint-order", "vector-effect", "marker-start", "marker-mid",
-      "marker-end", "clip-rule", "mask-type"};
+      "marker-end", "clip-rule", "mask-type", "overflow"};
   for (const char* p : kPresentation) {
     if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
   }
@@ -168,17 +168,12 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
     // Lengths (user units, % of the viewport's diagonal), by commas or spaces; an odd list is
     // repeated; none, all zeros or a negative length draw the stroke solid (SVG 2, 13.5.1).
     std::vector<double> dashes;
-    bool bad = false;
-    std::string_view rest = trim_space(*v);
-    while (!rest.empty() && rest != "none" && !bad) {
-      const size_t end = rest.find_first_of(", \t\r\n");
-      const std::string_view item = rest.substr(0, end);
-      rest = end == std::string_view::npos ? std::string_view{} : trim_space(rest.substr(end + 1));
-      if (!rest.empty() && rest.front() == ',') rest = trim_space(rest.substr(1));
-      if (item.empty()) continue;
-      const auto len = svg::parse_length(item, 2, current_vp_.w, current_vp_.h);
-      if (!len || !(*len >= 0) || dashes.size() >= 64) bad = true;
-      else dashes.push_back(*len);
+    const std::vector<std::string_view> items = trim_space(*v) == "none" ? std::vector<std::string_view>{} : svg::split_list(*v, 65);
+    bool bad = items.size() > 64;
+    for (size_t k = 0; k < items.size() && !bad; ++k) {
+      const auto len = svg::parse_length(items[k], 2, current_vp_.w, current_vp_.h);
+      bad = !len || !(*len >= 0);
+      if (!bad) dashes.push_back(*len);
     }
     double sum = 0;
     for (double x : dashes) sum += x;
@@ -233,35 +228,14 @@ std::optional<Rgba> SvgLoader::paint_server_color(const pugi::xml_node& server, 
                                                   const Style& st) {
   const std::string_view kind = local_name(server);
   if (kind == "linearGradient" || kind == "radialGradient") {
-    pugi::xml_node g = server;
-    for (int hops = 0; hops < 16 && g; ++hops) {
-      if (child_named(g, "stop")) break;
-      g = lookup_iri(href_of(g));
-    }
-    std::vector<Rgba> stops;
-    if (g) {
-      for (pugi::xml_node s : g.children()) {
-        if (local_name(s) != "stop") continue;
-        const Decls d = declarations(s);
-        Rgba c{0, 0, 0, 1};
-        if (auto v = prop(d, "stop-color")) {
-          if (trim_space(*v) == "currentColor") {
-            c = st.color;
-          } else if (auto pc = parse_color(*v)) {
-            c = *pc;
-          }
-        }
-        if (auto v = prop(d, "stop-opacity")) c.a *= static_cast<float>(svg::parse_opacity(*v, 1));
-        stops.push_back(c);
-      }
-    }
+    const std::vector<GradientStop> stops = gradient_stops(href_chain(server, {"linearGradient", "radialGradient"}), st.color);
     if (stops.empty()) {  // no stops: painted as none (SVG), said
       warn(user, std::string(kind) + " '" + server.attribute("id").value() + "' has no stops; painted as none");
       paint_failed_ = true;
       return std::nullopt;
     }
     Rgba mean{0, 0, 0, 0};
-    for (const Rgba& c : stops) {
+    for (const auto& [offset, c] : stops) {
       mean.r += c.r;
       mean.g += c.g;
       mean.b += c.b;

@@ -285,51 +285,47 @@ SDL_Texture* Canvas::gpu_texture_for(const Texture* t, bool premultiplied) {
   return tex;
 }
 
-// The GPU draws the list into the canvas texture: SDL queues the triangles (batched) and hands
-// them to the driver at present or read-back.
-void Canvas::paint_ranges(const DrawList& list) {
-  skip_.clear();
-  for (const DrawList::Layer& l : list.layers)
-    if (l.mask_end > l.content_end) skip_.push_back({l.content_end, l.mask_end});
-  std::sort(skip_.begin(), skip_.end());
-}
+namespace {
 
-// The triangles of indices [index_begin, index_end), batch by batch, onto the current target.
-std::string Canvas::gpu_geometry(const DrawList& list, int index_begin, int index_end) {
-  for (const DrawList::Batch& b : list.batches) {
-    const int from = std::max(b.first_index, index_begin), to = std::min(b.first_index + b.index_count, index_end);
-    if (to <= from) continue;
-    SDL_Texture* tex = b.texture ? gpu_texture_for(b.texture, list.fringe) : nullptr;
-    if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    if (SDL_RenderGeometry(wrenderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()), list.indices.data() + from,
-                           to - from) != 0)
-      return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
-  }
-  return {};
-}
-
-// Layers on the GPU: none is drawn as a layer. The GPU's list has a group's opacity multiplied
-// into its shapes (build_draw_list); blur, shadows, clips and masks need the software rasterizer
-// (a show whose character has them draws there): here such a layer's content is drawn straight,
-// its clip and mask left out.
-std::string Canvas::gpu_range(const DrawList& list, int index_begin, int index_end, size_t& layer) {
+// For renderers that draw no layers (the GPU, SDL's aliased triangles): [index_begin,
+// index_end) drawn by `geometry` (a plain range of indices), each layer's content straight and
+// its clip and mask left out. The GPU's list has a group's opacity multiplied into its shapes
+// (build_draw_list); blur, shadows, clips and masks need the software rasterizer (a show whose
+// character has them draws there).
+template <class Geometry>
+std::string straight(const DrawList& list, int index_begin, int index_end, size_t& layer, const Geometry& geometry) {
   int at = index_begin;
   while (layer < list.layers.size() && list.layers[layer].begin < index_end) {
     const DrawList::Layer& l = list.layers[layer++];
     if (l.begin < at) continue;
-    if (std::string e = gpu_geometry(list, at, l.begin); !e.empty()) return e;
+    if (std::string e = geometry(at, l.begin); !e.empty()) return e;
     at = l.mask_end;
     if (!(l.opacity > 0)) continue;
-    if (std::string e = gpu_range(list, l.begin, l.content_end, layer); !e.empty()) return e;
+    if (std::string e = straight(list, l.begin, l.content_end, layer, geometry); !e.empty()) return e;
   }
-  return gpu_geometry(list, at, index_end);
+  return geometry(at, index_end);
 }
 
+}  // namespace
+
+// The GPU draws the list into the canvas texture: SDL queues the triangles (batched) and hands
+// them to the driver at present or read-back.
 std::string Canvas::draw_gpu(const DrawList& list) {
   SDL_SetRenderTarget(wrenderer_, target_);
   SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
   size_t layer = 0;
-  return gpu_range(list, 0, static_cast<int>(list.indices.size()), layer);
+  return straight(list, 0, static_cast<int>(list.indices.size()), layer, [&](int from, int to) -> std::string {
+    for (const DrawList::Batch& b : list.batches) {
+      const int lo = std::max(b.first_index, from), hi = std::min(b.first_index + b.index_count, to);
+      if (hi <= lo) continue;
+      SDL_Texture* tex = b.texture ? gpu_texture_for(b.texture, list.fringe) : nullptr;
+      if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
+      if (SDL_RenderGeometry(wrenderer_, tex, list.vertices.data(), static_cast<int>(list.vertices.size()), list.indices.data() + lo,
+                             hi - lo) != 0)
+        return std::string("SDL_RenderGeometry failed: ") + SDL_GetError();
+    }
+    return {};
+  });
 }
 
 std::string Canvas::draw(const DrawList& list) {
@@ -340,26 +336,19 @@ std::string Canvas::draw(const DrawList& list) {
     else compositor_.draw(raster_, list, pixels());
     return {};
   }
-  paint_ranges(list);
-  for (const DrawList::Batch& b : list.batches) {
-    if (b.index_count <= 0) continue;
-    SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
-    if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
-    int at = b.first_index;
-    const int end = b.first_index + b.index_count;
-    for (size_t k = 0; at < end; ++k) {
-      const int stop = k < skip_.size() ? std::clamp(skip_[k][0], at, end) : end;
-      if (stop > at) {
-        DrawList::Batch part = b;
-        part.first_index = at;
-        part.index_count = stop - at;
-        if (std::string e = draw_software(list, part, tex); !e.empty()) return e;
-      }
-      if (k >= skip_.size()) break;
-      at = std::max(at, skip_[k][1]);
+  size_t layer = 0;
+  return straight(list, 0, static_cast<int>(list.indices.size()), layer, [&](int from, int to) -> std::string {
+    for (const DrawList::Batch& b : list.batches) {
+      DrawList::Batch part = b;
+      part.first_index = std::max(b.first_index, from);
+      part.index_count = std::min(b.first_index + b.index_count, to) - part.first_index;
+      if (part.index_count <= 0) continue;
+      SDL_Texture* tex = b.texture ? texture_for(b.texture) : nullptr;
+      if (b.texture && !tex) return std::string("cannot create texture: ") + SDL_GetError();
+      if (std::string e = draw_software(list, part, tex); !e.empty()) return e;
     }
-  }
-  return {};
+    return {};
+  });
 }
 
 // SDL 2.26's software path redraws two consecutive triangles that share two vertex indices

@@ -17,7 +17,6 @@
 
 #include <SDL2/SDL_rect.h>
 
-#include <array>
 #include <memory>
 #include <string>
 #include <unordered_map>
@@ -128,14 +127,8 @@ class Canvas {
   bool antialias_ = true;
   Rasterizer raster_;
   Compositor compositor_;  ///< layers (DrawList::layers) on the software rasterizer
-  /// Where neither draws them (the GPU, SDL's aliased triangles), a layer's content is drawn
-  /// straight onto the canvas and its clip and mask items are left out: these ranges of indices.
-  std::vector<std::array<int, 2>> skip_;
-  void paint_ranges(const DrawList& list);
   std::string draw_software(const DrawList& list, const DrawList::Batch& b, SDL_Texture* tex);
   std::string draw_gpu(const DrawList& list);
-  std::string gpu_range(const DrawList& list, int index_begin, int index_end, size_t& layer);
-  std::string gpu_geometry(const DrawList& list, int index_begin, int index_end);
   SDL_Texture* gpu_texture_for(const Texture* t, bool premultiplied);
   void place();  ///< where the canvas shows in the window
   bool gpu_ = false;

@@ -558,17 +558,13 @@ void stroke_dashes(const SubShape& s, const Contour& c, std::span<const Vec2> px
   if (k % 2 == 0 && piece.size() >= 2) stroke_polyline(piece, false, st, col, out);
 }
 
-}  // namespace
-
-namespace {
-
 // One shape's fill and stroke, in its paint order; a clip shape as its fill alone, opaque white
 // (the clip is the union of its shapes' coverage).
 void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> pts, const Affine2& view, double tolerance_px,
                 float alpha, DrawList& out) {
   const double scale = std::sqrt(std::abs(view.det()));
   const bool clip = s.role == ShapeRole::Clip;
-    auto draw_fill = [&] {
+  auto draw_fill = [&] {
     if ((s.fill.enabled || clip) && mesh && !mesh->fill.triangles.empty()) {
       const ShapeMesh& sm = *mesh;
       const Texture* tex = clip ? nullptr : s.fill.texture.get();
@@ -604,8 +600,8 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
       out.item_outline.push_back({outline_begin, static_cast<int>(out.outline.size())});
       end_batch(out);
     }
-    };
-    auto draw_stroke = [&] {
+  };
+  auto draw_stroke = [&] {
     if (s.stroke.enabled && !clip) {
       StrokeStyle st;
       st.half_width = 0.5 * s.stroke.width * scale;
@@ -629,19 +625,15 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
       if (tex) texture_stroke(s, pts, view, first_vertex, out);
       end_batch(out);
     }
-    };
-    if (s.stroke.under_fill) {
-      draw_stroke();
-      draw_fill();
-    } else {
-      draw_fill();
-      draw_stroke();
-    }
+  };
+  if (s.stroke.under_fill) {
+    draw_stroke();
+    draw_fill();
+  } else {
+    draw_fill();
+    draw_stroke();
+  }
 }
-
-}  // namespace
-
-namespace {
 
 // The affine map that best takes a composite's shapes at rest to where they are now.
 Affine2 part_motion(const Character& ch, std::span<const Points> positions, const Composite& c) {

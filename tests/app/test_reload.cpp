@@ -262,6 +262,8 @@ TEST(Reload, ASavedEditReloadsTheShowInItsWindowAndABadOneIsRefused) {
   EXPECT_EQ(j["reloads"]["count"], 2);
   EXPECT_EQ(j["reloads"]["refused"], 1);
   EXPECT_GT(j["frames"].get<long>(), 30);  // one clock: the frames of every reload in one count
+  // What noticing, refusing and swapping in an edit allocates is the reload's, not a frame's.
+  EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
 }
 
 }  // namespace

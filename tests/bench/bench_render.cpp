@@ -105,6 +105,26 @@ void gl_window(benchmark::State& st, bool gpu) {
 void BM_frame_gl_window(benchmark::State& st) { gl_window(st, true); }
 void BM_frame_gl_upload(benchmark::State& st) { gl_window(st, false); }
 
+// librsvg (cairo) drawing `handle` into a w x h ARGB surface over `background` each iteration,
+// the document placed as the canvas places it (fit_view, the same margin); the handle is released.
+void librsvg_frames(benchmark::State& st, RsvgHandle* handle, double doc_w, double doc_h, int w, int h, const mar::Rgba& background) {
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h);
+  const mar::Affine2 view = mar::fit_view(doc_w, doc_h, w, h, 16);
+  const mar::Vec2 o = view.apply(mar::Vec2(0, 0)), e = view.apply(mar::Vec2(doc_w, doc_h));
+  const RsvgRectangle viewport{o.x(), o.y(), e.x() - o.x(), e.y() - o.y()};
+  for (auto _ : st) {
+    cairo_t* cr = cairo_create(surface);
+    cairo_set_source_rgb(cr, background.r, background.g, background.b);
+    cairo_paint(cr);
+    rsvg_handle_render_document(handle, cr, &viewport, nullptr);
+    cairo_destroy(cr);
+    cairo_surface_flush(surface);
+    benchmark::DoNotOptimize(cairo_image_surface_get_data(surface));
+  }
+  cairo_surface_destroy(surface);
+  g_object_unref(handle);
+}
+
 // librsvg (cairo) rendering the same SVG at the same size, into an ARGB surface: the anchor.
 void BM_frame_librsvg(benchmark::State& st) {
   const std::string path = path_of(int(st.range(0)));
@@ -119,23 +139,8 @@ void BM_frame_librsvg(benchmark::State& st) {
     return;
   }
   const mar::Character ch = load(int(st.range(0)));
-  const int w = kSizes[st.range(1)][0], h = kSizes[st.range(1)][1];
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, w, h);
-  // The character's document fitted as the canvas fits it (same margin).
-  const mar::Affine2 view = mar::fit_view(ch.width, ch.height, w, h, 16);
-  const mar::Vec2 o = view.apply(mar::Vec2(0, 0)), e = view.apply(mar::Vec2(ch.width, ch.height));
-  const RsvgRectangle viewport{o.x(), o.y(), e.x() - o.x(), e.y() - o.y()};
-  for (auto _ : st) {
-    cairo_t* cr = cairo_create(surface);
-    cairo_set_source_rgb(cr, 0.96, 0.95, 0.92);
-    cairo_paint(cr);
-    rsvg_handle_render_document(handle, cr, &viewport, nullptr);
-    cairo_destroy(cr);
-    cairo_surface_flush(surface);
-    benchmark::DoNotOptimize(cairo_image_surface_get_data(surface));
-  }
-  cairo_surface_destroy(surface);
-  g_object_unref(handle);
+  // (the character's document fitted as the canvas fits it: the same margin)
+  librsvg_frames(st, handle, ch.width, ch.height, kSizes[st.range(1)][0], kSizes[st.range(1)][1], mar::Rgba{0.96f, 0.95f, 0.92f, 1});
   st.SetLabel(label(st));
 }
 
@@ -208,21 +213,7 @@ void BM_frame_clipart_librsvg(benchmark::State& st) {
     if (handle) g_object_unref(handle);
     return;
   }
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, kClipartW, kClipartH);
-  const mar::Affine2 view = mar::fit_view(ch.value->width, ch.value->height, kClipartW, kClipartH, 16);
-  const mar::Vec2 o = view.apply(mar::Vec2(0, 0)), e = view.apply(mar::Vec2(ch.value->width, ch.value->height));
-  const RsvgRectangle viewport{o.x(), o.y(), e.x() - o.x(), e.y() - o.y()};
-  for (auto _ : st) {
-    cairo_t* cr = cairo_create(surface);
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    rsvg_handle_render_document(handle, cr, &viewport, nullptr);
-    cairo_destroy(cr);
-    cairo_surface_flush(surface);
-    benchmark::DoNotOptimize(cairo_image_surface_get_data(surface));
-  }
-  cairo_surface_destroy(surface);
-  g_object_unref(handle);
+  librsvg_frames(st, handle, ch.value->width, ch.value->height, kClipartW, kClipartH, mar::Rgba{1, 1, 1, 1});
   st.SetLabel(kClipart[st.range(0)]);
 }
 BENCHMARK(BM_frame_clipart)->DenseRange(0, 4)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true)->MinTime(0.1);

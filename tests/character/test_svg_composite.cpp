@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace mar {
 namespace {
 
@@ -107,6 +109,20 @@ TEST(composites, AnEmptyClipShowsNothingAndAClipInsideItselfIsCut) {
   EXPECT_EQ(ch.composites[0].opacity, 0.0f);
   EXPECT_EQ(ch.composites[1].clip.size(), 1u);
   EXPECT_TRUE(said(ch, "clip-path inside a clip path or mask is not drawn"));
+}
+
+// Each nesting of layers is a canvas-sized buffer when drawn: at most 8 nest, deeper ones are
+// drawn without their layer (190 nested opacity groups took 1.6 GB at 1920x1080 before).
+TEST(composites, LayersNestAtMostEightDeep) {
+  std::string body;
+  for (int k = 0; k < 50; ++k) body += "<g opacity=\"0.99\">";
+  body += "<rect width=\"10\" height=\"10\" fill=\"red\"/>";
+  for (int k = 0; k < 50; ++k) body += "</g>";
+  const Character ch = load(body);
+  EXPECT_EQ(ch.composites.size(), 8u);
+  EXPECT_TRUE(said(ch, "layers nested deeper than 8"));
+  ASSERT_EQ(ch.shapes.size(), 1u);
+  EXPECT_NEAR(ch.shapes[0].fill.opacity, std::pow(0.99, 42), 1e-4);  // (the rest folded into the paint)
 }
 
 // A nested svg clips what crosses its viewport (a layer clipped by its rectangle); content

@@ -16,6 +16,16 @@ Character svg(const std::string& body, int w = 100, int h = 60) {
   return *r.value;
 }
 
+// Every shape's points moved by `d` (a pose).
+std::vector<Points> moved_by(const Character& ch, const Vec2& d) {
+  std::vector<Points> out;
+  for (const SubShape& s : ch.shapes) {
+    out.push_back(s.points);
+    for (Vec2& p : out.back()) p += d;
+  }
+  return out;
+}
+
 const uint8_t* px(const Image& img, int x, int y) { return &img.rgba[(size_t(y) * size_t(img.width) + size_t(x)) * 4]; }
 
 Image draw(const Character& ch, std::span<const Points> at = {}) {
@@ -45,12 +55,7 @@ TEST(Composite, AClipPathClipsAndFollowsTheShapes) {
   EXPECT_EQ(px(rest, 30, 30)[1], 0);    // red inside
   EXPECT_EQ(px(rest, 8, 8)[1], 255);    // white in the rect's corner, outside the circle
   EXPECT_EQ(px(rest, 30, 17)[1], 0);    // just inside the top of the circle
-  std::vector<Points> moved;
-  for (const SubShape& s : ch.shapes) {
-    moved.push_back(s.points);
-    for (Vec2& p : moved.back()) p += Vec2(40, 0);
-  }
-  const Image m = draw(ch, moved);
+  const Image m = draw(ch, moved_by(ch, Vec2(40, 0)));
   EXPECT_EQ(px(m, 70, 30)[1], 0);
   EXPECT_EQ(px(m, 30, 30)[1], 255);
   EXPECT_EQ(px(m, 48, 8)[1], 255);
@@ -113,12 +118,7 @@ TEST(Composite, APatternFillsItsShapeWithTiles) {
   EXPECT_EQ(px(img, 22, 22)[1], 0);    // a red square (20..25)
   EXPECT_EQ(px(img, 27, 27)[1], 255);  // between squares
   EXPECT_EQ(px(img, 2, 2)[1], 255);    // the square at 0..5 is outside the circle
-  std::vector<Points> moved;
-  for (const SubShape& s : ch.shapes) {
-    moved.push_back(s.points);
-    for (Vec2& p : moved.back()) p += Vec2(3, 0);
-  }
-  const Image m = draw(ch, moved);
+  const Image m = draw(ch, moved_by(ch, Vec2(3, 0)));
   EXPECT_EQ(px(m, 24, 22)[1], 0);
   EXPECT_EQ(px(m, 22, 22)[1], 255);
 }
