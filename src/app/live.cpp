@@ -714,8 +714,10 @@ int LiveShow::run() {
     if (take_reload_request()) start_reload("SIGHUP");
     if (watch_ && stats_.frames % 8 == 0)
       if (const std::string cause = watch_->poll(monotonic_ns()); !cause.empty()) start_reload(cause);
+    const bool ready = reload_ready();  // (which may start the newest edit, or give one up)
     alloc_base_ += allocations() - before_reload;
-    if (reload_ready()) {
+    if (ready) {
+      swap_allocs_ = allocations();  // from here to reloaded(): the swap's, counted apart
       reload_asked_ = true;
       break;
     }

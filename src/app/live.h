@@ -102,7 +102,7 @@ class LiveShow : private LedSink {
   const std::string& reload_cause() const { return reload_cause_; }
   /// After a reload: says what happened in the HUD and the window's title; `refused`: the
   /// edit's error (file:line), and the running show goes on. What the swap allocated (from
-  /// take_prepared() on: the old show let go, the new one's notices) is the reload's, counted
+  /// the end of run() on: the old show let go, the new one's notices) is the reload's, counted
   /// apart from the frames'.
   void reloaded(const std::string& what, const std::string& refused = {});
   /// Reloads so far; what the last one started over (empty: nothing, all was kept).
@@ -152,6 +152,7 @@ class LiveShow : private LedSink {
   void release();
   void start_reload(const std::string& cause);   ///< prepares the edited show on a thread of its own
   bool reload_ready();                           ///< between frames: the prepared show is there
+  void tell_reload(const std::string& what, const std::string& refused);  ///< reloaded()'s notices
   std::string begin();                           ///< once, at the first run(): outputs, pacing, the watch
   std::string open_devices();
 
@@ -260,7 +261,7 @@ class LiveShow : private LedSink {
   RunStats stats_;
   ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
   uint64_t allocs_ = 0, alloc_base_ = 0;
-  uint64_t swap_allocs_ = 0;  ///< the allocation count when a reload's swap began (take_prepared)
+  uint64_t swap_allocs_ = 0;  ///< the allocation count when a prepared reload ended run()
   static uint64_t allocation_count();
   uint64_t present_allocs_ = 0;  ///< a window's present (the window system's), after warm-up
   double quality_pct_ = 0;       ///< this frame's pose quality (the HUD)

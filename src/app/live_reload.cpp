@@ -71,7 +71,7 @@ bool LiveShow::reload_ready() {
     if (double(monotonic_ns() - reload_job_->started_ns) * 1e-9 > kReloadSeconds) {
       const std::string why = show_.path + ": preparing the edit took over " + std::to_string(int(kReloadSeconds)) + " s";
       std::cerr << "error: " << why << " (reload refused; the running show goes on)" << std::endl;
-      reloaded(reload_job_->cause, why);
+      tell_reload(reload_job_->cause, why);  // (counted apart by the frame loop, as reload_ready() is)
       reload_job_.reset();  // (its thread ends on its own)
     }
     return false;
@@ -88,7 +88,6 @@ bool LiveShow::reload_ready() {
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::take_prepared() {
-  swap_allocs_ = allocation_count();
   if (!reload_job_ || !reload_job_->done.load(std::memory_order_acquire))
     return Result<std::unique_ptr<LiveShow>>::failure("no reload prepared");
   auto r = std::move(reload_job_->result);
@@ -198,6 +197,10 @@ void LiveShow::reloaded(const std::string& what, const std::string& refused) {
     LiveShow& s;
     ~Apart() { s.alloc_base_ += allocation_count() - s.swap_allocs_; }
   } apart{*this};
+  tell_reload(what, refused);
+}
+
+void LiveShow::tell_reload(const std::string& what, const std::string& refused) {
   const std::string stem = std::filesystem::path(show_.path).stem().string();
   if (!refused.empty()) {
     ++refused_;
