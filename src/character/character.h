@@ -66,6 +66,10 @@ struct Contour {
   int begin = 0;
   int count = 0;
   bool closed = false;
+  /// Closed for its fill only: SVG fills an open sub-path as if closed, so it is an outline
+  /// (a part to the rig and the solvers), while its stroke keeps its two ends.
+  bool open_stroke = false;
+  bool stroke_closed() const { return closed && !open_stroke; }
 };
 
 /// What a shape is for: drawn (the default), or the outline of a composite's clip path, or the

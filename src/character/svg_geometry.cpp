@@ -231,8 +231,41 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
       (!s.stroke.enabled || s.stroke.opacity * s.stroke.color.a <= 0)) {
     return;  // fully transparent
   }
+  if (s.fill.enabled) close_for_fill(s);
   s.layer = layer_index(ctx);
   ch_.shapes.push_back(std::move(s));
+}
+
+// A filled open sub-path is filled as if closed: it is an outline like any other (a part to
+// the rig, a region to the solvers), only its stroke keeps its ends. (A sub-path with no area,
+// a straight line, stays a line.)
+void SvgLoader::close_for_fill(SubShape& s) {
+  Points out;
+  out.reserve(s.points.size());
+  for (Contour& c : s.contours) {
+    const auto from = s.points.begin() + c.begin;
+    Points pts(from, from + c.count);
+    c.begin = int(out.size());
+    if (!c.closed && pts.size() >= 3) {
+      Vec2 lo = pts[0], hi = pts[0];
+      for (const Vec2& p : pts) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      const double extent = (hi - lo).norm();
+      if (std::abs(signed_area(pts)) > 1e-4 * extent * extent) {
+        // (drawn back to where it began without a z: its last point is its first, and its
+        // stroke goes round with a join there instead of two caps)
+        const bool back = (pts.back() - pts.front()).norm() <= 1e-9 * extent;
+        if (back) pts.pop_back();
+        c.closed = true;
+        c.open_stroke = !back;
+      }
+    }
+    c.count = int(pts.size());
+    out.insert(out.end(), pts.begin(), pts.end());
+  }
+  s.points = std::move(out);
 }
 
 // stroke-dasharray onto the shape's stroke, in character units. A pattern that would cut the

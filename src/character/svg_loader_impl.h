@@ -229,6 +229,7 @@ class SvgLoader {
   int layer_index(const Ctx& ctx);
 
   void dash(const pugi::xml_node& n, const Style& st, double scale, SubShape& s);
+  static void close_for_fill(SubShape& s);
 
   void make_ids_unique();
 

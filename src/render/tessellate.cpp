@@ -532,7 +532,7 @@ void stroke_dashes(const SubShape& s, const Contour& c, std::span<const Vec2> px
   auto& piece = out.dash_scratch;
   piece.clear();
   if (k % 2 == 0) piece.push_back(px[0]);
-  const int segments = c.count - (c.closed ? 0 : 1);
+  const int segments = c.count - (c.stroke_closed() ? 0 : 1);
   for (int j = 0; j < segments; ++j) {
     const size_t i0 = size_t(j), i1 = size_t((j + 1) % c.count);
     const Vec2 &a = px[i0], &b = px[i1];
@@ -619,7 +619,7 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
         if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));
         for (int k = 0; k < c.count; ++k) out.scratch[static_cast<size_t>(k)] = view.apply(pts[static_cast<size_t>(c.begin + k)]);
-        if (s.stroke.dashes.empty()) stroke_polyline(out.scratch, c.closed, st, col, out);
+        if (s.stroke.dashes.empty()) stroke_polyline(out.scratch, c.stroke_closed(), st, col, out);
         else stroke_dashes(s, c, out.scratch, st, col, out);
       }
       if (tex) texture_stroke(s, pts, view, first_vertex, out);

@@ -101,6 +101,29 @@ TEST(load_svg, LinePolylinePolygon) {
   EXPECT_EQ(find(ch, "pg")->points.size(), 3u);
 }
 
+// A filled path with no closing z is filled as if closed (SVG's rule): an outline like any
+// other to the rig and the solvers; only its stroke keeps its two ends. A filled sub-path with
+// no area stays a line; one drawn back to its start loses the repeated point and strokes round.
+TEST(load_svg, AFilledOpenPathIsAnOutlineWhoseStrokeKeepsItsEnds) {
+  auto ch = load(R"svg(<path id="v" d="M10 10 L90 10 L50 80" fill="red" stroke="black"/>
+                    <path id="flat" d="M0 0 L10 10 L20 20" fill="red" stroke="black"/>
+                    <path id="back" d="M10 10 L90 10 L50 80 L10 10" fill="red" stroke="black"/>
+                    <path id="bare" d="M10 10 L90 10 L50 80" fill="none" stroke="black"/>)svg");
+  ASSERT_EQ(ch.shapes.size(), 4u);
+  const SubShape& v = *find(ch, "v");
+  EXPECT_TRUE(v.closed());
+  ASSERT_EQ(v.contours.size(), 1u);
+  EXPECT_TRUE(v.contours[0].open_stroke);
+  EXPECT_FALSE(v.contours[0].stroke_closed());
+  EXPECT_EQ(v.largest_ring().size(), 3u);
+  EXPECT_FALSE(find(ch, "flat")->closed());
+  const SubShape& back = *find(ch, "back");
+  EXPECT_TRUE(back.closed());
+  EXPECT_EQ(back.points.size(), 3u);
+  EXPECT_TRUE(back.contours[0].stroke_closed());
+  EXPECT_FALSE(find(ch, "bare")->closed()) << "not filled: a line";
+}
+
 TEST(load_svg, LineWithoutStrokeDrawsNothing) {
   auto ch = load(R"svg(<line x1="0" y1="0" x2="10" y2="10"/>)svg");
   EXPECT_TRUE(ch.shapes.empty());

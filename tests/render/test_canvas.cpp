@@ -29,6 +29,24 @@ TEST(render_character, FillsInsideLeavesOutsideTransparent) {
   EXPECT_EQ(px(*img.value, 17, 17)[3], 0);
 }
 
+// A filled open path fills as if closed, and its stroke leaves the closing edge bare.
+TEST(render_character, AFilledOpenPathsStrokeDoesNotClose) {
+  auto edge_alpha = [](const std::string& close) {
+    const Character ch = svg(R"(<path d="M2 4 L18 4 L10 18)" + close + R"(" fill="#ff0000" stroke="#0000ff" stroke-width="2"/>)");
+    auto img = render_character(ch, prepare_mesh(ch), RenderOptions{});
+    EXPECT_TRUE(img.ok()) << img.error;
+    // pixel (5, 11): its centre 0.68 px outside the closing edge from (10, 18) to (2, 4)
+    return img.ok() ? int(px(*img.value, 5, 11)[3]) : -1;
+  };
+  EXPECT_LT(edge_alpha(""), 60);
+  EXPECT_GT(edge_alpha(" z"), 150);
+  const Character open = svg(R"(<path d="M2 4 L18 4 L10 18" fill="#ff0000"/>)");
+  auto img = render_character(open, prepare_mesh(open), RenderOptions{});
+  ASSERT_TRUE(img.ok());
+  EXPECT_EQ(px(*img.value, 10, 8)[0], 255) << "filled inside";
+  EXPECT_EQ(px(*img.value, 10, 8)[3], 255);
+}
+
 TEST(render_character, TranslucentOnTransparentKeepsStraightColour) {
   const Character ch = svg(R"(<rect width="20" height="20" fill="#ff8000" fill-opacity="0.5"/>)");
   auto img = render_character(ch, prepare_mesh(ch), RenderOptions{});

@@ -312,6 +312,25 @@ TEST(AutoRig, ADrawingWithNoNamesStillGetsLimbsAndABody) {
   loads(r, "bare-figure");
 }
 
+// Filled paths drawn without a closing z (as many drawings downloaded from the web are): parts
+// all the same, with the limbs and handles of the drawing that closes them.
+TEST(AutoRig, FilledPathsWithoutAClosingZAreParts) {
+  std::ifstream in(test::characters_dir() / "figure.svg");
+  const std::string svg((std::istreambuf_iterator<char>(in)), {});
+  std::string open = svg;
+  int removed = 0;
+  for (const std::string z : {" z\"", " Z\""})
+    for (size_t at; (at = open.find(z)) != std::string::npos; ++removed) open.erase(at, 2);
+  ASSERT_GE(removed, 6);
+  const Rigged closed = rig_of((test::characters_dir() / "figure.svg").string());
+  const Rigged r = rig_of(test::write_temp("open-figure.svg", open));
+  EXPECT_EQ(ids_of(r, AutoRigPart::Limb), ids_of(closed, AutoRigPart::Limb));
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), ids_of(closed, AutoRigPart::Body));
+  EXPECT_EQ(handles_of(r), handles_of(closed));
+  EXPECT_GE(ids_of(r, AutoRigPart::Limb).size(), 4u);
+  loads(r, "open-figure");
+}
+
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
   EXPECT_EQ(name_words("armRight_2"), (std::vector<std::string>{"arm", "right", "2"}));
   EXPECT_EQ(name_words("Left Ear"), (std::vector<std::string>{"left", "ear"}));
