@@ -117,6 +117,7 @@ struct RigArgs {
   std::string output;  ///< the rig to write ("-": print it; "": open the rig studio)
   std::string show;    ///< a starter show to write beside it (needs `output`)
   std::string device = "nanokontrol2";  ///< the starter show's device
+  std::string preview;  ///< a picture of what was found (rig_preview.h)
   // The rig studio (no `output`):
   std::string rig;         ///< the rig to edit and save (default: <character stem>.toml here)
   std::string size;        ///< the canvas, "WxH" (default 960x720)

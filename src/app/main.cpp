@@ -112,6 +112,7 @@ int main(int argc, char** argv) {
   rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write ('-': print it); without -o the rig studio opens");
   rig_cmd->add_option("--mask", rigargs.mask, "Mask PNG for a PNG character (non-black = figure)");
   rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o)");
+  rig_cmd->add_option("--preview", rigargs.preview, "Also draw what was found into this PNG: body, limbs, hinges, handles, what was left out");
   rig_cmd->add_option("--device", rigargs.device, "The starter show's device: nanokontrol2 (default), gamepad, pen_tablet, knob_box");
   rig_cmd->add_option("--rig", rigargs.rig, "Studio: the rig to edit and save (default: <character>.toml in this folder; the automatic rig if it does not exist)");
   rig_cmd->add_option("--size", rigargs.size, "Studio: canvas size WxH (default 960x720)");

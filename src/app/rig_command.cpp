@@ -1,6 +1,7 @@
 // `marionette rig`: the automatic rig of a character, written as a commented rig file.
 #include "app/commands.h"
 #include "app/puppet.h"
+#include "app/rig_preview.h"
 #include "app/studio/studio_window.h"
 #include "character/load.h"
 #include "rig/auto_rig.h"
@@ -109,6 +110,13 @@ int cmd_rig(const RigArgs& a) {
     return ec || r.empty() ? fs::absolute(p).string() : r.generic_string();
   };
   const AutoRig ar = auto_rig(*ch.value, relative(a.input), relative(a.mask));
+  if (ar.rig.handles.empty()) {  // nothing to perform with: say why and what to change
+    std::cerr << "error: " << a.input << ": nothing to rig";
+    for (const std::string& n : ar.notes) std::cerr << ": " << n;
+    std::cerr << "\n  a part is a filled shape (closed or not); draw the character in filled shapes, or give a PNG with "
+                 "transparency (or --mask) so its figure can be found\n";
+    return kExitBadInput;
+  }
   const std::string text = write_auto_rig(ar, *ch.value);
   // What it wrote must load as a show would load it.
   auto parsed = parse_rig(text, print ? "(printed rig)" : a.output);
@@ -139,13 +147,18 @@ int cmd_rig(const RigArgs& a) {
       }
     }
   }
-  size_t limbs = 0;
-  for (const AutoRigPart& p : ar.parts) limbs += p.kind == AutoRigPart::Limb;
   std::ostream& say = print ? std::cerr : std::cout;
   if (!a.show.empty()) say << "starter show for a " << a.device << " -> " << a.show << " (marionette run " << a.show << ")\n";
-  say << "rigged " << a.input << ": " << ar.rig.handles.size() << " handles, " << ar.rig.joints.size() << " hinges (" << limbs << " limbs), "
-      << ar.rig.swaps.size() << " swap sets, " << ar.rig.triggers.size() << " triggers" << (print ? "" : " -> " + a.output) << "\n";
+  say << "rigged " << a.input << (print ? "" : " -> " + a.output) << ":\n";
+  for (const std::string& line : rig_summary(ar, *ch.value)) say << "  " << line << "\n";
   for (const std::string& n : ar.notes) say << "note: " << n << "\n";
+  if (!a.preview.empty()) {
+    if (const std::string e = write_rig_preview(a.preview, *ch.value, ar); !e.empty()) {
+      std::cerr << "error: " << e << "\n";
+      return kExitRuntime;
+    }
+    say << "preview -> " << a.preview << "\n";
+  }
   return kExitOk;
 }
 

@@ -36,9 +36,17 @@ struct AutoRigPart {
   std::string why;         ///< one line for the rig's comments
 };
 
+/// A shape the rig leaves out of the character's tree (a background disc, a ground shadow):
+/// it stays where it is drawn.
+struct AutoRigLeftOut {
+  int shape = -1;
+  std::string why;
+};
+
 struct AutoRig {
   Rig rig;  ///< handles, joints, swaps and triggers (character as given)
   std::vector<AutoRigPart> parts;
+  std::vector<AutoRigLeftOut> left_out;
   std::vector<std::string> notes;  ///< what it could not do, for the user
   std::vector<std::string> notes_sewing;  ///< why each of rig.sewing is there
 };

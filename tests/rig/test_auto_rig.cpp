@@ -354,6 +354,41 @@ TEST(AutoRig, TheCommandWritesARigThatPoses) {
   EXPECT_NE(bad.err.find("missing.svg"), std::string::npos) << bad.err;
 }
 
+// `rig` says what it found, a line a limb with its hinge and handle, and `--preview` draws it:
+// the parts tinted, hinges purple, handles green, a legend below. A drawing with nothing to rig
+// is refused with why and what to change (exit 2), and writes no rig.
+TEST(AutoRig, TheCommandSaysWhatItFoundAndDrawsIt) {
+  const auto dir = test::temp_dir("rig-preview");
+  const std::string rig = (dir / "figure.toml").string(), png = (dir / "figure.png").string();
+  auto r = test::run_cli("rig '" + (test::characters_dir() / "figure.svg").string() + "' -o '" + rig + "' --preview '" + png + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("body: torso"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("limb arm-left on torso: hinge at ("), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("head: face"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("details ride on their parts"), std::string::npos) << r.out;
+  auto img = read_png_image(png);
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_GE(img.value->width, 640);
+  size_t green = 0, purple = 0, blue = 0;
+  for (size_t k = 0; k + 3 < img.value->rgba.size(); k += 4) {
+    const int R = img.value->rgba[k], G = img.value->rgba[k + 1], B = img.value->rgba[k + 2];
+    green += G > 140 && R < 80 && B < 130;   // a handle
+    purple += R > 110 && R < 170 && G < 90 && B > 170;  // a hinge
+    blue += B > 120 && R < 120 && G < 120 && B > R + 40;  // the body's tint and outline
+  }
+  EXPECT_GT(green, 5u * 40) << "five handles or more, as discs";
+  EXPECT_GT(purple, 4u * 20) << "the hinges";
+  EXPECT_GT(blue, 2000u) << "the body";
+  const std::string strokes = test::write_temp("only-lines.svg",
+                                               "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"50\" height=\"50\">"
+                                               "<path d=\"M5 5 L45 45\" stroke=\"black\" fill=\"none\"/></svg>");
+  auto none = test::run_cli("rig '" + strokes + "' -o '" + (dir / "none.toml").string() + "'");
+  EXPECT_EQ(none.exit_code, 2);
+  EXPECT_NE(none.err.find("only-lines.svg: nothing to rig"), std::string::npos) << none.err;
+  EXPECT_NE(none.err.find("filled shape"), std::string::npos) << none.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "none.toml"));
+}
+
 }  // namespace
 }  // namespace mar
 
