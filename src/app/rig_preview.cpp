@@ -67,12 +67,14 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
     if (p.kind == AutoRigPart::Body) out.push_back("body: " + id(p.shape) + (p.handle.empty() ? "" : ", handle " + p.handle));
   }
   for (const AutoRigPart& p : ar.parts) {
+    // (a limb of the silhouette inside the part it hangs from: said so)
+    const std::string where = id(p.shape) == parent_id(p) ? " inside " + id(p.shape) : " " + id(p.shape) + " on " + parent_id(p);
     if (p.kind == AutoRigPart::Head)
-      out.push_back("head: " + id(p.shape) + " on " + parent_id(p) + (p.has_joint ? ", hinge at " + point_text(p.joint) : "") +
+      out.push_back("head:" + where + (p.has_joint ? ", hinge at " + point_text(p.joint) : "") +
                     (p.handle.empty() ? "" : ", handle " + p.handle));
     if (p.kind == AutoRigPart::Limb) {
       ++limbs;
-      out.push_back("limb " + id(p.shape) + " on " + parent_id(p) + (p.has_joint ? ": hinge at " + point_text(p.joint) : "") +
+      out.push_back("limb" + where + (p.has_joint ? ": hinge at " + point_text(p.joint) : "") +
                     (p.handle.empty() ? "" : ", handle " + p.handle));
     }
     if (p.kind == AutoRigPart::Detail) {
@@ -91,7 +93,9 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
   for (const RigPhysics& c : ar.rig.physics)
     out.push_back("chain " + c.name + ": " + std::to_string(c.parts.size()) + " parts hanging from " + c.from);
   for (const AutoRigLeftOut& l : ar.left_out) out.push_back("left out: " + id(l.shape) + ", " + l.why);
-  out.push_back(std::to_string(ar.rig.handles.size()) + " handles, " + std::to_string(ar.rig.joints.size()) + " hinges, " +
+  size_t hinges = 0;
+  for (const AutoRigPart& p : ar.parts) hinges += p.has_joint;
+  out.push_back(std::to_string(ar.rig.handles.size()) + " handles, " + std::to_string(hinges) + " hinges, " +
                 std::to_string(limbs) + " limbs");
   return out;
 }
@@ -147,8 +151,8 @@ std::string write_rig_preview(const std::string& path, const Character& ch, cons
   build_draw_list(over, prepare_mesh(over), {}, view, 0.25, list);
   std::vector<Vec2> handles, hinges;
   for (const RigHandle& hd : ar.rig.handles) handles.push_back(hd.rest);
-  for (const RigJoint& j : ar.rig.joints)
-    if (j.has_at) hinges.push_back(j.at);
+  for (const AutoRigPart& p : ar.parts)
+    if (p.has_joint) hinges.push_back(p.joint);
   append_markers(handles, hinges, -1, view, list);
   if (std::string e = c.draw(list); !e.empty()) return path + ": " + e;
   const std::vector<std::uint8_t> px = c.read_premultiplied();

@@ -1,5 +1,7 @@
 #include "rig/auto_rig.h"
 
+#include "rig/auto_rig_silhouette.h"
+
 #include "frame/feature_frame.h"
 #include "frame/joints.h"
 #include "geom/polygon.h"
@@ -65,7 +67,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   }
   const size_t n = geo.size();
   if (n == 0) {
-    out.notes.push_back("no closed, filled part to rig");
+    if (!rig_from_silhouette(ch, members, height, out)) out.notes.push_back("no filled part to rig, and no limb in its silhouette");
     return out;
   }
 
@@ -83,12 +85,52 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
         overlap_at[i][j] = overlap_at[j][i] = c;
       }
     }
+  // Scenery: a disc or a rectangle behind most of the character (a sun, a frame), or a shadow
+  // under its feet. Left out of the tree, never the body; a handle keeps it where it is drawn.
+  std::vector<char> scenery(n, 0);
+  {
+    // (again after each find: a second disc inside a glow behind a horse)
+    for (bool found = true; found;) {
+    found = false;
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) total += scenery[i] ? 0.0 : geo[i].area;
+    for (size_t i = 0; i < n && n >= 3; ++i) {
+      if (geo[i].hint != Hint::None || scenery[i]) continue;  // (a part named as one is one)
+      const double others = total - geo[i].area;
+      double inside = 0, behind = 0;
+      bool straddled = false;  // a big part of the character half in front of it, half beside it
+      for (size_t j = 0; j < n; ++j) {
+        if (j == i || scenery[j]) continue;
+        const double in = std::min(overlap[i][j], geo[j].area);
+        inside += in;
+        if (geo[j].shape > geo[i].shape) behind += geo[j].area;
+        straddled = straddled || (geo[j].shape > geo[i].shape && geo[j].area >= 0.25 * geo[i].area && in >= 0.2 * geo[j].area &&
+                                  in <= 0.8 * geo[j].area);
+      }
+      const Vec2 ext = geo[i].hi - geo[i].lo;
+      const double box = std::max(1e-12, ext.x() * ext.y());
+      const bool plain = geo[i].area >= 0.7 * box;  // a disc (0.785 of its box), a rectangle
+      const bool first = behind >= 0.7 * others;    // drawn behind the rest
+      // (a body drawn first has its limbs attached along its outline; a backdrop has the
+      // character itself crossing it)
+      const bool backdrop = plain && first && geo[i].area >= 0.3 * others && straddled;
+      const bool ground = plain && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
+                          geo[i].area <= 0.3 * others && inside > 0;
+      if (!backdrop && !ground) continue;
+      scenery[i] = 1;
+      found = true;
+      out.left_out.push_back({geo[i].shape, backdrop ? "a disc or rectangle behind most of the character: kept still, never the body"
+                                                     : "a shadow under the feet: kept still"});
+    }
+    }
+  }
   // Details: mostly inside a bigger part (eyes, a pocket, spots). They follow their container.
   std::vector<int> container(n, -1);
   for (size_t i = 0; i < n; ++i) {
     double best = 0;
+    if (scenery[i]) continue;
     for (size_t j = 0; j < n; ++j)
-      if (j != i && geo[j].area > geo[i].area && overlap[i][j] >= 0.85 * geo[i].area && overlap[i][j] > best) {
+      if (j != i && !scenery[j] && geo[j].area > geo[i].area && overlap[i][j] >= 0.85 * geo[i].area && overlap[i][j] > best) {
         best = overlap[i][j];
         container[i] = int(j);
       }
@@ -97,7 +139,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   std::vector<std::vector<int>> nb(n);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j) {
-      if (container[i] >= 0 || container[j] >= 0) continue;
+      if (container[i] >= 0 || container[j] >= 0 || scenery[i] || scenery[j]) continue;
       bool near = overlap[i][j] > 0;
       if (!near) {
         const double gap = 0.02 * height;
@@ -130,7 +172,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     int best = -1;
     double bd = 0.02 * height;
     for (size_t i = 0; i < n; ++i) {
-      if (!with_details && container[i] >= 0) continue;
+      if ((!with_details && container[i] >= 0) || scenery[i]) continue;
       const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
       if (d <= bd && (best < 0 || d < bd || geo[i].area < geo[size_t(best)].area)) {
         bd = d;
@@ -185,7 +227,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   double best_reach = -1, best_cost = 0;
   bool best_named = false;
   for (size_t r = 0; r < n; ++r) {
-    if (container[r] >= 0) continue;
+    if (container[r] >= 0 || scenery[r]) continue;
     const auto d = hops_from(r);
     double reach = 0, cost = 0;
     for (size_t p = 0; p < n; ++p)
@@ -256,6 +298,10 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     if (i == root) {
       p.kind = AutoRigPart::Body;
       p.why = "the body: the part the others hang from";
+      continue;
+    }
+    if (scenery[i]) {
+      p.why = "scenery, left out of the character: kept still";
       continue;
     }
     if (container[i] >= 0) {
@@ -523,6 +569,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   };
   add_handle(root, "body", geo[root].centroid);
   for (size_t i = 0; i < n; ++i)
+    if (scenery[i]) add_handle(i, "scenery", geo[i].centroid);  // (driven by nothing: it holds it still)
+  for (size_t i = 0; i < n; ++i)
     if (out.parts[i].kind == AutoRigPart::Head) add_handle(i, "head", geo[i].centroid);
   for (size_t i = 0; i < n; ++i) {
     if (out.parts[i].kind != AutoRigPart::Limb) continue;
@@ -595,6 +643,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       out.parts.push_back(p);
     }
   }
+  // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
+  if (rig_from_silhouette(ch, members, height, out)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;

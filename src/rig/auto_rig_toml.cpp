@@ -22,6 +22,9 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   o << "character = " << q(r.character) << "\n";
   if (!r.mask.empty()) o << "mask = " << q(r.mask) << "\n";
   o << "iterations = " << r.iterations << "\n";
+  if (r.solver != "feature_frame")
+    o << "# Posed by the topology-aware rigid grid (seed 003): a limb bends inside one shape, softest\n"
+         "# at the [[stiffness]] regions below (its joints and bends).\nsolver = " << q(r.solver) << "\n";
   auto part_of_handle = [&](const std::string& h) -> const AutoRigPart* {
     for (const AutoRigPart& p : a.parts)
       if (p.handle == h) return &p;
@@ -40,6 +43,10 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   for (const RigJoint& j : r.joints) {
     o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [" << q(j.part_a) << ", " << q(j.part_b) << "]\nkind = \"hinge\"\n";
   }
+  if (!r.stiffness.empty()) o << "\n# ---- softer where each limb joins and bends: it turns there ----\n";
+  for (const RigStiffness& s : r.stiffness)
+    o << "\n[[stiffness]]\nname = " << q(s.name) << "\ncenter = " << point_toml(s.center) << "\nradius = " << toml_number(s.radius)
+      << "\nweight = " << toml_number(s.weight) << "\n";
   if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
   for (size_t k = 0; k < r.sewing.size(); ++k) {
     const RigSewing& e = r.sewing[k];

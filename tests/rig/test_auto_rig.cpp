@@ -11,6 +11,7 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <fstream>
 #include <map>
@@ -329,6 +330,78 @@ TEST(AutoRig, FilledPathsWithoutAClosingZAreParts) {
   EXPECT_EQ(handles_of(r), handles_of(closed));
   EXPECT_GE(ids_of(r, AutoRigPart::Limb).size(), 4u);
   loads(r, "open-figure");
+}
+
+// A creature whose legs, tail and head are inside its body's one outline, and the same drawn
+// as a black silhouette under colour pieces: the parts give no limbs, the silhouette gives
+// them, and the rig poses on the rigid grid, a leg lifted at its hip while the body keeps its
+// place and every limb its shape.
+TEST(AutoRig, LimbsInsideOneShapeComeFromTheSilhouette) {
+  const std::string one_shape =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#864\" d=\""
+      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
+      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/></svg>";
+  const std::string under_colour =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#000\" d=\""
+      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
+      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/>"
+      "<rect id=\"rect3\" x=\"80\" y=\"86\" width=\"120\" height=\"36\" fill=\"#c96\"/><circle id=\"circle4\" cx=\"262\" "
+      "cy=\"32\" r=\"8\" fill=\"#fc8\"/></svg>";
+  for (const auto& [name, text] : {std::pair{"one-shape", one_shape}, std::pair{"under-colour", under_colour}}) {
+    const std::string path = test::write_temp(std::string("creature-") + name + ".svg", text);
+    const Rigged r = rig_of(path);
+    EXPECT_EQ(r.ar.rig.solver, "rigid_grid") << name;
+    int limbs = 0, heads = 0;
+    for (const AutoRigPart& p : r.ar.parts) {
+      limbs += p.kind == AutoRigPart::Limb;
+      heads += p.kind == AutoRigPart::Head;
+    }
+    EXPECT_EQ(limbs, 5) << name << ": four legs and a tail";
+    EXPECT_EQ(heads, 1) << name;
+    EXPECT_GE(r.ar.rig.stiffness.size(), 6u) << name << ": softer at every joint";
+    const auto dir = test::temp_dir(std::string("creature-pose-") + name);
+    const std::string rig = (dir / "rig.toml").string(), dump = (dir / "pose.json").string();
+    std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
+    // the front leg's handle (its foot, near (69, 195)), lifted forward
+    std::string leg;
+    for (const RigHandle& h : r.ar.rig.handles)
+      if ((h.rest - Vec2(69, 195)).norm() < 15) leg = h.name;
+    ASSERT_FALSE(leg.empty()) << name;
+    auto p = test::run_cli("pose '" + path + "' --rig '" + rig + "' --target " + leg + "=30,160 -o '" + (dir / "p.png").string() + "' --dump '" + dump + "'");
+    ASSERT_EQ(p.exit_code, 0) << p.err;
+    std::ifstream in(dump);
+    const auto j = nlohmann::json::parse(in);
+    EXPECT_LT(j["handle_residuals"][leg].get<double>(), 8.0) << name << ": the foot follows";
+    EXPECT_LT(j["handle_residuals"]["body"].get<double>(), 3.0) << name << ": the body keeps its place";
+  }
+}
+
+// A sun behind the figure (the torso crosses its edge) and a shadow under its feet: scenery,
+// left out and held still, never the body; the figure rigs as it does without them. A face
+// drawn first with everything on it is the character, not a backdrop.
+TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
+  std::ifstream in(test::characters_dir() / "figure.svg");
+  std::string svg((std::istreambuf_iterator<char>(in)), {});
+  const size_t first = svg.find("<g");
+  ASSERT_NE(first, std::string::npos);
+  svg.insert(first, "<circle id=\"circle5\" cx=\"60\" cy=\"150\" r=\"110\" fill=\"#fd0\"/>"
+                    "<ellipse id=\"ellipse6\" cx=\"150\" cy=\"405\" rx=\"80\" ry=\"10\" fill=\"#333\" fill-opacity=\"0.3\"/>");
+  const Rigged plain = rig_of((test::characters_dir() / "figure.svg").string());
+  const Rigged r = rig_of(test::write_temp("figure-sun.svg", svg));
+  std::set<std::string> left;
+  for (const AutoRigLeftOut& l : r.ar.left_out) left.insert(r.ch.shapes[size_t(l.shape)].id);
+  EXPECT_EQ(left, (std::set<std::string>{"circle5", "ellipse6"}));
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"torso"});
+  EXPECT_EQ(ids_of(r, AutoRigPart::Limb), ids_of(plain, AutoRigPart::Limb));
+  EXPECT_TRUE(handles_of(r).count("scenery")) << "held where it is drawn";
+  loads(r, "figure-sun");
+  const Rigged face = rig_of(test::write_temp("face.svg",
+                                              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">"
+                                              "<circle id=\"circle1\" cx=\"50\" cy=\"50\" r=\"45\" fill=\"#fc0\"/>"
+                                              "<circle id=\"circle2\" cx=\"35\" cy=\"40\" r=\"6\"/><circle id=\"circle3\" cx=\"65\" cy=\"40\" r=\"6\"/>"
+                                              "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/></svg>"));
+  EXPECT_TRUE(face.ar.left_out.empty());
+  EXPECT_EQ(ids_of(face, AutoRigPart::Body), std::set<std::string>{"circle1"});
 }
 
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
