@@ -33,7 +33,7 @@ struct Geo {
 
 }  // namespace
 
-AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask) {
+AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask, const AutoRigOptions& options) {
   AutoRig out;
   Rig& rig = out.rig;
   rig.character = character;
@@ -67,7 +67,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   }
   const size_t n = geo.size();
   if (n == 0) {
-    if (!rig_from_silhouette(ch, members, height, out)) out.notes.push_back("no filled part to rig, and no limb in its silhouette");
+    if (!options.silhouette || !rig_from_silhouette(ch, members, height, out))
+      out.notes.push_back("no filled part to rig, and no limb in its silhouette");
     return out;
   }
 
@@ -399,6 +400,21 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   // ---- hinges at the drawn joints ------------------------------------------------------------------
   for (size_t i = 0; i < n; ++i) {
     AutoRigPart& p = out.parts[i];
+    if (options.head_hinge && p.kind == AutoRigPart::Head && parent[i] >= 0 && container[i] < 0) {
+      // A head hanging from the body turns about its neck: where it meets what it hangs from.
+      const size_t par = size_t(parent[i]);
+      p.has_joint = true;
+      p.joint = via[i][par] >= 0 ? stroke_end[par][i] : overlap_at[i][par];
+      p.why += ", turning about its neck";
+      RigJoint j;
+      j.has_at = true;
+      j.at = p.joint;
+      j.part_a = ch.shapes[size_t(p.shape)].id;
+      j.part_b = ch.shapes[size_t(geo[par].shape)].id;
+      if (const int s = via[i][par]; s >= 0) j.part_a = ch.shapes[size_t(s)].id;
+      rig.joints.push_back(j);
+      continue;
+    }
     if (p.kind != AutoRigPart::Limb) continue;
     const size_t par = size_t(parent[i]);
     // Walking its medial axis in from the free end, the joint is at the attached end's centre,
@@ -644,14 +660,15 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
   }
   // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
-  if (rig_from_silhouette(ch, members, height, out)) return out;
+  if (options.silhouette && rig_from_silhouette(ch, members, height, out)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;
 }
 
 int add_drawn_joints(const Character& ch, Rig& rig) {
-  const AutoRig ar = auto_rig(ch, rig.character, rig.mask);
+  // (the parts' limbs only, as a plain rig has always had them: its head hangs as sewn)
+  const AutoRig ar = auto_rig(ch, rig.character, rig.mask, AutoRigOptions{false, false});
   const Bounds b = ch.bounds();
   const double near = 0.02 * (b.empty() ? 1.0 : std::max(1e-9, b.hi.y() - b.lo.y()));
   auto shape_of = [&](const std::string& id) {
@@ -663,9 +680,11 @@ int add_drawn_joints(const Character& ch, Rig& rig) {
   const size_t stated = rig.joints.size();
   for (const RigJoint& j : ar.rig.joints) {
     // (a stroke hanging by one end, a whisker, stays as the solver has it)
+    // (nor does a head's neck: a plain rig's head hangs as its sewing holds it)
     bool stroke_limb = false;
     for (const AutoRigPart& p : ar.parts)
-      stroke_limb = stroke_limb || (p.kind == AutoRigPart::Limb && p.shape == shape_of(j.part_a) && !ch.shapes[size_t(p.shape)].fill.enabled);
+      stroke_limb = stroke_limb || (p.kind == AutoRigPart::Limb && p.shape == shape_of(j.part_a) && !ch.shapes[size_t(p.shape)].fill.enabled) ||
+                    (p.kind == AutoRigPart::Head && p.shape == shape_of(j.part_a));
     if (stroke_limb) continue;
     bool taken = false;
     for (size_t k = 0; k < stated; ++k) {

@@ -51,8 +51,13 @@ struct AutoRig {
   std::vector<std::string> notes_sewing;  ///< why each of rig.sewing is there
 };
 
+struct AutoRigOptions {
+  bool silhouette = true;  ///< where the silhouette has limbs the parts miss, rig from it (auto_rig_silhouette.h)
+  bool head_hinge = true;  ///< a head hanging from the body turns about its neck
+};
+
 /// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).
-AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask = "");
+AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask = "", const AutoRigOptions& options = {});
 
 /// The rig as commented TOML, each handle, hinge, swap and trigger with why it is there.
 std::string write_auto_rig(const AutoRig& a, const Character& ch);

@@ -7,6 +7,7 @@
 #include "render/image.h"
 #include "geom/polygon.h"
 #include "rig/auto_rig.h"
+#include "rig/limb_geometry.h"
 #include "rig/starter_show.h"
 #include "test_util.h"
 
@@ -106,8 +107,9 @@ TEST(AutoRig, EveryExampleCharacterGetsItsLimbsAndLoads) {
     EXPECT_EQ(ids_of(r, AutoRigPart::Limb), e.limbs) << e.name;
     EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{e.body}) << e.name;
     EXPECT_EQ(handles_of(r), e.handles) << e.name;
-    // one hinge per limb, each between the limb (or its connector) and its parent
-    EXPECT_EQ(r.ar.rig.joints.size(), e.limbs.size()) << e.name;
+    // one hinge per limb, each between the limb (or its connector) and its parent, and one at
+    // the head's neck
+    EXPECT_EQ(r.ar.rig.joints.size(), e.limbs.size() + ids_of(r, AutoRigPart::Head).size()) << e.name;
     loads(r, e.name);
   }
 }
@@ -404,6 +406,60 @@ TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
   EXPECT_EQ(ids_of(face, AutoRigPart::Body), std::set<std::string>{"circle1"});
 }
 
+// The head turns about its neck: a hinge where it meets the body, so a tilt of the head's
+// handle turns it whole while the body stays (its handle held at rest).
+// (The figure without its curls of hair: their handles, held at rest by `pose`, would hold the
+// head; in a show they are chains' ends and follow it.)
+TEST(AutoRig, TheHeadTurnsAboutItsNeck) {
+  std::ifstream in(test::characters_dir() / "figure.svg");
+  std::string svg;
+  for (std::string line; std::getline(in, line);)
+    if (line.find("id=\"hair-curl") == std::string::npos && line.find("id=\"hair-tuft") == std::string::npos) svg += line + "\n";
+  const std::string path = test::write_temp("figure-no-curls.svg", svg);
+  const Rigged r = rig_of(path);
+  const AutoRigPart* head = nullptr;
+  for (const AutoRigPart& p : r.ar.parts)
+    if (p.kind == AutoRigPart::Head) head = &p;
+  ASSERT_TRUE(head);
+  ASSERT_TRUE(head->has_joint);
+  EXPECT_NEAR(head->joint.x(), 150, 6);
+  EXPECT_NEAR(head->joint.y(), 135, 8) << "between the face and the torso";
+  const auto dir = test::temp_dir("head-tilt");
+  const std::string rig = (dir / "rig.toml").string(), dump = (dir / "pose.json").string();
+  std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
+  // the face's handle (at its centre, (150, 88)) swung 25 degrees about the neck
+  const Vec2 c = head->joint, h0(150, 88);
+  const double a = 25 * M_PI / 180;
+  const Vec2 h1 = c + Eigen::Rotation2Dd(a) * (h0 - c);
+  auto p = test::run_cli("pose '" + path + "' --rig '" + rig + "' --target face=" +
+                         std::to_string(h1.x()) + "," + std::to_string(h1.y()) + " -o '" + (dir / "p.png").string() + "' --dump '" + dump + "'");
+  ASSERT_EQ(p.exit_code, 0) << p.err;
+  std::ifstream dumped(dump);
+  const auto j = nlohmann::json::parse(dumped);
+  // the face keeps its shape (its best rigid fit) and the torso stays
+  for (const auto& sh : j["subshapes"]) {
+    const std::string id = sh["id"];
+    if (id != "face" && id != "torso") continue;
+    Points posed;
+    for (const auto& q : sh["points"]) posed.emplace_back(q[0].get<double>(), q[1].get<double>());
+    const SubShape* rest = nullptr;
+    for (const SubShape& s : r.ch.shapes)
+      if (s.id == id) rest = &s;
+    ASSERT_TRUE(rest) << id;
+    if (id == "face") {
+      ASSERT_EQ(rest->points.size(), posed.size());
+      EXPECT_LT(rigid_fit_rms(rest->points, posed), 0.01 * 420) << "the face keeps its shape";
+      const RigidMotion m = rigid_fit(rest->points, posed);
+      EXPECT_GT(std::abs(std::atan2(m.s, m.c)) * 180 / M_PI, 10) << "and turns";
+    } else {  // (the solver adds points to the torso where parts are welded: its outline is compared)
+      double moved = 0;
+      for (const Vec2& q : posed) moved = std::max(moved, ring_distance(Points{q}, rest->largest_ring()));
+      EXPECT_LT(moved, 0.02 * 420) << "the body stays";
+    }
+  }
+  EXPECT_LT(j["handle_residuals"]["face"].get<double>(), 0.03 * 420) << "the face follows";
+}
+
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
   EXPECT_EQ(name_words("armRight_2"), (std::vector<std::string>{"arm", "right", "2"}));
   EXPECT_EQ(name_words("Left Ear"), (std::vector<std::string>{"left", "ear"}));
@@ -416,7 +472,7 @@ TEST(AutoRig, TheCommandWritesARigThatPoses) {
   const std::string rig = (dir / "boy.toml").string(), png = (dir / "boy.png").string();
   auto r = test::run_cli("rig '" + (test::characters_dir() / "boy.svg").string() + "' -o '" + rig + "'");
   ASSERT_EQ(r.exit_code, 0) << r.err;
-  EXPECT_NE(r.out.find("7 hinges"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("8 hinges"), std::string::npos) << r.out;  // seven limbs and the neck
   EXPECT_FALSE(std::filesystem::exists(rig + ".tmp"));
   auto p = test::run_cli("pose '" + (test::characters_dir() / "boy.svg").string() + "' --rig '" + rig +
                          "' --target hand-right=230,120 -o '" + png + "'");
