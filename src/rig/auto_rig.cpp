@@ -7,6 +7,7 @@
 #include "geom/polygon.h"
 #include "rig/limb_geometry.h"
 #include "rig/part_names.h"
+#include "rig/silhouette.h"
 
 #include <algorithm>
 #include <cctype>
@@ -53,6 +54,17 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     g.shape = int(s);
     g.ring = sh.largest_ring();
     g.area = std::abs(signed_area(g.ring));
+    // A shape drawn in pieces (an outline as many small filled quads, a limb in strips): its
+    // outline is the outline of all its pieces together.
+    if (sh.contours.size() > 3 && sh.fill.enabled) {
+      const Bounds b = sh.bounds();
+      const double box = b.empty() ? 0.0 : (b.hi.x() - b.lo.x()) * (b.hi.y() - b.lo.y());
+      if (g.area < 0.3 * box)
+        if (Points u = union_outline(sh); u.size() >= 3 && std::abs(signed_area(u)) > g.area) {
+          g.ring = std::move(u);
+          g.area = std::abs(signed_area(g.ring));
+        }
+    }
     if (!sh.fill.enabled || g.area <= 1e-6 * height * height) continue;
     g.lo = g.hi = g.ring[0];
     for (const Vec2& p : g.ring) {
@@ -126,10 +138,21 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
   }
   // Details: mostly inside a bigger part (eyes, a pocket, spots). They follow their container.
+  // An outline and its fill drawn as two shapes, one right after the other (a black shape a
+  // little larger behind the colour, or the colour over it) are twins: the one drawn later
+  // rides on the first, so the pair is one part.
   std::vector<int> container(n, -1);
   for (size_t i = 0; i < n; ++i) {
-    double best = 0;
     if (scenery[i]) continue;
+    for (size_t j = 0; j < n && container[i] < 0; ++j) {
+      if (j == i || scenery[j] || geo[j].shape >= geo[i].shape || geo[i].shape - geo[j].shape > 2) continue;
+      const double lo = std::min(geo[i].area, geo[j].area), hi = std::max(geo[i].area, geo[j].area);
+      if (lo >= 0.5 * hi && overlap[i][j] >= 0.7 * lo) container[i] = int(j);
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    double best = 0;
+    if (scenery[i] || container[i] >= 0) continue;
     for (size_t j = 0; j < n; ++j)
       if (j != i && !scenery[j] && geo[j].area > geo[i].area && overlap[i][j] >= 0.85 * geo[i].area && overlap[i][j] > best) {
         best = overlap[i][j];
@@ -306,7 +329,10 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       continue;
     }
     if (container[i] >= 0) {
-      p.why = "mostly inside " + ch.shapes[size_t(geo[size_t(container[i])].shape)].id + ": follows it";
+      const Geo& c = geo[size_t(container[i])];
+      const bool twin = c.shape < geo[i].shape && geo[i].area >= 0.5 * c.area && c.area >= 0.5 * geo[i].area;
+      p.why = (twin ? "the outline or fill of " : "mostly inside ") + ch.shapes[size_t(c.shape)].id +
+              (twin ? ", drawn apart: one part with it" : ": follows it");
       continue;
     }
     if (parent[i] < 0) {

@@ -129,14 +129,14 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     const Points r = ch.shapes[size_t(l.shape)].largest_ring();
     if (r.size() >= 3) rig.handles.push_back({unique("scenery"), ring_centroid(r)});
   }
-  // The head: a limb wide at its end (half again as wide as its neck), the widest such, above the
-  // core; or the one whose end a part named head holds.
+  // The head: a limb wide at its end (half again as wide as its neck, and a third of the body),
+  // the widest such, above the core; or the one whose end a part named head holds.
   int head = -1;
   for (size_t k = 0; k < sil.limbs.size(); ++k) {
     const SilhouetteLimb& l = sil.limbs[k];
     const int at = smallest_holding(ch, drawn, l.tip);
     const bool named = at >= 0 && hint_of(name_words(ch.shapes[size_t(at)].label.empty() ? ch.shapes[size_t(at)].id : ch.shapes[size_t(at)].label)) == Hint::Head;
-    const bool wide = l.end_radius >= 1.5 * l.narrowest && l.tip.y() < sil.core.y();
+    const bool wide = l.end_radius >= 1.5 * l.narrowest && l.end_radius >= 0.35 * sil.core_radius && l.tip.y() < sil.core.y();
     if (named || (wide && (head < 0 || l.end_radius > sil.limbs[size_t(head)].end_radius))) head = int(k);
     if (named) break;
   }

@@ -130,7 +130,8 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
     return L;
   };
   // Pruning: the twig that stands out least beyond its junction's circle goes first, while
-  // one stands out less than 0.8 of that circle's radius (and 3% of the size).
+  // one stands out less than its own width (a bump of the outline, not a leg: a short leg on a
+  // big body stands out by more than its width) and 3% of the size.
   for (size_t guard = 0; guard < n; ++guard) {
     double least = std::numeric_limits<double>::infinity();
     std::vector<int> worst;
@@ -140,7 +141,11 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
       const int j = path.back();
       if (deg(size_t(j)) < 3) continue;  // (a path end to end: the last two ends stay)
       const double out_by = length_of(path) + g.radius[v] - g.radius[size_t(j)];
-      const double bar = std::max(0.8 * g.radius[size_t(j)], 0.03 * size);
+      std::vector<double> rs;
+      for (size_t k = 0; k + 1 < path.size(); ++k) rs.push_back(g.radius[size_t(path[k])]);
+      std::nth_element(rs.begin(), rs.begin() + long(rs.size() / 2), rs.end());
+      const double own = rs.empty() ? g.radius[v] : rs[rs.size() / 2];
+      const double bar = std::max(std::min(2 * own, 0.8 * g.radius[size_t(j)]), 0.03 * size);
       if (out_by < bar && out_by < least) {
         least = out_by;
         worst = path;
@@ -234,54 +239,39 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
   return out;
 }
 
-Silhouette silhouette_of(const Character& ch, std::span<const int> shapes, int long_side) {
-  Character sub;
-  sub.width = ch.width;
-  sub.height = ch.height;
-  for (int k : shapes) {
-    if (k < 0 || size_t(k) >= ch.shapes.size()) continue;
-    SubShape s = ch.shapes[size_t(k)];
-    if (s.hidden || s.role != ShapeRole::Paint) continue;
-    s.layer = 0;
-    s.owner = -1;
-    for (Fill* f : {&s.fill}) {
-      f->color = Rgba{1, 1, 1, 1};
-      f->opacity = 1;
-      f->texture.reset();
-    }
-    s.stroke.color = Rgba{1, 1, 1, 1};
-    s.stroke.opacity = 1;
-    s.stroke.texture.reset();
-    s.stroke.dashes.clear();
-    sub.shapes.push_back(std::move(s));
-  }
-  Silhouette none;
-  if (sub.shapes.empty() || !(ch.width > 0) || !(ch.height > 0)) {
-    none.error = "nothing drawn";
-    return none;
-  }
-  if (sub.layers.empty()) sub.layers.push_back("silhouette");
-  const double scale = double(std::clamp(long_side, 32, 2048)) / std::max(ch.width, ch.height);
+namespace {
+
+// Every shape of `sub` drawn opaque white: its paint, for tracing.
+void opaque(SubShape& s) {
+  s.layer = 0;
+  s.owner = -1;
+  s.fill.color = Rgba{1, 1, 1, 1};
+  s.fill.opacity = 1;
+  s.fill.texture.reset();
+  s.stroke.color = Rgba{1, 1, 1, 1};
+  s.stroke.opacity = 1;
+  s.stroke.texture.reset();
+  s.stroke.dashes.clear();
+}
+
+// `sub` drawn `long_side` pixels long and traced: its largest region's outline and holes, in
+// its own units. An error when it draws nothing.
+std::string largest_region(const Character& sub, int long_side, Points& outline, std::vector<Points>& holes) {
+  if (sub.shapes.empty() || !(sub.width > 0) || !(sub.height > 0)) return "nothing drawn";
+  const double scale = double(std::clamp(long_side, 32, 2048)) / std::max(sub.width, sub.height);
   RenderOptions o;
-  o.width = std::max(8, int(std::ceil(ch.width * scale)));
-  o.height = std::max(8, int(std::ceil(ch.height * scale)));
+  o.width = std::max(8, int(std::ceil(sub.width * scale)));
+  o.height = std::max(8, int(std::ceil(sub.height * scale)));
   auto img = render_character(sub, prepare_mesh(sub), o);
-  if (!img.ok()) {
-    none.error = img.error;
-    return none;
-  }
+  if (!img.ok()) return img.error;
   auto tex = std::make_shared<Texture>();
   tex->name = "silhouette";
   tex->width = img.value->width;
   tex->height = img.value->height;
   tex->rgba = std::move(img.value->rgba);
   auto traced = raster_character(tex, {}, "silhouette");
-  if (!traced.ok() || traced.value->shapes.empty()) {
-    none.error = traced.ok() ? "nothing drawn" : traced.error;
-    return none;
-  }
-  // The largest region, its outline and holes, back in the character's units.
-  const Affine2 back = fit_view(ch.width, ch.height, o.width, o.height).inverse();
+  if (!traced.ok() || traced.value->shapes.empty()) return traced.ok() ? "nothing drawn" : traced.error;
+  const Affine2 back = fit_view(sub.width, sub.height, o.width, o.height).inverse();
   const SubShape* best = nullptr;
   double best_area = 0;
   for (const SubShape& s : traced.value->shapes) {
@@ -291,19 +281,59 @@ Silhouette silhouette_of(const Character& ch, std::span<const int> shapes, int l
       best = &s;
     }
   }
-  if (!best) {
-    none.error = "nothing drawn";
-    return none;
-  }
+  if (!best) return "nothing drawn";
   const Points outer = best->largest_ring();
-  Points outline;
-  std::vector<Points> holes;
   for (const Contour& c : best->contours) {
     if (!c.closed || c.count < 3) continue;
     Points r;
     for (int k = 0; k < c.count; ++k) r.push_back(back.apply(best->points[size_t(c.begin + k)]));
     if (outline.empty() && c.count == int(outer.size()) && best->points[size_t(c.begin)] == outer[0]) outline = std::move(r);
     else holes.push_back(std::move(r));
+  }
+  return outline.empty() ? "nothing drawn" : "";
+}
+
+}  // namespace
+
+Points union_outline(const SubShape& shape, int long_side) {
+  const Bounds b = shape.bounds();
+  if (b.empty()) return {};
+  const double pad = 0.02 * std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) + (shape.stroke.enabled ? shape.stroke.width : 0.0);
+  Character sub;
+  sub.width = b.hi.x() - b.lo.x() + 2 * pad;
+  sub.height = b.hi.y() - b.lo.y() + 2 * pad;
+  sub.layers.push_back("shape");
+  SubShape s = shape;
+  s.hidden = false;
+  s.role = ShapeRole::Paint;
+  opaque(s);
+  for (Vec2& p : s.points) p -= b.lo - Vec2(pad, pad);
+  sub.shapes.push_back(std::move(s));
+  Points outline;
+  std::vector<Points> holes;
+  if (!largest_region(sub, long_side, outline, holes).empty()) return {};
+  for (Vec2& p : outline) p += b.lo - Vec2(pad, pad);
+  return outline;
+}
+
+Silhouette silhouette_of(const Character& ch, std::span<const int> shapes, int long_side) {
+  Character sub;
+  sub.width = ch.width;
+  sub.height = ch.height;
+  sub.layers.push_back("silhouette");
+  for (int k : shapes) {
+    if (k < 0 || size_t(k) >= ch.shapes.size()) continue;
+    SubShape s = ch.shapes[size_t(k)];
+    if (s.hidden || s.role != ShapeRole::Paint) continue;
+    opaque(s);
+    sub.shapes.push_back(std::move(s));
+  }
+  Points outline;
+  std::vector<Points> holes;
+  if (std::string e = largest_region(sub, long_side, outline, holes); !e.empty()) {
+    Silhouette none;
+    none.error = e;
+    return none;
   }
   return silhouette_limbs(outline, holes);
 }

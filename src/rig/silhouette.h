@@ -39,6 +39,11 @@ struct Silhouette {
 /// The limbs of the region inside `outline` (with `holes`), in its own units.
 Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes = {});
 
+/// The outer outline of everything one shape fills and strokes (its sub-paths together: an
+/// outline drawn as many small filled pieces), traced at `long_side` pixels over its bounds;
+/// empty when it draws nothing.
+Points union_outline(const SubShape& shape, int long_side = 160);
+
 /// The silhouette of the given shapes of `ch` together (fills and strokes, drawn opaque, then
 /// traced: their union), its largest region, limbs found; drawn `long_side` pixels long.
 Silhouette silhouette_of(const Character& ch, std::span<const int> shapes, int long_side = 400);
