@@ -126,14 +126,18 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       const bool first = behind >= 0.7 * others;    // drawn behind the rest
       // (a body drawn first has its limbs attached along its outline; a backdrop has the
       // character itself crossing it)
-      const bool backdrop = plain && first && geo[i].area >= 0.3 * others && straddled;
+      // (and a rectangle under the whole drawing is its background, whatever is on it)
+      const Vec2 all = cb.hi - cb.lo;
+      const bool canvas = geo[i].area >= 0.95 * box && first && box >= 0.9 * all.x() * all.y();
+      const bool backdrop = (plain && first && geo[i].area >= 0.3 * others && straddled) || canvas;
       const bool ground = plain && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
                           geo[i].area <= 0.3 * others && inside > 0;
       if (!backdrop && !ground) continue;
       scenery[i] = 1;
       found = true;
-      out.left_out.push_back({geo[i].shape, backdrop ? "a disc or rectangle behind most of the character: kept still, never the body"
-                                                     : "a shadow under the feet: kept still"});
+      out.left_out.push_back({geo[i].shape, canvas     ? "a rectangle under the whole drawing, its background: kept still, never the body"
+                                            : backdrop ? "a disc or rectangle behind most of the character: kept still, never the body"
+                                                       : "a shadow under the feet: kept still"});
     }
     }
   }
@@ -336,7 +340,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
       continue;
     }
     if (parent[i] < 0) {
-      p.why = "attached to nothing: moves on its own, pinned by no handle";
+      p.why = "attached to nothing: sewn to the part nearest it";
       continue;
     }
     const size_t par = size_t(parent[i]);
@@ -543,7 +547,10 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     const FeatureFrame f = build_feature_frame(refined, fo);
     std::vector<int> part_of(ch.shapes.size(), -1);
     for (size_t i = 0; i < n; ++i) part_of[size_t(geo[i].shape)] = int(i);
-    auto related = [&](int i, int j) { return parent[size_t(i)] == j || parent[size_t(j)] == i; };
+    // (a part attached to nothing keeps the line that ties it to its nearest: without it, it
+    // would float free and stay wherever a pull left it)
+    auto loose = [&](int i) { return parent[size_t(i)] < 0 && size_t(i) != root && !scenery[size_t(i)]; };
+    auto related = [&](int i, int j) { return parent[size_t(i)] == j || parent[size_t(j)] == i || loose(i) || loose(j); };
     std::vector<char> tied(n, 0);
     for (const RigJoint& j : rig.joints)
       for (size_t i = 0; i < n; ++i)

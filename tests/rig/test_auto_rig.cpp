@@ -404,6 +404,16 @@ TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
                                               "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/></svg>"));
   EXPECT_TRUE(face.ar.left_out.empty());
   EXPECT_EQ(ids_of(face, AutoRigPart::Body), std::set<std::string>{"circle1"});
+  // the same face on a rectangle that fills the drawing: its background
+  const Rigged framed = rig_of(test::write_temp("face-on-card.svg",
+                                                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">"
+                                                "<rect id=\"rect0\" width=\"100\" height=\"100\" fill=\"#2a6\"/>"
+                                                "<circle id=\"circle1\" cx=\"50\" cy=\"50\" r=\"45\" fill=\"#fc0\"/>"
+                                                "<circle id=\"circle2\" cx=\"35\" cy=\"40\" r=\"6\"/><circle id=\"circle3\" cx=\"65\" cy=\"40\" r=\"6\"/>"
+                                                "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/></svg>"));
+  ASSERT_EQ(framed.ar.left_out.size(), 1u);
+  EXPECT_EQ(framed.ch.shapes[size_t(framed.ar.left_out[0].shape)].id, "rect0");
+  EXPECT_EQ(ids_of(framed, AutoRigPart::Body), std::set<std::string>{"circle1"});
 }
 
 // The head turns about its neck: a hinge where it meets the body, so a tilt of the head's
