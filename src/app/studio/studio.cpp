@@ -5,10 +5,12 @@
 #include "input/read_file.h"
 #include "rig/auto_rig.h"
 #include "rig/edit.h"
+#include "rig/part_names.h"
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -27,6 +29,37 @@ std::string handle_base(const std::string& part) {
   std::string out;
   for (const std::string& w : name_words(part)) out += (out.empty() ? "" : "-") + w;
   return out.empty() ? "handle" : out;
+}
+
+// What each shape is to the automatic rig, as a handle name for a part the drawing does not
+// name (an editor's `ellipse1042`): body, head, limb-left or limb-right by its side of the
+// body, and a detail as what it rides on.
+std::vector<std::string> part_roles(const Character& ch) {
+  std::vector<std::string> roles(ch.shapes.size());
+  const AutoRig ar = auto_rig(ch, "", "", AutoRigOptions{false, true});
+  Vec2 body = Vec2::Zero();
+  for (const AutoRigPart& p : ar.parts)
+    if (p.kind == AutoRigPart::Body && size_t(p.shape) < ch.shapes.size()) {
+      const Bounds b = ch.shapes[size_t(p.shape)].bounds();
+      body = 0.5 * (b.lo + b.hi);
+    }
+  std::function<std::string(size_t, int)> role = [&](size_t i, int depth) -> std::string {
+    const AutoRigPart& p = ar.parts[i];
+    switch (p.kind) {
+      case AutoRigPart::Body: return "body";
+      case AutoRigPart::Head: return "head";
+      case AutoRigPart::Limb: {
+        const Bounds b = ch.shapes[size_t(p.shape)].bounds();
+        return 0.5 * (b.lo.x() + b.hi.x()) < body.x() ? "limb-left" : "limb-right";
+      }
+      case AutoRigPart::Detail:
+        if (p.parent >= 0 && size_t(p.parent) < ar.parts.size() && depth < 16) return role(size_t(p.parent), depth + 1);
+    }
+    return "";
+  };
+  for (size_t i = 0; i < ar.parts.size(); ++i)
+    if (size_t(ar.parts[i].shape) < roles.size()) roles[size_t(ar.parts[i].shape)] = role(i, 0);
+  return roles;
 }
 
 }  // namespace
@@ -86,6 +119,7 @@ std::string Studio::load(const std::string& text, const std::vector<std::pair<st
     pp.reconstruct();
   }
   puppet_ = std::move(*p.value);
+  if (roles_.size() != puppet_->character.shapes.size()) roles_ = part_roles(puppet_->character);
   file_rig_ = std::move(file_rig);
   text_ = RigText(text);
   targets_ = std::move(t);
@@ -258,7 +292,10 @@ std::string Studio::add_handle(const Vec2& p) {
   Vec2 rest;
   if (!to_rest(p, rest)) return "click on the character to add a handle there";
   const int part = part_at(p);
-  const std::string base = handle_base(part >= 0 ? part_name(part) : "handle");
+  // (after the part's name; a part its editor named `ellipse1042` after what it is)
+  const std::string named = part >= 0 ? part_name(part) : "";
+  const std::string role = part >= 0 && size_t(part) < roles_.size() ? roles_[size_t(part)] : "";
+  const std::string base = handle_base(!named.empty() && (!made_up(named) || role.empty()) ? named : role.empty() ? "handle" : role);
   std::string name = base;
   for (int n = 2; puppet_->rig.find_handle(name) >= 0; ++n) name = base + "-" + std::to_string(n);
   RigText t = text_;

@@ -107,6 +107,7 @@ class Studio {
   bool on_disk_ = false;
   Rig file_rig_;  ///< the text as parsed (its tables in file order, without drawn joints)
   std::unique_ptr<Puppet> puppet_;
+  std::vector<std::string> roles_;  ///< per shape: a handle name after what the automatic rig sees it as
   std::vector<Vec2> targets_;
   std::vector<State> history_;
   size_t at_ = 0;

@@ -140,6 +140,15 @@ TEST(Studio, AddingAHandleOnAPartNamesItAfterThePartAndKeepsTheText) {
   EXPECT_EQ(s->text(), before);
   EXPECT_EQ(s->puppet().rig.handles.size(), n);
   EXPECT_FALSE(s->dirty());
+  // The cat's parts have its editor's ids (ellipse1042, circle877, rect1187): a new handle is
+  // named after what the part is, its body, its head, a leg on its left.
+  const auto added = [&](const Vec2& at) {
+    EXPECT_EQ(s->add_handle(at), "");
+    return s->puppet().rig.handles.back().name;
+  };
+  EXPECT_EQ(added(Vec2(200, 140)), "body-2");
+  EXPECT_EQ(added(Vec2(322, 120)), "head-2");
+  EXPECT_EQ(added(Vec2(123, 250)).rfind("limb-left", 0), 0u);
 }
 
 TEST(Studio, AddingAHandleOnAPosedCharacterHoldsThePartWhereItIs) {
