@@ -470,6 +470,23 @@ TEST(AutoRig, TheHeadTurnsAboutItsNeck) {
   EXPECT_LT(j["handle_residuals"]["face"].get<double>(), 0.03 * 420) << "the face follows";
 }
 
+// One flat picture (a PNG, its figure from its alpha): its arms and legs come from its
+// silhouette, each handle at a hand or a foot (where the hand rig of the same picture has them).
+TEST(AutoRig, AFlatPictureGetsItsLimbsFromItsSilhouette) {
+  const Rigged r = rig_of((test::characters_dir() / "boy.png").string());
+  EXPECT_EQ(r.ar.rig.solver, "rigid_grid");
+  for (const Vec2& end : {Vec2(86, 248), Vec2(214, 248), Vec2(110, 410), Vec2(190, 410)}) {
+    double nearest = 1e9;
+    for (const RigHandle& h : r.ar.rig.handles) nearest = std::min(nearest, (h.rest - end).norm());
+    EXPECT_LT(nearest, 25) << "a handle at " << end.transpose();
+  }
+  const auto dir = test::temp_dir("flat-picture");
+  const std::string rig = (dir / "rig.toml").string();
+  std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
+  auto p = test::run_cli("pose '" + (test::characters_dir() / "boy.png").string() + "' --rig '" + rig + "' -o '" + (dir / "p.png").string() + "'");
+  EXPECT_EQ(p.exit_code, 0) << p.err;
+}
+
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
   EXPECT_EQ(name_words("armRight_2"), (std::vector<std::string>{"arm", "right", "2"}));
   EXPECT_EQ(name_words("Left Ear"), (std::vector<std::string>{"left", "ear"}));
