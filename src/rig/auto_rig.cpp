@@ -597,6 +597,27 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
         rig.sewing.push_back(add);
         out.notes_sewing.push_back(ch.shapes[size_t(geo[i].shape)].id + " sewn to " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id +
                                    ", which it hangs from");
+        // A second line, away from the first, so the part cannot turn about it: with one, a
+        // pen that dragged it round left it there (the hardware show's neck on the shirt).
+        const Axis& ax = axes[i];
+        const double apart = 0.5 * std::max(ax.half_major, ax.half_minor);
+        double second = std::numeric_limits<double>::infinity();
+        RigSewing add2;
+        add2.action = RigSewing::Add;
+        for (size_t a = 0; a < f.rest.size(); ++a) {
+          if (f.origin[a].shape != geo[i].shape || (f.rest[a] - add.from).norm() < apart) continue;
+          for (size_t b = 0; b < f.rest.size(); ++b)
+            if (f.origin[b].shape == geo[size_t(parent[i])].shape && (f.rest[a] - f.rest[b]).norm() < second) {
+              second = (f.rest[a] - f.rest[b]).norm();
+              add2.from = f.rest[a];
+              add2.to = f.rest[b];
+            }
+        }
+        if (std::isfinite(second)) {
+          rig.sewing.push_back(add2);
+          out.notes_sewing.push_back(ch.shapes[size_t(geo[i].shape)].id + " sewn to " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id +
+                                     " a second time, away from the first: it keeps its turn");
+        }
       }
     }
   }

@@ -487,6 +487,39 @@ TEST(AutoRig, AFlatPictureGetsItsLimbsFromItsSilhouette) {
   EXPECT_EQ(p.exit_code, 0) << p.err;
 }
 
+// The hardware show's pen stroke, on the figure's neck: dragged down onto the shirt while the
+// pen holds it, back under the face once the pen leaves (a part sewn to what it hangs from by
+// one line turned about it and stayed; now by two).
+TEST(AutoRig, APenDragDoesNotLeaveTheNeckOnTheShirt) {
+  const auto dir = test::temp_dir("pen-neck");
+  const std::string show = (dir / "show.toml").string(), poses = (dir / "poses.jsonl").string();
+  std::ofstream(show) << "[show]\nrig = \"" << (test::source_dir() / "config/rigs/figure.toml").string()
+                      << "\"\nrate = 60\niterations = 8\n[display]\nwidth = 480\nheight = 640\n"
+                         "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n0.3 hover 0.5,0.3\n"
+                         "0.5 stroke 0.5,0.3 0.6,0.5 over 1.0 pressure 0.7\n1.7 leave\n\"\"\"\n"
+                         "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\n";
+  auto r = test::run_cli("run '" + show + "' --headless --frames 240 --dump-poses '" + poses + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(poses);
+  std::vector<nlohmann::json> frames;
+  for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
+  ASSERT_GE(frames.size(), 200u);
+  auto neck_centre = [&](const nlohmann::json& f) {
+    for (const auto& sh : f["subshapes"])
+      if (sh["id"] == "neck") {
+        Vec2 c = Vec2::Zero();
+        for (const auto& q : sh["points"]) c += Vec2(q[0].get<double>(), q[1].get<double>());
+        return Vec2(c / double(sh["points"].size()));
+      }
+    return Vec2(Vec2::Constant(1e9));
+  };
+  const Vec2 rest = neck_centre(frames.front());
+  double pulled = 0;
+  for (size_t k = 0; k < 100; ++k) pulled = std::max(pulled, (neck_centre(frames[k]) - rest).norm());
+  EXPECT_GT(pulled, 8) << "the pen pulled it";
+  EXPECT_LT((neck_centre(frames.back()) - rest).norm(), 0.01 * 420) << "and it went back";
+}
+
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
   EXPECT_EQ(name_words("armRight_2"), (std::vector<std::string>{"arm", "right", "2"}));
   EXPECT_EQ(name_words("Left Ear"), (std::vector<std::string>{"left", "ear"}));
