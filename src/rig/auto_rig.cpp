@@ -47,6 +47,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
 
   // ---- the parts: closed, filled sub-shapes ---------------------------------------------------
   std::vector<Geo> geo;
+  int traced_pieces = 0;
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
     const SubShape& sh = ch.shapes[s];
     if (members.count(int(s)) || sh.role != ShapeRole::Paint) continue;  // (a clip or mask shape rides along)
@@ -56,10 +57,12 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     g.area = std::abs(signed_area(g.ring));
     // A shape drawn in pieces (an outline as many small filled quads, a limb in strips): its
     // outline is the outline of all its pieces together.
-    if (sh.contours.size() > 3 && sh.fill.enabled) {
+    // (at most 64 such shapes, each a twentieth of the drawing's height or more: each is drawn
+    // and traced, and a file of thousands of tiny ones took 18 s)
+    if (sh.contours.size() > 3 && sh.fill.enabled && traced_pieces < 64) {
       const Bounds b = sh.bounds();
       const double box = b.empty() ? 0.0 : (b.hi.x() - b.lo.x()) * (b.hi.y() - b.lo.y());
-      if (g.area < 0.3 * box)
+      if (g.area < 0.3 * box && std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) >= 0.05 * height && ++traced_pieces)
         if (Points u = union_outline(sh); u.size() >= 3 && std::abs(signed_area(u)) > g.area) {
           g.ring = std::move(u);
           g.area = std::abs(signed_area(g.ring));
