@@ -219,13 +219,13 @@ int cmd_run(const RunArgs& a) {
     }
     live = std::move(*next.value);
     if (service.active()) live->set_service(&service);
-    live->reloaded(cause);
     if (live->restarted().empty())
       std::cerr << "reloaded " << a.show << " (" << cause << ") at frame " << live->frames()
                 << ": the clock, the devices and the outputs go on" << std::endl;
     else
       std::cerr << "reloaded " << a.show << " (" << cause << "): " << live->restarted()
                 << " changed, so the devices, the window and the outputs start over" << std::endl;
+    live->reloaded(cause);  // (last: what the swap allocated, saying so included, is counted apart up to here)
   }
 }
 

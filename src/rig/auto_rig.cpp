@@ -675,17 +675,32 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     for (size_t i = 0; i < n; ++i)
       for (size_t j = 0; j < n; ++j)
         if (via[i][j] >= 0) connector[size_t(via[i][j])] = 1;
-    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+    // (the eight longest: a head of hair drawn in two hundred strokes is a head of hair, not
+    // two hundred handles; the others ride on what they hang from)
+    auto strand = [&](size_t s) {
       const SubShape& sh = ch.shapes[s];
-      if (is_part[s] || connector[s] || members.count(int(s)) || !sh.stroke.enabled || sh.contours.size() != 1) continue;
+      if (is_part[s] || connector[s] || members.count(int(s)) || !sh.stroke.enabled || sh.contours.size() != 1) return -1.0;
       const Contour& c = sh.contours[0];
-      if (c.closed || c.count < 2) continue;
-      const std::span<const Vec2> pts(sh.points.data() + c.begin, size_t(c.count));
+      if (c.closed || c.count < 2) return -1.0;
       double length = 0;
-      for (size_t k = 1; k < pts.size(); ++k) length += (pts[k] - pts[k - 1]).norm();
-      if (length < 0.04 * height) continue;
+      for (int k = 1; k < c.count; ++k) length += (sh.points[size_t(c.begin + k)] - sh.points[size_t(c.begin + k - 1)]).norm();
+      if (length < 0.04 * height) return -1.0;
+      const int pa = part_at(sh.points[size_t(c.begin)], true), pb = part_at(sh.points[size_t(c.begin + c.count - 1)], true);
+      return (pa >= 0) == (pb >= 0) ? -1.0 : length;
+    };
+    std::vector<std::pair<double, size_t>> strands;
+    for (size_t s = 0; s < ch.shapes.size(); ++s)
+      if (const double len = strand(s); len > 0) strands.push_back({-len, s});
+    std::stable_sort(strands.begin(), strands.end());
+    std::set<size_t> longest;
+    for (size_t k = 0; k < strands.size() && k < 8; ++k) longest.insert(strands[k].second);
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      if (!longest.count(s)) continue;
+      const SubShape& sh = ch.shapes[s];
+      const Contour& c = sh.contours[0];
+      const std::span<const Vec2> pts(sh.points.data() + c.begin, size_t(c.count));
+      const double length = strand(s);
       const int pa = part_at(pts.front(), true), pb = part_at(pts.back(), true);
-      if ((pa >= 0) == (pb >= 0)) continue;
       const bool from_front = pa >= 0;
       const int par = from_front ? pa : pb;
       // the free end, 8% of the way back along the stroke

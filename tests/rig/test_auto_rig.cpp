@@ -520,6 +520,26 @@ TEST(AutoRig, APenDragDoesNotLeaveTheNeckOnTheShirt) {
   EXPECT_LT((neck_centre(frames.back()) - rest).norm(), 0.01 * 420) << "and it went back";
 }
 
+// A head of hair drawn in twenty strokes: the eight longest are limbs with handles, not twenty.
+TEST(AutoRig, AHeadOfHairInManyStrokesGivesEightStrandsNotAll) {
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">"
+                    "<circle id=\"circle1\" cx=\"100\" cy=\"120\" r=\"50\" fill=\"#fc9\"/>";
+  for (int k = 0; k < 20; ++k)
+    svg += "<path d=\"M" + std::to_string(60 + 4 * k) + " 80 l" + std::to_string(k % 5 - 2) + " -" + std::to_string(20 + k) +
+           "\" stroke=\"#420\" stroke-width=\"2\" fill=\"none\"/>";
+  svg += "</svg>";
+  const Rigged r = rig_of(test::write_temp("hair.svg", svg));
+  int strands = 0;
+  double shortest = 1e9;
+  for (const AutoRigPart& p : r.ar.parts)
+    if (p.kind == AutoRigPart::Limb && !r.ch.shapes[size_t(p.shape)].fill.enabled) {
+      ++strands;
+      shortest = std::min(shortest, r.ch.shapes[size_t(p.shape)].bounds().hi.y() - r.ch.shapes[size_t(p.shape)].bounds().lo.y());
+    }
+  EXPECT_EQ(strands, 8);
+  EXPECT_GE(shortest, 31) << "the longest eight (20 + 12 and up)";
+}
+
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
   EXPECT_EQ(name_words("armRight_2"), (std::vector<std::string>{"arm", "right", "2"}));
   EXPECT_EQ(name_words("Left Ear"), (std::vector<std::string>{"left", "ear"}));
