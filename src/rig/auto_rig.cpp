@@ -59,7 +59,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     // outline is the outline of all its pieces together.
     // (at most 64 such shapes, each a twentieth of the drawing's height or more: each is drawn
     // and traced, and a file of thousands of tiny ones took 18 s)
-    if (sh.contours.size() > 3 && sh.fill.enabled && traced_pieces < 64) {
+    // (the `rig` command's only: a show's plain rig loads without drawing and tracing)
+    if (options.silhouette && sh.contours.size() > 3 && sh.fill.enabled && traced_pieces < 64) {
       const Bounds b = sh.bounds();
       const double box = b.empty() ? 0.0 : (b.hi.x() - b.lo.x()) * (b.hi.y() - b.lo.y());
       if (g.area < 0.3 * box && std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) >= 0.05 * height && ++traced_pieces)

@@ -52,7 +52,9 @@ struct AutoRig {
 };
 
 struct AutoRigOptions {
-  bool silhouette = true;  ///< where the silhouette has limbs the parts miss, rig from it (auto_rig_silhouette.h)
+  /// Where the silhouette has limbs the parts miss, rig from it (auto_rig_silhouette.h); and a
+  /// shape drawn in pieces is rigged by their outline together (both draw and trace).
+  bool silhouette = true;
   bool head_hinge = true;  ///< a head hanging from the body turns about its neck
 };
 
