@@ -82,10 +82,15 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
       riders[parent_id(p)].push_back(id(p.shape));
     }
   }
-  if (details) {
+  if (details) {  // (the six parts most ride on, then how many more)
+    std::vector<std::pair<size_t, std::string>> most;
+    for (const auto& [on, ids] : riders) most.push_back({ids.size(), on});
+    std::stable_sort(most.begin(), most.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
     std::string line = std::to_string(details) + " detail" + (details == 1 ? "" : "s") + " ride on their parts:";
-    for (const auto& [on, ids] : riders) line += " " + std::to_string(ids.size()) + " on " + on + ";";
+    for (size_t k = 0; k < most.size() && k < 6; ++k)
+      line += " " + std::to_string(most[k].first) + (most[k].second == "nothing" ? " attached to nothing" : " on " + most[k].second) + ";";
     line.pop_back();
+    if (most.size() > 6) line += "; and on " + std::to_string(most.size() - 6) + " more parts";
     out.push_back(line);
   }
   for (const RigSwap& s : ar.rig.swaps) out.push_back("swap set " + s.name + ": " + std::to_string(s.members.size()) + " shapes");

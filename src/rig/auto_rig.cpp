@@ -431,6 +431,20 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
   }
 
+  // At most 16 limbs, the biggest: a head of hair or a beard in two hundred small filled pieces
+  // is not two hundred limbs to a performer; the smaller ride on what they hang from.
+  {
+    std::vector<std::pair<double, size_t>> limbs;
+    for (size_t i = 0; i < n; ++i)
+      if (out.parts[i].kind == AutoRigPart::Limb) limbs.push_back({-geo[i].area, i});
+    std::stable_sort(limbs.begin(), limbs.end());
+    for (size_t k = 16; k < limbs.size(); ++k) {
+      AutoRigPart& p = out.parts[limbs[k].second];
+      p.kind = AutoRigPart::Detail;
+      p.why = "a small limb among many: rides on " + ch.shapes[size_t(geo[size_t(parent[limbs[k].second])].shape)].id;
+    }
+  }
+
   // ---- hinges at the drawn joints ------------------------------------------------------------------
   for (size_t i = 0; i < n; ++i) {
     AutoRigPart& p = out.parts[i];

@@ -538,6 +538,15 @@ TEST(AutoRig, AHeadOfHairInManyStrokesGivesEightStrandsNotAll) {
     }
   EXPECT_EQ(strands, 8);
   EXPECT_GE(shortest, 31) << "the longest eight (20 + 12 and up)";
+  // and drawn as 24 thin filled locks: the 16 biggest are limbs, the others ride on the head
+  std::string filled = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">"
+                       "<circle id=\"circle1\" cx=\"100\" cy=\"120\" r=\"50\" fill=\"#fc9\"/>";
+  for (int k = 0; k < 24; ++k)
+    filled += "<rect x=\"" + std::to_string(54 + 4 * k) + "\" y=\"" + std::to_string(50 - k) + "\" width=\"3\" height=\"" +
+              std::to_string(30 + k) + "\" fill=\"#420\"/>";
+  filled += "</svg>";
+  const Rigged f = rig_of(test::write_temp("hair-filled.svg", filled));
+  EXPECT_EQ(ids_of(f, AutoRigPart::Limb).size(), 16u);
 }
 
 TEST(AutoRig, NameWordsSplitsCaseAndSeparators) {
