@@ -213,7 +213,8 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
       if (s.r[k] > s.r[ek]) ek = k;
     limb.end_radius = s.r[ek];
     limb.end_centre = s.p[ek];
-    if (limb.length < 1.2 * limb.width || rl > 0.75 * out.core_radius) continue;
+    // (as wide as the core, it is a limb only when long: a stick figure is all one width)
+    if (limb.length < 1.2 * limb.width || (rl > 0.75 * out.core_radius && limb.length < 4 * limb.width)) continue;
     limb.joint = s.p[jk];
     limb.narrowest = s.r[ek];
     for (size_t k = ek; k <= jk; ++k) limb.narrowest = std::min(limb.narrowest, s.r[k]);

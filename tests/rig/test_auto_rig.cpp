@@ -485,6 +485,12 @@ TEST(AutoRig, AFlatPictureGetsItsLimbsFromItsSilhouette) {
   std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
   auto p = test::run_cli("pose '" + (test::characters_dir() / "boy.png").string() + "' --rig '" + rig + "' -o '" + (dir / "p.png").string() + "'");
   EXPECT_EQ(p.exit_code, 0) << p.err;
+  // A stick figure (strokes and a ring, nothing filled: every branch as wide as its core) too.
+  const Rigged stick = rig_of((test::characters_dir() / "stick.svg").string());
+  EXPECT_EQ(stick.ar.rig.solver, "rigid_grid");
+  int limbs = 0;
+  for (const AutoRigPart& q : stick.ar.parts) limbs += q.kind == AutoRigPart::Limb;
+  EXPECT_EQ(limbs, 4) << "two arms, two legs";
 }
 
 // The hardware show's pen stroke, on the figure's neck: dragged down onto the shirt while the
