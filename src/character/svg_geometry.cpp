@@ -240,6 +240,7 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
 // the rig, a region to the solvers), only its stroke keeps its ends. (A sub-path with no area,
 // a straight line, stays a line.)
 void SvgLoader::close_for_fill(SubShape& s) {
+  if (std::none_of(s.contours.begin(), s.contours.end(), [](const Contour& c) { return !c.closed && c.count >= 3; })) return;
   Points out;
   out.reserve(s.points.size());
   for (Contour& c : s.contours) {

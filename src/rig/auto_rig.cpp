@@ -598,56 +598,40 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
     }
     for (size_t i = 0; i < n; ++i) {
       if (tied[i] || parent[i] < 0 || rig.sewing.empty()) continue;
-      // the closest frame vertices of the part and its parent
-      double best = std::numeric_limits<double>::infinity();
-      RigSewing add;
-      add.action = RigSewing::Add;
-      for (size_t a = 0; a < f.rest.size(); ++a) {
-        if (f.origin[a].shape != geo[i].shape) continue;
-        for (size_t b = 0; b < f.rest.size(); ++b)
-          if (f.origin[b].shape == geo[size_t(parent[i])].shape && (f.rest[a] - f.rest[b]).norm() < best) {
-            best = (f.rest[a] - f.rest[b]).norm();
-            add.from = f.rest[a];
-            add.to = f.rest[b];
-          }
-      }
-      if (std::isfinite(best)) {
-        rig.sewing.push_back(add);
-        out.notes_sewing.push_back(ch.shapes[size_t(geo[i].shape)].id + " sewn to " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id +
-                                   ", which it hangs from");
-        // A second line, away from the first, so the part cannot turn about it: with one, a
-        // pen that dragged it round left it there (the hardware show's neck on the shirt).
-        const Axis& ax = axes[i];
-        const double apart = 0.5 * std::max(ax.half_major, ax.half_minor);
-        double second = std::numeric_limits<double>::infinity();
-        RigSewing add2;
-        add2.action = RigSewing::Add;
+      // The closest frame vertices of the part and its parent; then a second pair, away from
+      // the first, so the part cannot turn about it: with one line, a pen that dragged it round
+      // left it there (the hardware show's neck on the shirt). (`away_from`: no point of the
+      // part within `apart` of it.)
+      const int ps = geo[i].shape, qs = geo[size_t(parent[i])].shape;
+      auto closest = [&](const Vec2& away_from, double apart, RigSewing& line) {
+        double best = std::numeric_limits<double>::infinity();
+        line.action = RigSewing::Add;
         for (size_t a = 0; a < f.rest.size(); ++a) {
-          if (f.origin[a].shape != geo[i].shape || (f.rest[a] - add.from).norm() < apart) continue;
+          if (f.origin[a].shape != ps || (f.rest[a] - away_from).norm() < apart) continue;
           for (size_t b = 0; b < f.rest.size(); ++b)
-            if (f.origin[b].shape == geo[size_t(parent[i])].shape && (f.rest[a] - f.rest[b]).norm() < second) {
-              second = (f.rest[a] - f.rest[b]).norm();
-              add2.from = f.rest[a];
-              add2.to = f.rest[b];
+            if (f.origin[b].shape == qs && (f.rest[a] - f.rest[b]).norm() < best) {
+              best = (f.rest[a] - f.rest[b]).norm();
+              line.from = f.rest[a];
+              line.to = f.rest[b];
             }
         }
-        if (std::isfinite(second)) {
-          rig.sewing.push_back(add2);
-          out.notes_sewing.push_back(ch.shapes[size_t(geo[i].shape)].id + " sewn to " + ch.shapes[size_t(geo[size_t(parent[i])].shape)].id +
-                                     " a second time, away from the first: it keeps its turn");
-        }
+        return std::isfinite(best);
+      };
+      RigSewing nearest, other;
+      if (!closest(Vec2::Zero(), 0, nearest)) continue;
+      const std::string names = ch.shapes[size_t(ps)].id + " sewn to " + ch.shapes[size_t(qs)].id;
+      rig.sewing.push_back(nearest);
+      out.notes_sewing.push_back(names + ", which it hangs from");
+      if (closest(nearest.from, 0.5 * std::max(axes[i].half_major, axes[i].half_minor), other)) {
+        rig.sewing.push_back(other);
+        out.notes_sewing.push_back(names + " a second time, away from the first: it keeps its turn");
       }
     }
   }
 
   // ---- handles -----------------------------------------------------------------------------------------
   std::set<std::string> used;
-  auto unique = [&](std::string base) {
-    std::string name = base;
-    for (int k = 2; used.count(name); ++k) name = base + "-" + std::to_string(k);
-    used.insert(name);
-    return name;
-  };
+  auto unique = [&](const std::string& base) { return unique_name(used, base); };
   const Vec2 body_centre = geo[root].centroid;
   auto add_handle = [&](size_t i, const std::string& fallback, const Vec2& at) {
     const SubShape& sh = ch.shapes[size_t(geo[i].shape)];

@@ -104,12 +104,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
                       " and its silhouette " + std::to_string(sil.limbs.size()) +
                       ": rigged from the silhouette, posed by the rigid grid (a limb bends inside one shape)");
   std::set<std::string> used;
-  auto unique = [&](std::string base) {
-    std::string name = base;
-    for (int k = 2; used.count(name); ++k) name = base + "-" + std::to_string(k);
-    used.insert(name);
-    return name;
-  };
+  auto unique = [&](const std::string& base) { return unique_name(used, base); };
   auto name_at = [&](int shape, const std::string& fallback) {
     if (shape < 0) return fallback;
     const SubShape& s = ch.shapes[size_t(shape)];
@@ -131,10 +126,12 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   }
   // The head: a limb wide at its end (half again as wide as its neck, and a third of the body),
   // the widest such, above the core; or the one whose end a part named head holds.
+  std::vector<int> holder(sil.limbs.size());  // the part holding each limb's free end
+  for (size_t k = 0; k < sil.limbs.size(); ++k) holder[k] = smallest_holding(ch, drawn, sil.limbs[k].tip);
   int head = -1;
   for (size_t k = 0; k < sil.limbs.size(); ++k) {
     const SilhouetteLimb& l = sil.limbs[k];
-    const int at = smallest_holding(ch, drawn, l.tip);
+    const int at = holder[k];
     const bool named = at >= 0 && hint_of(name_words(ch.shapes[size_t(at)].label.empty() ? ch.shapes[size_t(at)].id : ch.shapes[size_t(at)].label)) == Hint::Head;
     const bool wide = l.end_radius >= 1.5 * l.narrowest && l.end_radius >= 0.35 * sil.core_radius && l.tip.y() < sil.core.y();
     if (named || (wide && (head < 0 || l.end_radius > sil.limbs[size_t(head)].end_radius))) head = int(k);
@@ -143,7 +140,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   for (size_t k = 0; k < sil.limbs.size(); ++k) {
     const SilhouetteLimb& l = sil.limbs[k];
     AutoRigPart p;
-    const int at = smallest_holding(ch, drawn, l.tip);
+    const int at = holder[k];
     p.shape = at >= 0 ? at : body.shape;
     p.parent = 0;
     p.kind = int(k) == head ? AutoRigPart::Head : AutoRigPart::Limb;

@@ -75,6 +75,13 @@ std::string handle_name(const std::string& id) {
   return out;
 }
 
+std::string unique_name(std::set<std::string>& used, const std::string& base) {
+  std::string name = base;
+  for (int k = 2; used.count(name); ++k) name = base + "-" + std::to_string(k);
+  used.insert(name);
+  return name;
+}
+
 std::set<int> swaps_and_triggers(const Character& ch, Rig& rig) {
   std::set<int> members;  // shapes a swap or trigger shows and hides
   {

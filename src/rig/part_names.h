@@ -22,6 +22,8 @@ bool has_word(const std::vector<std::string>& words, std::initializer_list<const
 bool made_up(const std::string& id);
 /// A handle name from a part's id: lower case, words joined by '-'.
 std::string handle_name(const std::string& id);
+/// `base`, or `base-2`, `base-3`, ... the first not in `used`; added to it.
+std::string unique_name(std::set<std::string>& used, const std::string& base);
 
 /// Swap sets and triggers from names and groups: a `mouth` of visemes, `eyes` open and shut
 /// with a `blink`, a blink layer, any other group of alternatives one of which shows. Returns

@@ -70,14 +70,22 @@ int main(int argc, char** argv) {
     row["solver"] = ar.rig.solver;
     enough += limbs >= person;
     const fs::path rig = work / (stem + ".toml"), show = work / (stem + "-show.toml");
-    std::ofstream(rig) << mar::write_auto_rig(ar, *ch.value);
-    if (!keep.empty()) (void)mar::write_rig_preview((work / (stem + ".png")).string(), *ch.value, ar);
+    auto write = [](const fs::path& to, const std::string& body) { return bool(std::ofstream(to) << body); };
+    if (!write(rig, mar::write_auto_rig(ar, *ch.value))) {
+      std::fprintf(stderr, "error: %s: cannot be written\n", rig.c_str());
+      return 1;
+    }
+    if (!keep.empty())
+      if (const std::string e = mar::write_rig_preview((work / (stem + ".png")).string(), *ch.value, ar); !e.empty())
+        std::fprintf(stderr, "warning: %s\n", e.c_str());
     auto text = mar::starter_show(ar, *ch.value, rig.filename().string(), "nanokontrol2");
     double worst = -1, away = -1;
     if (ar.rig.handles.empty() || !text.ok()) {
       row["error"] = ar.rig.handles.empty() ? "nothing to rig" : text.error;
+    } else if (!write(show, *text.value)) {
+      std::fprintf(stderr, "error: %s: cannot be written\n", show.c_str());
+      return 1;
     } else {
-      std::ofstream(show) << *text.value;
       mar::RunOptions o;
       o.headless = true;
       o.quiet = true;
@@ -125,7 +133,10 @@ int main(int argc, char** argv) {
                        {"back_at_rest_pct", pct(rested)},
                        {"both_pct", pct(both)},
                        {"rows", rows}};
-    std::ofstream(json_path) << out.dump(1) << "\n";
+    if (!(std::ofstream(json_path) << out.dump(1) << "\n")) {
+      std::fprintf(stderr, "error: %s: cannot be written\n", json_path.c_str());
+      return 1;
+    }
   }
   return 0;
 }
