@@ -119,14 +119,17 @@ Result<std::string> starter_show(const AutoRig& a, const Character& ch, const st
       script << 1.0 + 0.6 * double(k) << " press " << (k < 8 ? "solo" : "mute") << (k % 8 + 1) << " for 0.3\n";
     o << "\n[[device]]\nname = \"korg\"\nsim = \"nanokontrol2\"\nscript = \"\"\"\n" << script.str() << "\"\"\"\n";
     groups(n);
-    for (size_t k = 0; k < n; ++k) binding(o, "korg", "cc " + std::to_string(16 + k), "rotate." + chains[k].handle);
+    // A 7-bit knob's middle is 63 or 64 of 127, never 0.5: a narrow dead zone about the
+    // centre puts a knob turned back to its middle exactly at rest.
+    const std::string centre = "deadzone = 0.02\n";
+    for (size_t k = 0; k < n; ++k) binding(o, "korg", "cc " + std::to_string(16 + k), "rotate." + chains[k].handle, centre);
     if (body) {
-      binding(o, "korg", "cc 0", "handle." + body->handle + ".x");
-      binding(o, "korg", "cc 1", "handle." + body->handle + ".y");
+      binding(o, "korg", "cc 0", "handle." + body->handle + ".x", centre);
+      binding(o, "korg", "cc 1", "handle." + body->handle + ".y", centre);
     }
     if (head) {
-      binding(o, "korg", "cc 2", "handle." + head->handle + ".x");
-      binding(o, "korg", "cc 3", "handle." + head->handle + ".y");
+      binding(o, "korg", "cc 2", "handle." + head->handle + ".x", centre);
+      binding(o, "korg", "cc 3", "handle." + head->handle + ".y", centre);
     }
     for (size_t k = 0; k < np; ++k)
       binding(o, "korg", "cc " + std::to_string((k < 8 ? 32 : 48) + int(k % 8)), presses[k].target, "# " + presses[k].what + "\n");
