@@ -1,0 +1,222 @@
+// The automatic rig's parts (rig/auto_rig_graph.h): the closed, filled sub-shapes, where they
+// overlap, what is scenery, what rides on what (details, twins), which touch, and the strokes
+// that join two of them.
+#include "rig/auto_rig_graph.h"
+
+#include "geom/polygon.h"
+#include "rig/limb_geometry.h"
+#include "rig/silhouette.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace mar {
+
+void find_parts(PartGraph& G, const AutoRigOptions& options) {
+  const Character& ch = G.ch;
+  const double height = G.height;
+  const std::set<int>& members = G.members;
+  std::vector<PartGeo>& geo = G.geo;
+  int traced_pieces = 0;
+  for (size_t s = 0; s < ch.shapes.size(); ++s) {
+    const SubShape& sh = ch.shapes[s];
+    if (members.count(int(s)) || sh.role != ShapeRole::Paint) continue;  // (a clip or mask shape rides along)
+    PartGeo g;
+    g.shape = int(s);
+    g.ring = sh.largest_ring();
+    g.area = std::abs(signed_area(g.ring));
+    // A shape drawn in pieces (an outline as many small filled quads, a limb in strips): its
+    // outline is the outline of all its pieces together.
+    // (at most 64 such shapes, each a twentieth of the drawing's height or more: each is drawn
+    // and traced, and a file of thousands of tiny ones took 18 s)
+    // (the `rig` command's only: a show's plain rig loads without drawing and tracing)
+    if (options.silhouette && sh.contours.size() > 3 && sh.fill.enabled && traced_pieces < 64) {
+      const Bounds b = sh.bounds();
+      const double box = b.empty() ? 0.0 : (b.hi.x() - b.lo.x()) * (b.hi.y() - b.lo.y());
+      if (g.area < 0.3 * box && std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) >= 0.05 * height && ++traced_pieces)
+        if (Points u = union_outline(sh); u.size() >= 3 && std::abs(signed_area(u)) > g.area) {
+          g.ring = std::move(u);
+          g.area = std::abs(signed_area(g.ring));
+        }
+    }
+    if (!sh.fill.enabled || g.area <= 1e-6 * height * height) continue;
+    g.lo = g.hi = g.ring[0];
+    for (const Vec2& p : g.ring) {
+      g.lo = g.lo.cwiseMin(p);
+      g.hi = g.hi.cwiseMax(p);
+    }
+    g.centroid = ring_centroid(g.ring);
+    g.named = !sh.label.empty() || !made_up(sh.id);
+    if (g.named) g.words = name_words(sh.label.empty() ? sh.id : sh.label);
+    g.hint = hint_of(g.words);
+    geo.push_back(std::move(g));
+  }
+  G.n = geo.size();
+}
+
+int PartGraph::part_at(const Vec2& q, bool with_details) const {
+  int best = -1;
+  double bd = 0.02 * height;
+  for (size_t i = 0; i < n; ++i) {
+    if ((!with_details && container[i] >= 0) || scenery[i]) continue;
+    const double d = winding_number(geo[i].ring, q) != 0 ? 0.0 : ring_distance(Points{q}, geo[i].ring);
+    if (d <= bd && (best < 0 || d < bd || geo[i].area < geo[size_t(best)].area)) {
+      bd = d;
+      best = int(i);
+    }
+  }
+  return best;
+}
+
+void relate_parts(PartGraph& G, AutoRig& out) {
+  const Character& ch = G.ch;
+  const double height = G.height;
+  const std::set<int>& members = G.members;
+  const std::vector<PartGeo>& geo = G.geo;
+  const size_t n = G.n;
+  const Bounds cb = ch.bounds();
+  auto& overlap = G.overlap;
+  auto& overlap_at = G.overlap_at;
+  overlap.assign(n, std::vector<double>(n, 0.0));
+  overlap_at.assign(n, std::vector<Vec2>(n, Vec2::Zero()));
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (geo[i].hi.x() < geo[j].lo.x() || geo[j].hi.x() < geo[i].lo.x() || geo[i].hi.y() < geo[j].lo.y() || geo[j].hi.y() < geo[i].lo.y())
+        continue;
+      Vec2 c;
+      double a = 0;
+      if (overlap_centre(geo[i].ring, geo[j].ring, c, &a) && a > 0) {
+        overlap[i][j] = overlap[j][i] = a;
+        overlap_at[i][j] = overlap_at[j][i] = c;
+      }
+    }
+  // Scenery: a disc or a rectangle behind most of the character (a sun, a frame), or a shadow
+  // under its feet. Left out of the tree, never the body; a handle keeps it where it is drawn.
+  auto& scenery = G.scenery;
+  scenery.assign(n, 0);
+  {
+    // (again after each find: a second disc inside a glow behind a horse)
+    for (bool found = true; found;) {
+    found = false;
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) total += scenery[i] ? 0.0 : geo[i].area;
+    for (size_t i = 0; i < n && n >= 3; ++i) {
+      if (geo[i].hint != Hint::None || scenery[i]) continue;  // (a part named as one is one)
+      const double others = total - geo[i].area;
+      double inside = 0, behind = 0;
+      bool straddled = false;  // a big part of the character half in front of it, half beside it
+      for (size_t j = 0; j < n; ++j) {
+        if (j == i || scenery[j]) continue;
+        const double in = std::min(overlap[i][j], geo[j].area);
+        inside += in;
+        if (geo[j].shape > geo[i].shape) behind += geo[j].area;
+        straddled = straddled || (geo[j].shape > geo[i].shape && geo[j].area >= 0.25 * geo[i].area && in >= 0.2 * geo[j].area &&
+                                  in <= 0.8 * geo[j].area);
+      }
+      const Vec2 ext = geo[i].hi - geo[i].lo;
+      const double box = std::max(1e-12, ext.x() * ext.y());
+      const bool plain = geo[i].area >= 0.7 * box;  // a disc (0.785 of its box), a rectangle
+      const bool first = behind >= 0.7 * others;    // drawn behind the rest
+      // (a body drawn first has its limbs attached along its outline; a backdrop has the
+      // character itself crossing it)
+      // (and a rectangle under the whole drawing is its background, whatever is on it)
+      const Vec2 all = cb.hi - cb.lo;
+      const bool canvas = geo[i].area >= 0.95 * box && first && box >= 0.9 * all.x() * all.y();
+      const bool backdrop = (plain && first && geo[i].area >= 0.3 * others && straddled) || canvas;
+      const bool ground = plain && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
+                          geo[i].area <= 0.3 * others && inside > 0;
+      if (!backdrop && !ground) continue;
+      scenery[i] = 1;
+      found = true;
+      out.left_out.push_back({geo[i].shape, canvas     ? "a rectangle under the whole drawing, its background: kept still, never the body"
+                                            : backdrop ? "a disc or rectangle behind most of the character: kept still, never the body"
+                                                       : "a shadow under the feet: kept still"});
+    }
+    }
+  }
+  // Details: mostly inside a bigger part (eyes, a pocket, spots). They follow their container.
+  // An outline and its fill drawn as two shapes, one right after the other (a black shape a
+  // little larger behind the colour, or the colour over it) are twins: the one drawn later
+  // rides on the first, so the pair is one part.
+  auto& container = G.container;
+  container.assign(n, -1);
+  for (size_t i = 0; i < n; ++i) {
+    if (scenery[i]) continue;
+    for (size_t j = 0; j < n && container[i] < 0; ++j) {
+      if (j == i || scenery[j] || geo[j].shape >= geo[i].shape || geo[i].shape - geo[j].shape > 2) continue;
+      const double lo = std::min(geo[i].area, geo[j].area), hi = std::max(geo[i].area, geo[j].area);
+      if (lo >= 0.5 * hi && overlap[i][j] >= 0.7 * lo) container[i] = int(j);
+    }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    double best = 0;
+    if (scenery[i] || container[i] >= 0) continue;
+    for (size_t j = 0; j < n; ++j)
+      if (j != i && !scenery[j] && geo[j].area > geo[i].area && overlap[i][j] >= 0.85 * geo[i].area && overlap[i][j] > best) {
+        best = overlap[i][j];
+        container[i] = int(j);
+      }
+  }
+  // Neighbours among the others: overlapping, or within 2% of the height of each other.
+  auto& nb = G.nb;
+  nb.assign(n, {});
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j) {
+      if (container[i] >= 0 || container[j] >= 0 || scenery[i] || scenery[j]) continue;
+      bool near = overlap[i][j] > 0;
+      if (!near) {
+        const double gap = 0.02 * height;
+        const bool boxes = !(geo[i].hi.x() + gap < geo[j].lo.x() || geo[j].hi.x() + gap < geo[i].lo.x() || geo[i].hi.y() + gap < geo[j].lo.y() ||
+                             geo[j].hi.y() + gap < geo[i].lo.y());
+        if (boxes && ring_distance(geo[i].ring, geo[j].ring) <= gap) {
+          near = true;
+          // where they come closest stands for the overlap
+          double best = std::numeric_limits<double>::infinity();
+          for (const Vec2& p : geo[i].ring)
+            for (size_t k = 0; k < geo[j].ring.size(); ++k) {
+              const double d = point_segment_distance(p, geo[j].ring[k], geo[j].ring[(k + 1) % geo[j].ring.size()]);
+              if (d < best) {
+                best = d;
+                overlap_at[i][j] = overlap_at[j][i] = p;
+              }
+            }
+        }
+      }
+      if (near) {
+        nb[i].push_back(int(j));
+        nb[j].push_back(int(i));
+      }
+    }
+  // Connectors: an open stroke from one part to another (a wick from a candle to its flame)
+  // joins them; a hinge then goes where it leaves the parent.
+  auto& via = G.via;                // the stroke's shape
+  auto& stroke_end = G.stroke_end;  // its end at the first part
+  via.assign(n, std::vector<int>(n, -1));
+  stroke_end.assign(n, std::vector<Vec2>(n, Vec2::Zero()));
+  G.is_part.assign(ch.shapes.size(), 0);
+  for (const PartGeo& p : geo) G.is_part[size_t(p.shape)] = 1;
+  const auto& is_part = G.is_part;
+  {
+    for (size_t s = 0; s < ch.shapes.size(); ++s) {
+      const SubShape& sh = ch.shapes[s];
+      if (is_part[s] || members.count(int(s)) || !sh.stroke.enabled) continue;
+      for (const Contour& c : sh.contours) {
+        if (c.closed || c.count < 2) continue;
+        const Vec2 a = sh.points[size_t(c.begin)], b = sh.points[size_t(c.begin + c.count - 1)];
+        const int pa = G.part_at(a, false), pb = G.part_at(b, false);
+        if (pa < 0 || pb < 0 || pa == pb || overlap[size_t(pa)][size_t(pb)] > 0) continue;
+        if (std::find(nb[size_t(pa)].begin(), nb[size_t(pa)].end(), pb) != nb[size_t(pa)].end()) continue;
+        nb[size_t(pa)].push_back(pb);
+        nb[size_t(pb)].push_back(pa);
+        via[size_t(pa)][size_t(pb)] = via[size_t(pb)][size_t(pa)] = int(s);
+        stroke_end[size_t(pa)][size_t(pb)] = a;
+        stroke_end[size_t(pb)][size_t(pa)] = b;
+        overlap_at[size_t(pa)][size_t(pb)] = a;  // (where each is attached: its end of the stroke)
+        overlap_at[size_t(pb)][size_t(pa)] = b;
+      }
+    }
+  }
+}
+
+}  // namespace mar
