@@ -479,6 +479,10 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         if (auto* n = t.get("bounce_ms")) d.bounce_ms = millis(*n, "bounce_ms");
         if (auto* n = t.get("debounce_ms")) d.debounce_ms = millis(*n, "debounce_ms");
         if (auto* n = t.get("seed")) d.seed = uint32_t(integer(path, *n, "seed", 0, 2147483647));
+        if (auto* n = t.get("priority")) {
+          d.priority = int(integer(path, *n, "priority", -1000, 1000));
+          d.has_priority = true;
+        }
         s.devices.push_back(std::move(d));
       }
     }
@@ -536,7 +540,8 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
       for (const toml::node& bn : *bs) {
         const toml::table& t = *bn.as_table();
         check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
-                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led"},
+                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led",
+                             "priority", "hold", "handover"},
                    "[[binding]]");
         Binding b;
         b.line = int(bn.source().begin.line);
@@ -664,6 +669,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
           if (!a || a->size() != 4) throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1]"};
           for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
         }
+        read_priority(path, t, s.devices[size_t(di)], b);
         s.bindings.push_back(std::move(b));
       }
     }

@@ -53,6 +53,9 @@ struct ShowDevice {
   double bounce_ms = 0, debounce_ms = 0;
   uint32_t seed = 1;
   int line = 0;
+  /// `priority`: its bindings' default (input/arbitration.h); unset: bindings state their own.
+  int priority = 0;
+  bool has_priority = false;
 };
 
 /// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).

@@ -197,7 +197,8 @@ void check_device_keys(const std::string& path, const toml::table& t) {
   check_keys(path, t,
              {"name", "type", "sim", "descriptor", "script", "script_file", "bounce_ms", "debounce_ms", "seed", "profile",
               "vid", "pid", "serial", "product", "usage_page", "usage", "chip", "encoders", "buttons",
-              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver", "file", "calibrate", "pcm"},
+              "steps_per_detent", "host", "port", "source", "sdl", "feedback", "detach_kernel_driver", "file", "calibrate", "pcm",
+              "priority"},
              "[[device]]");
 }
 
@@ -262,6 +263,30 @@ int led_color(const std::string& palette, const std::string& color, std::string*
     if (names) *names += (names->empty() ? "" : ", ") + std::string(n);
   }
   return -1;
+}
+
+void read_priority(const std::string& path, const toml::table& t, const ShowDevice& d, Binding& b) {
+  SourcePriority& p = b.tf.priority;
+  b.tf.has_priority = d.has_priority;
+  p.priority = d.priority;
+  if (auto* n = t.get("priority")) {
+    p.priority = int(integer(path, *n, "priority", -1000, 1000));
+    b.tf.has_priority = true;
+  }
+  auto seconds = [&](const char* key, double& v) {
+    const toml::node* n = t.get(key);
+    if (!n) return;
+    v = number(path, *n, key);
+    if (!(v >= 0 && v <= 60)) throw ShowError{at(path, *n) + ": " + key + " must be 0..60 seconds"};
+  };
+  seconds("hold", p.hold);
+  seconds("handover", p.handover);
+  const bool drives = b.target == TargetKind::HandleX || b.target == TargetKind::HandleY || b.target == TargetKind::Rotate ||
+                      b.target == TargetKind::Setting;
+  for (const char* key : {"priority", "hold", "handover"})
+    if (const toml::node* n = t.get(key); n && !drives)
+      throw ShowError{at(path, *n) + ": " + key + " goes with a target a value drives (handle.NAME.x or .y, rotate.GROUP, solver.SETTING)"};
+  if (b.tf.has_priority && !drives) b.tf.has_priority = false;  // (a device's default: buttons and grabs take no part)
 }
 
 void read_binding_led(const std::string& path, const toml::node& n, const ShowDevice& d, Binding& b) {

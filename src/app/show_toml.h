@@ -62,6 +62,8 @@ void read_hardware(const std::string& path, const toml::table& t, ShowDevice& d)
 struct Binding;
 /// A binding's `led`: a colour of its device's palette, or false for none.
 void read_binding_led(const std::string& path, const toml::node& n, const ShowDevice& d, Binding& b);
+/// A binding's `priority`, `hold` and `handover` (its device's priority when it states none).
+void read_priority(const std::string& path, const toml::table& t, const ShowDevice& d, Binding& b);
 struct ShowConfig;
 /// [attract] (after the devices: a script names the device whose simulator speaks it).
 void read_attract(const std::string& path, const toml::table& root, ShowConfig& s);

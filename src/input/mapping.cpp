@@ -117,7 +117,69 @@ int Mapping::pose_index(const std::string& name) const {
   return -1;
 }
 
-void Mapping::add_binding(Binding b) { bindings_.push_back(std::move(b)); }
+void Mapping::add_binding(Binding b) {
+  bindings_.push_back(std::move(b));
+  Binding& nb = bindings_.back();
+  if (!arbitrable(nb.target)) return;
+  // Under arbitration when this or another binding on the same target states a priority.
+  int a = -1;
+  for (size_t k = 0; k < arbs_.size(); ++k)
+    if (arbs_[k].kind == nb.target && arbs_[k].index == nb.index) a = int(k);
+  if (a < 0 && !nb.tf.has_priority) return;
+  if (a < 0) {
+    arbs_.push_back({nb.target, nb.index, {}, {}});
+    a = int(arbs_.size()) - 1;
+    for (size_t k = 0; k + 1 < bindings_.size(); ++k)  // the ones already there join it
+      if (bindings_[k].target == nb.target && bindings_[k].index == nb.index) arbs_[size_t(a)].bindings.push_back(int(k));
+  }
+  ArbTarget& at = arbs_[size_t(a)];
+  at.bindings.push_back(int(bindings_.size()) - 1);
+  std::vector<SourcePriority> sources;
+  for (size_t k = 0; k < at.bindings.size(); ++k) {
+    Binding& src = bindings_[size_t(at.bindings[k])];
+    src.arb = a;
+    src.arb_source = int(k);
+    sources.push_back(src.tf.priority);
+  }
+  at.arb.set_sources(std::move(sources));
+}
+
+double Mapping::raw(TargetKind k, int index) const {
+  const size_t i = size_t(index);
+  switch (k) {
+    case TargetKind::HandleX: return goal_[i].x();
+    case TargetKind::HandleY: return goal_[i].y();
+    case TargetKind::Rotate: return angle_goal_[i];
+    case TargetKind::Setting: return settings_[i].value;
+    default: return 0;
+  }
+}
+
+void Mapping::put(TargetKind k, int index, double v) {
+  const size_t i = size_t(index);
+  switch (k) {
+    case TargetKind::HandleX: goal_[i].x() = v; break;
+    case TargetKind::HandleY: goal_[i].y() = v; break;
+    case TargetKind::Rotate: angle_goal_[i] = v; break;
+    case TargetKind::Setting: put_setting(i, v); break;
+    default: break;
+  }
+}
+
+void Mapping::arbitrated(Binding& b, double v) {
+  // Its own value always; the target's only while it holds it (a hand-over eases in update()).
+  Arbiter& a = arbs_[size_t(b.arb)].arb;
+  a.write(b.arb_source, v, clock_);
+  if (a.holder() != b.arb_source) return;
+  put(b.target, b.index, a.value());
+  written_by(&b, b.target, b.index);
+}
+
+int Mapping::holds(size_t i) const {
+  const Binding& b = bindings_[i];
+  if (b.arb < 0) return -1;
+  return arbs_[size_t(b.arb)].arb.holder() == b.arb_source ? 1 : 0;
+}
 
 bool Mapping::apply(const Event& e) {
   ++stats_.events;
@@ -281,7 +343,7 @@ void Mapping::absolute(Binding& b, double n, int64_t t) {
   if (b.tf.invert) n = 1 - n;
   if (b.tf.curve != 1) n = std::pow(n, b.tf.curve);
   n = b.tf.one_euro.filter(n, t);
-  const bool takeover = b.tf.takeover && !(b.target == TargetKind::Setting && settings_[size_t(b.index)].integer);
+  const bool takeover = b.tf.takeover && b.arb < 0 && !(b.target == TargetKind::Setting && settings_[size_t(b.index)].integer);
   if (takeover && !b.engaged) {
     // Soft takeover: the control picks the target up when it reaches or crosses the
     // target's current value, so a fader that was moved elsewhere cannot make it jump.
@@ -356,6 +418,7 @@ void Mapping::written_by(const Binding* w, TargetKind k, int index) {
 }
 
 void Mapping::set_target(Binding& b, double v) {
+  if (b.arb >= 0) return arbitrated(b, v);
   const size_t i = size_t(b.index);
   switch (b.target) {
     case TargetKind::HandleX: goal_[i].x() = v; break;
@@ -385,6 +448,11 @@ void Mapping::put_setting(size_t i, double v) {
 void Mapping::relative(Binding& b, double d) {
   const double step = d * b.tf.step;
   const size_t i = size_t(b.index);
+  if (b.arb >= 0) {  // from its own value (the target's when it has none yet)
+    const double own = arbs_[size_t(b.arb)].arb.own(b.arb_source), base = std::isfinite(own) ? own : raw(b.target, b.index);
+    const bool whole = b.target == TargetKind::Setting && settings_[i].integer;
+    return arbitrated(b, base + (whole ? std::trunc(d) : step));
+  }
   switch (b.target) {
     case TargetKind::HandleX: goal_[i].x() += step; break;
     case TargetKind::HandleY: goal_[i].y() += step; break;
@@ -471,6 +539,15 @@ void Mapping::button(Binding& b, bool down) {
 }
 
 void Mapping::update(double dt) {
+  // Arbitration: a holder that let go hands its target over; a hand-over eases.
+  clock_ += std::max(0.0, dt);
+  for (ArbTarget& at : arbs_) {
+    const double before = at.arb.value(), v = at.arb.update(clock_, dt);
+    if (!std::isfinite(v) || v == before) continue;
+    put(at.kind, at.index, v);
+    const int h = at.arb.holder();
+    written_by(h >= 0 ? &bindings_[size_t(at.bindings[size_t(h)])] : nullptr, at.kind, at.index);
+  }
   // Timed eases (a pose, a return to rest) move the goals.
   for (size_t h = 0; h < anim_.size(); ++h) {
     Anim& a = anim_[h];

@@ -19,6 +19,7 @@
 #pragma once
 
 #include "geom/types.h"
+#include "input/arbitration.h"
 #include "input/event.h"
 #include "input/filters.h"
 #include "input/hid_usages.h"
@@ -76,6 +77,11 @@ struct Transform {
   Ease ease = Ease::InOut;
   double ret = -1;             ///< pointer on a handle: seconds back to rest on release (< 0: hold)
   double area[4] = {0, 0, 1, 1};  ///< pointer: target rectangle x0 y0 x1 y1
+  /// Priority among the bindings on its target (input/arbitration.h): stated (here or by its
+  /// device) puts every binding on that handle axis, rotation or setting under arbitration,
+  /// which replaces soft takeover there.
+  SourcePriority priority;
+  bool has_priority = false;
 };
 
 struct Binding {
@@ -99,6 +105,7 @@ struct Binding {
   double px = 0.5, py = 0.5; ///< pointer position (normalised)
   bool tip = false;
   uint64_t hits = 0;         ///< events it has used (an idle behaviour on its target pauses)
+  int arb = -1, arb_source = -1;  ///< its target's arbiter and its source there (-1: none)
 };
 
 struct RotationGroup {
@@ -186,6 +193,12 @@ class Mapping {
   const Binding& binding(size_t i) const { return bindings_[i]; }
   double binding_value(size_t i) const;
   double takeover_at(size_t i) const;
+  /// Under arbitration: 1 when binding i holds its target, 0 when it waits; -1 otherwise.
+  int holds(size_t i) const;
+  /// Binding i's target's arbiter (nullptr: not arbitrated).
+  const Arbiter* arbiter(size_t i) const {
+    return bindings_[i].arb >= 0 ? &arbs_[size_t(bindings_[i].arb)].arb : nullptr;
+  }
 
  private:
   void absolute(Binding& b, double norm, int64_t t);
@@ -196,6 +209,22 @@ class Mapping {
   double current_norm(const Binding& b) const;
   void written_by(const Binding* b, TargetKind k, int index);
   void ease_handle(int h, const Vec2& to, double seconds, Ease e);
+  static bool arbitrable(TargetKind k) {
+    return k == TargetKind::HandleX || k == TargetKind::HandleY || k == TargetKind::Rotate || k == TargetKind::Setting;
+  }
+  double raw(TargetKind k, int index) const;
+  void put(TargetKind k, int index, double v);
+  void arbitrated(Binding& b, double v);
+
+  /// A target several bindings drive under priorities: its arbiter and its sources' bindings.
+  struct ArbTarget {
+    TargetKind kind = TargetKind::HandleX;
+    int index = 0;
+    Arbiter arb;
+    std::vector<int> bindings;
+  };
+  std::vector<ArbTarget> arbs_;
+  double clock_ = 0;  ///< seconds of update() so far: the arbiters' clock
 
   std::vector<std::string> names_;
   std::vector<Vec2> rest_, goal_, current_, targets_;

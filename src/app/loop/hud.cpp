@@ -113,11 +113,15 @@ void Hud::format(const HudFrame& f, const Mapping& m, bool compact) {
     Line& l = next();
     char value[32] = "";
     if (!std::isnan(v)) std::snprintf(value, sizeof value, " = %.1f", v);
+    // Under priorities: whether this binding holds its target or waits for its holder to let go.
+    const int holds = m.holds(i);
+    const char* who = holds < 0 ? "" : holds ? (compact ? " *" : "  [holds]") : (compact ? " ~" : "  [waits]");
     if (compact)
-      std::snprintf(l.text.data(), l.text.size(), "%s%s%s > %s%s", one_device ? "" : dev, one_device ? "" : " ", ctl,
-                    b.target_text.c_str(), value);
+      std::snprintf(l.text.data(), l.text.size(), "%s%s%s > %s%s%s", one_device ? "" : dev, one_device ? "" : " ", ctl,
+                    b.target_text.c_str(), value, who);
     else
-      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s%s", dev, ctl, b.target_text.c_str(), value);
+      std::snprintf(l.text.data(), l.text.size(), "%-10.10s %-14.14s -> %s%s%s", dev, ctl, b.target_text.c_str(), value, who);
+    if (holds == 0) l.color = SDL_Color{170, 170, 170, 255};
     if (const double at = m.takeover_at(i); at >= 0) {
       Line& t = next();
       if (compact)

@@ -192,5 +192,37 @@ TEST(Hud, FormatsEveryKindOfEvent) {
   }
 }
 
+// Two performers on one target: the HUD says which binding holds it and which waits.
+TEST(Hud, SaysWhoHoldsATargetTwoPerformersDrive) {
+  ShowSetup s;
+  Binding guest = s.show.bindings[0];
+  guest.control.device = 1;
+  guest.control.text = "cc 8";
+  guest.control.number = 8;
+  guest.tf.priority = {10, 1.0, 0.5};
+  guest.tf.has_priority = true;
+  s.show.bindings.push_back(guest);
+  s.m.add_binding(guest);
+  Hud hud(s.show);
+  Surface out;
+  ASSERT_EQ(hud.load_font(out.r), "");
+  Event base = cc(7, 20), theirs = cc(8, 100);
+  theirs.source = 1;
+  s.m.apply(base);
+  s.m.apply(theirs);
+  s.m.update(1.0 / 60);
+  const DeviceState states[] = {DeviceState::Connected, DeviceState::Connected};
+  const Event last[] = {base, theirs};
+  hud.draw(out.r, 640, 240, HudFrame{9100, 16667, 7, 8, 0.12, states, last}, s.m);
+  bool base_waits = false, guest_holds = false;
+  for (size_t i = 0; i < hud.line_count(); ++i) {
+    const std::string l = hud.line(i);
+    base_waits = base_waits || (l.find("cc 7") != std::string::npos && l.find("[waits]") != std::string::npos);
+    guest_holds = guest_holds || (l.find("cc 8") != std::string::npos && l.find("[holds]") != std::string::npos);
+  }
+  EXPECT_TRUE(base_waits);
+  EXPECT_TRUE(guest_holds);
+}
+
 }  // namespace
 }  // namespace mar
