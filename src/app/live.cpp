@@ -102,39 +102,17 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     s->solver_params_.push_back(sp.value);
   }
   // Then the key-pose settings, in the same order (their ranges are 0..1).
-  if (p.feature_frame() && !p.rig.keys.empty()) {
-    const int K = int(p.rig.keys.size());
-    for (int a = -1; a < K; ++a)
-      for (int b = -1; b < K; ++b)
-        if (a != b) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), a, b});
-    for (int k = 0; k < K; ++k) s->key_settings_.push_back({m.add_setting({0, 0, 1, false}), -2, k});
-  }
+  if (p.feature_frame() && !p.rig.keys.empty()) s->keys_.add_settings(m, int(p.rig.keys.size()));
   // Then secondary motion's ([[physics]] chains; app/loop/physics.h).
   s->physics_.prepare(p, sh.physics);
   s->setting_physics_ = int(m.setting_count());
   for (const PhysicsStage::SettingInfo& si : s->physics_.settings()) m.add_setting({si.value, si.lo, si.hi, false});
-  // Only the settings a binding drives count (an unbound morph.A.B would hold key A at t = 0).
-  std::erase_if(s->key_settings_, [&](const KeySetting& k) {
-    for (const Binding& b : sh.bindings)
-      if (b.target == TargetKind::Setting && b.index == k.setting) return false;
-    for (const ShowBehavior& b : sh.behaviors)  // (a key an idle behaviour breathes counts too)
-      if (b.target == TargetKind::Setting && b.index == k.setting) return false;
-    return true;
-  });
-  bool recalls = false;
-  for (const Binding& b : sh.bindings) recalls = recalls || b.target == TargetKind::Recall;
-  if (!s->key_settings_.empty() || recalls) {  // solve the keys once and prepare their interpolation
+  // Only the settings a binding drives count; solve the keys once and prepare their interpolation.
+  if (s->keys_.keep_driven(sh)) {
     auto keys = solve_keys(p);
     if (!keys.ok()) return R::failure(keys.error);
-    s->interp_ = std::make_unique<KeyInterpolator>();
-    std::string err;
-    if (!s->interp_->prepare(p.feature_frame()->frame(), &err)) return R::failure(p.rig.path + ": " + err);
-    for (const Points& k : *keys.value) s->interp_->add_key(k);
-    s->key_weights_.assign(p.rig.keys.size(), 0.0);
-    s->last_key_weights_.assign(p.rig.keys.size(), -1.0);
-    s->base_frame_.assign(p.feature_frame()->frame().rest.size(), Vec2::Zero());
-    s->base_offset_.assign(p.rig.handles.size(), Vec2::Zero());
-    for (auto* v : {&s->recall_w_, &s->recall_from_, &s->recall_to_}) v->assign(p.rig.keys.size(), 0.0);
+    if (std::string err = s->keys_.prepare(p, *keys.value); !err.empty()) return R::failure(err);
+    s->key_values_.assign(s->keys_.settings().size(), 0.0);
   }
   // Swap sets and triggers: what shows (the rig's defaults until a control changes them).
   for (const RigSwap& sw : p.rig.swaps) {
@@ -408,49 +386,20 @@ void LiveShow::poses() {
   // puts 1 − t on A and t on B; blends add), the interpolated frame is the base pose, and every
   // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
   idle_.step(dt_, mapping_, beat_.beats());  // idle behaviours: their keys' weights are read below
-  if (!interp_) return;
-  std::fill(key_weights_.begin(), key_weights_.end(), 0.0);
-  const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;  // the crossfade
-  for (const KeySetting& k : key_settings_) {
-    double v = mapping_.setting(k.setting);
-    if (w > 0) v += w * (attract_->mapping().setting(k.setting) - v);
-    v += idle_.setting_offset(k.setting);
-    if (k.from == -2) {
-      key_weights_[size_t(k.to)] += v;
-      continue;
-    }
-    if (v == 0 && k.from < 0) continue;
-    if (k.from >= 0) key_weights_[size_t(k.from)] += 1 - v;
-    if (k.to >= 0) key_weights_[size_t(k.to)] += v;
+  if (keys_.empty()) return;
+  // Each key setting's value: the mapping's, crossfaded with the attract's, and an idle
+  // behaviour's on top (app/loop/key_poses.h turns them into key weights).
+  const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;
+  const auto& ks = keys_.settings();
+  for (size_t i = 0; i < ks.size(); ++i) {
+    double v = mapping_.setting(ks[i].setting);
+    if (w > 0) v += w * (attract_->mapping().setting(ks[i].setting) - v);
+    key_values_[i] = v + idle_.setting_offset(ks[i].setting);
   }
-  // A pose recall eases an offset over the knobs' weights from where it is to what makes the sum
-  // that key (or rest); knobs turned afterwards add their change on top.
   Recall r;
-  if (mapping_.take_recall(r)) {
-    recall_from_ = recall_w_;
-    for (size_t k = 0; k < recall_to_.size(); ++k) recall_to_[k] = (int(k) == r.key ? 1.0 : 0.0) - key_weights_[k];
-    recall_t_ = 0;
-    recall_seconds_ = r.seconds;
-    recall_ease_ = r.ease;
-    recall_on_ = true;
-    if (r.seconds <= 0) physics_.reset();  // a jump: the chains start again at rest
-  }
-  if (recall_on_) {
-    recall_t_ += dt_;
-    const bool done = recall_t_ >= recall_seconds_ * (1 - 1e-9);
-    const double e = done ? 1.0 : ease(recall_ease_, recall_t_ / recall_seconds_);
-    for (size_t k = 0; k < recall_w_.size(); ++k) recall_w_[k] = recall_from_[k] + e * (recall_to_[k] - recall_from_[k]);
-    recall_on_ = !done;
-  }
-  for (size_t k = 0; k < key_weights_.size(); ++k) key_weights_[k] += recall_w_[k];
-  if (key_weights_ != last_key_weights_) {
-    std::copy(key_weights_.begin(), key_weights_.end(), last_key_weights_.begin());
-    interp_->blend(key_weights_, base_frame_);
-    const FeatureFrameMethod& ff = *puppet_->feature_frame();
-    for (size_t h = 0; h < base_offset_.size() && h < ff.bindings().size(); ++h)
-      base_offset_[h] = eval_param(ff.bindings()[h], base_frame_) - puppet_->rig.handles[h].rest;
-  }
-  for (size_t h = 0; h < base_offset_.size() && h < n_targets_; ++h) targets_[h] += base_offset_[h];
+  const bool asked = mapping_.take_recall(r);
+  if (keys_.step(dt_, key_values_, asked ? &r : nullptr)) physics_.reset();  // a jump: the chains start again at rest
+  keys_.offset(std::span<Vec2>(targets_.data(), n_targets_));
 }
 
 void LiveShow::motion() {
@@ -555,7 +504,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
   compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
-                               {key_weights_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
+                               {keys_.weights(), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
     if (stats_.frames >= opt_.warmup) present_allocs_ += n;

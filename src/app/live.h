@@ -16,6 +16,7 @@
 #include "app/loop/music.h"
 #include "app/loop/pacing.h"
 #include "app/loop/idle.h"
+#include "app/loop/key_poses.h"
 #include "app/loop/outputs.h"
 #include "app/loop/physics.h"
 #include "app/loop/recording.h"
@@ -207,18 +208,8 @@ class LiveShow : private LedSink {
   int setting_solver_ = 0;                         ///< first of the solver's parameters
   std::vector<double> solver_params_;              ///< as last given to the solver
   // poses: morph.A.B and blend.KEY settings (after the solver's), when a binding uses one
-  struct KeySetting {
-    int setting, from, to;                         ///< morph: keys (-1 rest); blend: from = -1, to = key
-  };
-  std::vector<KeySetting> key_settings_;
-  std::unique_ptr<KeyInterpolator> interp_;
-  std::vector<double> key_weights_, last_key_weights_;
-  Points base_frame_;
-  std::vector<Vec2> base_offset_;                  ///< per handle: base pose minus rest
-  std::vector<double> recall_w_, recall_from_, recall_to_;  ///< a pose recall's offset over the knobs' key weights
-  double recall_t_ = 0, recall_seconds_ = 0;
-  Ease recall_ease_ = Ease::InOut;
-  bool recall_on_ = false;
+  KeyPoseStage keys_;
+  std::vector<double> key_values_;                 ///< this frame's value of each of keys_.settings()
   double dt_ = 0;                                  ///< this frame's step, seconds
   // swap sets and triggers (what shows)
   std::vector<int> swap_counts_, swap_members_;
