@@ -4,6 +4,7 @@
 #include "character/load.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
+#include "solve/make_solver.h"
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
 

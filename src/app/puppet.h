@@ -6,7 +6,7 @@
 #include "character/rig.h"
 #include "render/tessellate.h"
 #include "rig/chains.h"
-#include "solve/solver.h"
+#include "solve/feature_frame_method.h"
 
 #include <array>
 #include <memory>

@@ -1,7 +1,8 @@
 // The solver seam: what every deformation method offers the rest of the program (the live
-// loop, the pose and inspect commands, benchmarks). The feature frame (seed 000) implements
-// it today; the rigid grid (seed 003) and the outline ARAP baseline will. A rig names its
-// method (`solver = "feature_frame"`, the default); Puppet holds whichever it names.
+// loop, the pose and inspect commands, benchmarks). The feature frame (seed 000,
+// solve/feature_frame_method.h), the rigid grid (seed 003, solve/rigid_grid.h) and the outline
+// ARAP baseline (solve/arap.h) implement it. A rig names its method (`solver =
+// "feature_frame"`, the default; solve/make_solver.h); Puppet holds whichever it names.
 //
 // Shapes: handles are given by rest points on the character (#h); targets are #h points,
 // plus one while a temporary grab handle is set. Everything but prepare(), parameters() and
@@ -74,46 +75,5 @@ void rigid_pose(std::span<const Vec2> handle_rest, std::span<const Vec2> targets
 /// part's translation to rounding: it drifted by 0.02 units per iteration), too little to
 /// resist the part's own deformation.
 constexpr double kFreePull = 1e-4;
-
-/// The methods a rig may name.
-bool solver_known(std::string_view name);
-/// A new solver for `name` ("feature_frame"); nullptr for an unknown name.
-std::unique_ptr<Solver> make_solver(std::string_view name);
-
-/// The feature frame (seed 000) behind the seam; frame() and core() give its own views
-/// (overlay, Table 1, frame vertices) to the commands that show them.
-class FeatureFrameMethod final : public Solver {
- public:
-  std::string_view name() const override { return "feature_frame"; }
-  bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
-               std::string* error) override;
-  /// rigidity (w_r), coupling (w_c) and position (w_p) weights.
-  std::vector<SolverParameter> parameters() const override;
-  bool set_parameters(std::span<const double> values, std::string* error) override;
-  /// New weights, keeping the pose (re-factorises).
-  bool set_weights(const SolverWeights& w, std::string* error);
-  void solve(std::span<const Vec2> targets, int iterations) override { s_.solve(targets, iterations); }
-  void initial_guess(std::span<const Vec2> targets) override { s_.initial_guess(targets); }
-  void reset_to_rest() override { s_.reset_to_rest(); }
-  void shape_points(std::vector<Points>& out) const override { reconstruct_shapes(frame_, s_.vertices(), out); }
-  Vec2 handle_point(size_t h) const override { return eval_param(bindings_[h], s_.vertices()); }
-  size_t handle_count() const override { return bindings_.size(); }
-  void grab(const Vec2& rest_point) override { s_.set_extra_handle(bind_point(frame_, *character_, rest_point)); }
-  void release() override { s_.clear_extra_handle(); }
-  bool grabbing() const override { return s_.has_extra_handle(); }
-  double energy(std::span<const Vec2> targets) const override { return s_.energy(targets); }
-
-  const FeatureFrame& frame() const { return frame_; }
-  std::span<const ShapeParam> bindings() const { return bindings_; }
-  FeatureFrameSolver& core() { return s_; }
-  const FeatureFrameSolver& core() const { return s_; }
-
- private:
-  const Character* character_ = nullptr;
-  FeatureFrame frame_;
-  std::vector<ShapeParam> bindings_;
-  FeatureFrameSolver s_;
-  SolverWeights weights_;
-};
 
 }  // namespace mar

@@ -1,6 +1,6 @@
 // The solver seam (solve/solver.h): the factory and the feature frame behind it.
 #include "character/load.h"
-#include "solve/solver.h"
+#include "solve/make_solver.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,50 @@
+// The feature frame (seed 000) behind the solver seam (solve/solver.h).
+#pragma once
+
+#include "solve/feature_frame.h"
+#include "solve/solver.h"
+
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace mar {
+
+/// The feature frame (seed 000) behind the seam; frame() and core() give its own views
+/// (overlay, Table 1, frame vertices) to the commands that show them.
+class FeatureFrameMethod final : public Solver {
+ public:
+  std::string_view name() const override { return "feature_frame"; }
+  bool prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+               std::string* error) override;
+  /// rigidity (w_r), coupling (w_c) and position (w_p) weights.
+  std::vector<SolverParameter> parameters() const override;
+  bool set_parameters(std::span<const double> values, std::string* error) override;
+  /// New weights, keeping the pose (re-factorises).
+  bool set_weights(const SolverWeights& w, std::string* error);
+  void solve(std::span<const Vec2> targets, int iterations) override { s_.solve(targets, iterations); }
+  void initial_guess(std::span<const Vec2> targets) override { s_.initial_guess(targets); }
+  void reset_to_rest() override { s_.reset_to_rest(); }
+  void shape_points(std::vector<Points>& out) const override { reconstruct_shapes(frame_, s_.vertices(), out); }
+  Vec2 handle_point(size_t h) const override { return eval_param(bindings_[h], s_.vertices()); }
+  size_t handle_count() const override { return bindings_.size(); }
+  void grab(const Vec2& rest_point) override { s_.set_extra_handle(bind_point(frame_, *character_, rest_point)); }
+  void release() override { s_.clear_extra_handle(); }
+  bool grabbing() const override { return s_.has_extra_handle(); }
+  double energy(std::span<const Vec2> targets) const override { return s_.energy(targets); }
+
+  const FeatureFrame& frame() const { return frame_; }
+  std::span<const ShapeParam> bindings() const { return bindings_; }
+  FeatureFrameSolver& core() { return s_; }
+  const FeatureFrameSolver& core() const { return s_; }
+
+ private:
+  const Character* character_ = nullptr;
+  FeatureFrame frame_;
+  std::vector<ShapeParam> bindings_;
+  FeatureFrameSolver s_;
+  SolverWeights weights_;
+};
+
+}  // namespace mar
