@@ -6,6 +6,7 @@
 #include "app/loop/learn.h"
 #include "app/simulate.h"
 #include "character/color.h"
+#include "character/load.h"
 #include "geom/polygon.h"
 #include "input/read_file.h"
 #include "render/image.h"
@@ -87,6 +88,23 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_background_color(sh.background)) s->background_ = *c;
+  for (const ShowScenery& sc : sh.scenery) {  // (loaded here, off a running show's frame thread)
+    LoadOptions lo;  // (its curves flattened against the canvas it is drawn on, as the puppet's)
+    const auto size = canvas_size(o, sh);
+    const double cw = size[0], chh = size[1];
+    lo.pixels_per_unit = [cw, chh, sc](double w, double h) {
+      w = std::max(w, 1e-9);
+      h = std::max(h, 1e-9);
+      return sc.fit == ShowScenery::Placed ? sc.width / w : sc.fit == ShowScenery::Cover ? std::max(cw / w, chh / h) : std::min(cw / w, chh / h);
+    };
+    auto c = load_character(sc.file, lo);
+    if (!c.ok()) return R::failure(sh.path + ":" + std::to_string(sc.line) + ": scenery: " + c.error);
+    if (!o.quiet)
+      for (const std::string& w : c.value->warnings) std::cerr << "warning: " << w << "\n";
+    Scenery v{std::move(*c.value), {}, Affine2::identity(), sc};
+    v.mesh = prepare_mesh(v.ch);
+    s->scenery_.push_back(std::move(v));
+  }
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -255,6 +273,7 @@ bool LiveShow::open_output(std::string* err) {
     canvas_ = std::move(*c.value);
   }
   view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
+  place_scenery();
   canvas_->set_antialias(!opt_.aliased);
   if (!opt_.replay_path.empty()) {
     auto r = Playback::open(opt_.replay_path);
@@ -445,11 +464,35 @@ void LiveShow::render() {
   canvas_->clear(background_);
   list_.clear();
   list_.fringe = canvas_->wants_fringe();
+  for (const Scenery& sc : scenery_)
+    if (!sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
+  for (const Scenery& sc : scenery_)
+    if (sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
   // Warming up, the list makes room for twice what it holds: a pose later in the show may need
   // more triangles than the first ones did (a stroke's round joins change with its angles).
   if (stats_.frames < opt_.warmup) list_.reserve_twice();
   canvas_->draw(list_);
+}
+
+void LiveShow::place_scenery() {
+  // Cover: fills the canvas, centred, what overflows cut; contain: inside it, centred; placed:
+  // its top-left corner at `at` and `width` wide (canvas pixels at the show's size).
+  const double W = canvas_->width(), H = canvas_->height(), ss = std::clamp(opt_.supersample, 1, 8);
+  for (Scenery& sc : scenery_) {
+    const double w = std::max(1e-9, sc.ch.width), h = std::max(1e-9, sc.ch.height);
+    double k = 0, x = 0, y = 0;
+    if (sc.spec.fit == ShowScenery::Placed) {
+      k = sc.spec.width * ss / w;
+      x = sc.spec.at.x() * ss;
+      y = sc.spec.at.y() * ss;
+    } else {
+      k = sc.spec.fit == ShowScenery::Cover ? std::max(W / w, H / h) : std::min(W / w, H / h);
+      x = 0.5 * (W - k * w);
+      y = 0.5 * (H - k * h);
+    }
+    sc.view = Affine2{k, 0, 0, k, x, y};
+  }
 }
 
 void LiveShow::present() {

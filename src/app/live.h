@@ -28,6 +28,7 @@
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
+#include "render/tessellate.h"
 
 #include <atomic>
 #include <array>
@@ -229,6 +230,14 @@ class LiveShow : private LedSink {
   uint64_t refactor_allocs_ = 0;
   Histogram refactor_us_;
   // render, present
+  struct Scenery {             ///< [[scenery]]: drawn at rest, behind or in front of the character
+    Character ch;
+    CharacterMesh mesh;
+    Affine2 view;
+    ShowScenery spec;
+  };
+  std::vector<Scenery> scenery_;
+  void place_scenery();        ///< each scenery drawing's view on the canvas (after the canvas is made)
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;

@@ -27,7 +27,8 @@ toml::table parse_file(const std::string& path) {
 }
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
-  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out"}, "the show file");
+  check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out",
+                          "scenery"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -487,6 +488,34 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
       }
     }
     read_attract(path, root, s);  // show_devices.cpp
+    if (const toml::array* sc = array_of_tables(path, root, "scenery")) {
+      if (sc->size() > 16) throw ShowError{at(path, *sc) + ": at most 16 [[scenery]] drawings"};
+      for (const toml::node& n : *sc) {
+        const toml::table& t = *n.as_table();
+        check_keys(path, t, {"file", "fit", "at", "width", "front"}, "[[scenery]]");
+        ShowScenery v;
+        v.line = int(n.source().begin.line);
+        const toml::node* f = t.get("file");
+        if (!f) throw ShowError{at(path, n) + ": [[scenery]] needs a file (an SVG or a PNG)"};
+        v.file = resolve(path, text(path, *f, "file"));
+        if (auto* x = t.get("fit")) {
+          const std::string fit = text(path, *x, "fit");
+          if (fit != "cover" && fit != "contain") throw ShowError{at(path, *x) + ": fit must be cover or contain (or give at and width)"};
+          v.fit = fit == "cover" ? ShowScenery::Cover : ShowScenery::Contain;
+        }
+        if (t.get("at") || t.get("width")) {
+          if (!t.get("at") || !t.get("width") || t.get("fit"))
+            throw ShowError{at(path, n) + ": a placed [[scenery]] gives at = [x, y] and width (canvas pixels), and no fit"};
+          auto [x, y] = pair_of(path, *t.get("at"), "at");
+          v.at = Vec2(x, y);
+          v.width = number(path, *t.get("width"), "width");
+          if (!(v.width > 0 && v.width <= 100000)) throw ShowError{at(path, *t.get("width")) + ": width must be > 0 canvas pixels"};
+          v.fit = ShowScenery::Placed;
+        }
+        if (auto* x = t.get("front")) v.front = boolean(path, *x, "front");
+        s.scenery.push_back(std::move(v));
+      }
+    }
     read_physics(path, root, s);  // loop/physics.cpp
     auto handle_of = [&](const toml::node& n) {
       const std::string h = text(path, n, "handle");

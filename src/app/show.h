@@ -58,6 +58,17 @@ struct ShowDevice {
   bool has_priority = false;
 };
 
+/// [[scenery]]: a drawing or picture (SVG or PNG) on the stage that does not move: a backdrop
+/// behind the character, or something in front of it.
+struct ShowScenery {
+  std::string file;  ///< resolved
+  enum Fit { Cover, Contain, Placed } fit = Cover;  ///< fills the canvas (cropped), fits in it, or `at` + `width`
+  Vec2 at{0, 0};     ///< Placed: its top-left corner, canvas pixels
+  double width = 0;  ///< Placed: its width, canvas pixels (its height follows)
+  bool front = false;
+  int line = 0;
+};
+
 /// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).
 struct AttractConfig {
   double after = 0;              ///< seconds without input before it plays (0: no attract)
@@ -137,6 +148,7 @@ struct ShowConfig {
   AttractConfig attract;
   std::string background;
   std::vector<ShowDevice> devices;
+  std::vector<ShowScenery> scenery;      ///< [[scenery]]: drawings that stay still, behind or in front
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;
