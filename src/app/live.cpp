@@ -105,6 +105,31 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     v.mesh = prepare_mesh(v.ch);
     s->scenery_.push_back(std::move(v));
   }
+  for (const ShowProp& pr : sh.props) {
+    const std::string where = sh.path + ":" + std::to_string(pr.line) + ": prop: ";
+    int part = -1;
+    for (size_t k = 0; k < p.character.shapes.size(); ++k)
+      if (p.character.shapes[k].id == pr.part) part = int(k);
+    if (part < 0) return R::failure(where + "the character has no part '" + pr.part + "' (a shape id of " + p.character.source + ")");
+    // (flattened at the size it is drawn: its width in character units, at the view's scale)
+    const auto size = canvas_size(o, sh);
+    const double view_k = std::min(size[0] / std::max(1e-9, p.character.width), size[1] / std::max(1e-9, p.character.height));
+    LoadOptions lo;
+    lo.pixels_per_unit = [&pr, view_k](double w, double) { return (pr.width > 0 ? pr.width / std::max(w, 1e-9) : 1.0) * view_k; };
+    auto c = load_character(pr.file, lo);
+    if (!c.ok()) return R::failure(where + c.error);
+    Prop v;
+    v.ch = std::move(*c.value);
+    v.mesh = prepare_mesh(v.ch);
+    v.part = part;
+    v.front = pr.front;
+    const Bounds hb = p.character.shapes[size_t(part)].bounds();
+    const Vec2 at = pr.has_at ? pr.at : Vec2(0.5 * (hb.lo + hb.hi));
+    const double k = pr.width > 0 ? pr.width / std::max(1e-9, v.ch.width) : 1.0;
+    v.place = Affine2::translate(at.x(), at.y()) * Affine2::rotate(pr.rotation) * Affine2::scale(k, k) *
+              Affine2::translate(-0.5 * v.ch.width, -0.5 * v.ch.height);
+    s->props_.push_back(std::move(v));
+  }
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -466,13 +491,27 @@ void LiveShow::render() {
   list_.fringe = canvas_->wants_fringe();
   for (const Scenery& sc : scenery_)
     if (!sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
+  draw_props(false);
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
+  draw_props(true);
   for (const Scenery& sc : scenery_)
     if (sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
   // Warming up, the list makes room for twice what it holds: a pose later in the show may need
   // more triangles than the first ones did (a stroke's round joins change with its angles).
   if (stats_.frames < opt_.warmup) list_.reserve_twice();
   canvas_->draw(list_);
+}
+
+void LiveShow::draw_props(bool front) {
+  // A prop moves as its part: the part's best rigid motion from rest to now (no allocation).
+  const Puppet& p = *puppet_;
+  for (const Prop& pr : props_) {
+    if (pr.front != front) continue;
+    const RigidMotion m = rigid_fit(p.character.shapes[size_t(pr.part)].points, p.shapes[size_t(pr.part)]);
+    const Affine2 move = Affine2::translate(m.to_c.x(), m.to_c.y()) * Affine2{m.c, m.s, -m.s, m.c, 0, 0} *
+                         Affine2::translate(-m.from_c.x(), -m.from_c.y());
+    build_draw_list(pr.ch, pr.mesh, {}, view_ * move * pr.place, 0.3, list_);
+  }
 }
 
 void LiveShow::place_scenery() {

@@ -237,6 +237,15 @@ class LiveShow : private LedSink {
     ShowScenery spec;
   };
   std::vector<Scenery> scenery_;
+  struct Prop {                ///< [[prop]]: drawn where the part that holds it has moved
+    Character ch;
+    CharacterMesh mesh;
+    int part = -1;             ///< the holding shape
+    Affine2 place;             ///< prop -> character units, at rest
+    bool front = true;
+  };
+  std::vector<Prop> props_;
+  void draw_props(bool front);
   void place_scenery();        ///< each scenery drawing's view on the canvas (after the canvas is made)
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;

@@ -28,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
   check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out",
-                          "scenery"}, "the show file");
+                          "scenery", "prop"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -514,6 +514,32 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
         }
         if (auto* x = t.get("front")) v.front = boolean(path, *x, "front");
         s.scenery.push_back(std::move(v));
+      }
+    }
+    if (const toml::array* ps = array_of_tables(path, root, "prop")) {
+      if (ps->size() > 16) throw ShowError{at(path, *ps) + ": at most 16 [[prop]] drawings"};
+      for (const toml::node& n : *ps) {
+        const toml::table& t = *n.as_table();
+        check_keys(path, t, {"file", "part", "at", "width", "rotation", "front"}, "[[prop]]");
+        ShowProp v;
+        v.line = int(n.source().begin.line);
+        const toml::node* f = t.get("file");
+        const toml::node* part = t.get("part");
+        if (!f || !part) throw ShowError{at(path, n) + ": [[prop]] needs a file (an SVG or a PNG) and the part that holds it"};
+        v.file = resolve(path, text(path, *f, "file"));
+        v.part = text(path, *part, "part");
+        if (auto* x = t.get("at")) {
+          auto [ax, ay] = pair_of(path, *x, "at");
+          v.at = Vec2(ax, ay);
+          v.has_at = true;
+        }
+        if (auto* x = t.get("width")) {
+          v.width = number(path, *x, "width");
+          if (!(v.width > 0 && v.width <= 1e6)) throw ShowError{at(path, *x) + ": width must be > 0 (character units)"};
+        }
+        if (auto* x = t.get("rotation")) v.rotation = number(path, *x, "rotation");
+        if (auto* x = t.get("front")) v.front = boolean(path, *x, "front");
+        s.props.push_back(std::move(v));
       }
     }
     read_physics(path, root, s);  // loop/physics.cpp

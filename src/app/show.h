@@ -69,6 +69,19 @@ struct ShowScenery {
   int line = 0;
 };
 
+/// [[prop]]: a drawing (SVG or PNG) a part of the character holds: it follows that part's
+/// motion (the part's best rigid fit to its rest shape, each frame).
+struct ShowProp {
+  std::string file;      ///< resolved
+  std::string part;      ///< the holding part: a shape id of the character
+  bool has_at = false;
+  Vec2 at{0, 0};         ///< where the prop's centre goes at rest, character units (default: the part's centre)
+  double width = 0;      ///< its width, character units (0: its own)
+  double rotation = 0;   ///< degrees at rest (clockwise on screen)
+  bool front = true;     ///< drawn over the character (false: behind it)
+  int line = 0;
+};
+
 /// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).
 struct AttractConfig {
   double after = 0;              ///< seconds without input before it plays (0: no attract)
@@ -149,6 +162,7 @@ struct ShowConfig {
   std::string background;
   std::vector<ShowDevice> devices;
   std::vector<ShowScenery> scenery;      ///< [[scenery]]: drawings that stay still, behind or in front
+  std::vector<ShowProp> props;           ///< [[prop]]: drawings a part of the character holds
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;
