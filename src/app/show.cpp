@@ -125,19 +125,192 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   }
 }
 
-const toml::array* array_of_tables(const std::string& path, const toml::table& root, const char* key) {
-  const toml::node* n = root.get(key);
-  if (!n) return nullptr;
-  const toml::array* a = n->as_array();
-  if (!a || !a->is_array_of_tables())
-    throw ShowError{at(path, *n) + ": use [[" + std::string(key) + "]] tables"};
-  return a;
+// [[device]]: simulators and hardware (read_hardware, show_devices.cpp).
+void read_devices(const std::string& path, const toml::table& root, ShowConfig& s) {
+  if (const toml::array* devs = array_of_tables(path, root, "device")) {
+    for (const toml::node& dn : *devs) {
+      const toml::table& t = *dn.as_table();
+      check_device_keys(path, t);
+      ShowDevice d;
+      d.line = int(dn.source().begin.line);
+      const toml::node* name = t.get("name");
+      if (!name) throw ShowError{at(path, dn) + ": [[device]] needs a name"};
+      d.name = text(path, *name, "name");
+      for (const auto& other : s.devices)
+        if (other.name == d.name) throw ShowError{at(path, *name) + ": device '" + d.name + "' is named twice"};
+      if (auto* n = t.get("type")) d.type = text(path, *n, "type");
+      read_hardware(path, t, d);  // type, identity, profile (show_devices.cpp)
+      if (const toml::node* sim = t.get("sim")) {
+        d.sim = text(path, *sim, "sim");
+        if (!midi_model(d.sim) && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad" && d.sim != "microphone")
+          throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "' (" + midi_model_names() +
+                          ", knob_box, pen_tablet, gamepad, microphone)"};
+      } else if (d.type == "sim" && d.sim.empty()) {  // (a profile names its simulator)
+        throw ShowError{at(path, dn) + ": a sim device needs sim = " + midi_model_names() + ", knob_box, pen_tablet, gamepad or microphone"};
+      }
+      if (d.sim == "microphone" || d.type == "audio") read_voice(path, t, d);  // show_devices.cpp: file, pcm, calibrate, names
+      if (auto* n = t.get("descriptor")) {
+        const std::string desc = text(path, *n, "descriptor");
+        d.descriptor = resolve(path, desc);
+        d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
+      }
+      if (auto* n = t.get("script")) d.script = text(path, *n, "script");
+      if (auto* n = t.get("script_file")) d.script = read_script_file(path, *n);
+      auto millis = [&](const toml::node& n, const char* what) {  // 0..10 s (ns fit an int64)
+        const double v = number(path, n, what);
+        if (v < 0 || v > 10000) throw ShowError{at(path, n) + ": " + what + " must be 0..10000 ms"};
+        return v;
+      };
+      if (auto* n = t.get("bounce_ms")) d.bounce_ms = millis(*n, "bounce_ms");
+      if (auto* n = t.get("debounce_ms")) d.debounce_ms = millis(*n, "debounce_ms");
+      if (auto* n = t.get("seed")) d.seed = uint32_t(integer(path, *n, "seed", 0, 2147483647));
+      if (auto* n = t.get("priority")) {
+        d.priority = int(integer(path, *n, "priority", -1000, 1000));
+        d.has_priority = true;
+      }
+      s.devices.push_back(std::move(d));
+    }
+  }
 }
 
-std::pair<double, double> pair_of(const std::string& path, const toml::node& n, const char* what) {
-  const toml::array* a = n.as_array();
-  if (!a || a->size() != 2) throw ShowError{at(path, n) + ": " + what + " must be [a, b]"};
-  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
+// One [[binding]]: its device and control, its target (resolved against the rig), its
+// transforms, its light and its priority.
+Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& s, const ShowRig& rig) {
+  const std::vector<Vec2>& rest = rig.rest;
+  const double diag = rig.diag;
+  const toml::table& t = *bn.as_table();
+  check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
+                       "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led",
+                       "priority", "hold", "handover"},
+             "[[binding]]");
+  Binding b;
+  b.line = int(bn.source().begin.line);
+  const toml::node* dev = t.get("device");
+  const toml::node* ctl = t.get("control");
+  const toml::node* tgt = t.get("target");
+  if (!dev || !ctl || !tgt) throw ShowError{at(path, bn) + ": [[binding]] needs device, control and target"};
+  const std::string dname = text(path, *dev, "device");
+  int di = -1;
+  for (size_t i = 0; i < s.devices.size(); ++i)
+    if (s.devices[i].name == dname) di = int(i);
+  if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
+  b.control.device = uint16_t(di);
+  const std::string written = text(path, *ctl, "control");
+  if (auto r = parse_control(device_control(s.devices[size_t(di)], written), b.control); !r.ok())
+    throw ShowError{at(path, *ctl) + ": " + r.error};
+  b.control.text = written;  // as the show names it ("pad_r1c1", "fader1"): the HUD and messages say that
+  b.target_text = text(path, *tgt, "target");
+  if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, &b.member); !r.ok())
+    throw ShowError{at(path, *tgt) + ": " + r.error};
+  if (const toml::node* led = t.get("led")) read_binding_led(path, *led, s.devices[size_t(di)], b);  // show_devices.cpp
+  Transform& tf = b.tf;
+  // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
+  // rest position; a rotation turns -90..90 degrees.
+  if (b.target == TargetKind::HandleX || b.target == TargetKind::HandleY) {
+    const double c = b.target == TargetKind::HandleX ? rest[size_t(b.index)].x() : rest[size_t(b.index)].y();
+    tf.lo = c - 0.25 * diag;
+    tf.hi = c + 0.25 * diag;
+  } else if (b.target == TargetKind::Rotate) {
+    tf.lo = -90;
+    tf.hi = 90;
+  } else if (b.target == TargetKind::Setting && rig.settings[size_t(b.index)].default_range) {
+    std::tie(tf.lo, tf.hi) = *rig.settings[size_t(b.index)].default_range;
+  }
+  if (auto* n = t.get("range")) {
+    std::tie(tf.lo, tf.hi) = pair_of(path, *n, "range");
+    tf.has_range = true;
+  }
+  if (auto* n = t.get("curve")) {
+    tf.curve = number(path, *n, "curve");
+    if (tf.curve <= 0) throw ShowError{at(path, *n) + ": curve must be > 0"};
+  }
+  if (auto* n = t.get("invert")) tf.invert = boolean(path, *n, "invert");
+  if (auto* n = t.get("deadzone")) {
+    tf.deadzone = number(path, *n, "deadzone");
+    if (tf.deadzone < 0 || tf.deadzone >= 1) throw ShowError{at(path, *n) + ": deadzone must be 0..1"};
+  }
+  if (auto* n = t.get("filter")) {
+    const toml::table* f = n->as_table();
+    if (!f) throw ShowError{at(path, *n) + ": filter must be { min_cutoff, beta, d_cutoff }"};
+    check_keys(path, *f, {"min_cutoff", "beta", "d_cutoff"}, "filter");
+    tf.one_euro.enabled = true;
+    if (auto* x = f->get("min_cutoff")) tf.one_euro.min_cutoff = number(path, *x, "min_cutoff");
+    if (auto* x = f->get("beta")) tf.one_euro.beta = number(path, *x, "beta");
+    if (auto* x = f->get("d_cutoff")) tf.one_euro.d_cutoff = number(path, *x, "d_cutoff");
+    if (tf.one_euro.min_cutoff <= 0 || tf.one_euro.d_cutoff <= 0 || tf.one_euro.beta < 0)
+      throw ShowError{at(path, *n) + ": filter cutoffs must be > 0 and beta >= 0"};
+  }
+  if (auto* n = t.get("slew")) tf.slew = std::max(0.0, number(path, *n, "slew"));
+  // Soft takeover by default for what a hand moves through its travel; controls that can
+  // only jump (an OSC value, a note or a button, a velocity, the clock's phase) would wait
+  // for ever, so they set their target at once unless the show says otherwise.
+  const ControlSpec& cs = b.control;
+  if (cs.kind == ControlSpec::Note || cs.kind == ControlSpec::GpioButton || cs.kind == ControlSpec::NoteVelocity ||
+      cs.kind == ControlSpec::Beat || cs.kind == ControlSpec::Bar ||
+      (cs.kind == ControlSpec::Hid && (cs.number & 0xFF000000u) == 0xFF000000u))
+    tf.takeover = false;
+  if (auto* n = t.get("takeover")) tf.takeover = boolean(path, *n, "takeover");
+  if (auto* n = t.get("mode")) {
+    const std::string m = text(path, *n, "mode");
+    static const std::pair<const char*, RelativeMode> modes[] = {
+        {"absolute", RelativeMode::Absolute}, {"twos_complement", RelativeMode::TwosComplement},
+        {"binary_offset", RelativeMode::BinaryOffset}, {"sign_magnitude", RelativeMode::SignMagnitude},
+        {"sign_magnitude_inverted", RelativeMode::SignMagnitudeInv}, {"delta", RelativeMode::Delta}};
+    bool ok = false;
+    for (auto [name, mode] : modes)
+      if (m == name) {
+        tf.relative = mode;
+        ok = true;
+      }
+    if (!ok)
+      throw ShowError{at(path, *n) + ": mode must be absolute, twos_complement, binary_offset, "
+                                     "sign_magnitude, sign_magnitude_inverted or delta"};
+  }
+  if (auto* n = t.get("step")) tf.step = number(path, *n, "step");
+  tf.toggle = b.target == TargetKind::Swap;  // a pad picks a member and it stays
+  if (auto* n = t.get("button")) {
+    const std::string m = text(path, *n, "button");
+    if (m != "momentary" && m != "toggle" && m != "latch")
+      throw ShowError{at(path, *n) + ": button must be momentary, toggle or latch"};
+    tf.toggle = m != "momentary";
+  }
+  if (auto* n = t.get("threshold")) {
+    tf.threshold = number(path, *n, "threshold");
+    if (!(tf.threshold > 0 && tf.threshold <= 1))
+      throw ShowError{at(path, *n) + ": threshold must be in (0, 1] (the fraction of the control's range that presses)"};
+  }
+  if (auto* n = t.get("transition")) {
+    if (b.target != TargetKind::Pose && b.target != TargetKind::Recall)
+      throw ShowError{at(path, *n) + ": transition goes with a pose.NAME target"};
+    tf.transition = number(path, *n, "transition");
+    if (!(tf.transition >= 0 && tf.transition <= 60)) throw ShowError{at(path, *n) + ": transition must be 0..60 seconds"};
+  }
+  if (auto* n = t.get("ease")) {
+    const std::string e = text(path, *n, "ease");
+    static const std::pair<const char*, Ease> eases[] = {
+        {"linear", Ease::Linear}, {"in", Ease::In}, {"out", Ease::Out}, {"in_out", Ease::InOut}};
+    bool ok = false;
+    for (auto [name, ea] : eases)
+      if (e == name) tf.ease = ea, ok = true;
+    if (!ok) throw ShowError{at(path, *n) + ": ease must be linear, in, out or in_out"};
+  }
+  if (auto* n = t.get("return")) {
+    if (b.control.kind != ControlSpec::Pointer || b.target != TargetKind::HandlePoint)
+      throw ShowError{at(path, *n) + ": return goes with a pointer dragging a handle (target handle.NAME)"};
+    if (n->is_string() && *n->value<std::string>() == "hold") {
+      tf.ret = -1;
+    } else {
+      tf.ret = number(path, *n, "return");
+      if (!(tf.ret >= 0 && tf.ret <= 60)) throw ShowError{at(path, *n) + ": return must be 0..60 seconds or \"hold\""};
+    }
+  }
+  if (auto* n = t.get("area")) {
+    const toml::array* a = n->as_array();
+    if (!a || a->size() != 4) throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1]"};
+    for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
+  }
+  read_priority(path, t, s.devices[size_t(di)], b);
+  return b;
 }
 
 }  // namespace
@@ -440,294 +613,13 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
     auto loaded = load_rig(s);
     if (!loaded.ok()) return Result<ShowConfig>::failure(loaded.error);
     const ShowRig& rig = *loaded.value;
-    const std::vector<std::string>& handles = rig.handles;
-    const std::vector<Vec2>& rest = rig.rest;
-    const double diag = rig.diag;
-    if (const toml::array* devs = array_of_tables(path, root, "device")) {
-      for (const toml::node& dn : *devs) {
-        const toml::table& t = *dn.as_table();
-        check_device_keys(path, t);
-        ShowDevice d;
-        d.line = int(dn.source().begin.line);
-        const toml::node* name = t.get("name");
-        if (!name) throw ShowError{at(path, dn) + ": [[device]] needs a name"};
-        d.name = text(path, *name, "name");
-        for (const auto& other : s.devices)
-          if (other.name == d.name) throw ShowError{at(path, *name) + ": device '" + d.name + "' is named twice"};
-        if (auto* n = t.get("type")) d.type = text(path, *n, "type");
-        read_hardware(path, t, d);  // type, identity, profile (show_devices.cpp)
-        if (const toml::node* sim = t.get("sim")) {
-          d.sim = text(path, *sim, "sim");
-          if (!midi_model(d.sim) && d.sim != "knob_box" && d.sim != "pen_tablet" && d.sim != "gamepad" && d.sim != "microphone")
-            throw ShowError{at(path, *sim) + ": unknown simulated device '" + d.sim + "' (" + midi_model_names() +
-                            ", knob_box, pen_tablet, gamepad, microphone)"};
-        } else if (d.type == "sim" && d.sim.empty()) {  // (a profile names its simulator)
-          throw ShowError{at(path, dn) + ": a sim device needs sim = " + midi_model_names() + ", knob_box, pen_tablet, gamepad or microphone"};
-        }
-        if (d.sim == "microphone" || d.type == "audio") read_voice(path, t, d);  // show_devices.cpp: file, pcm, calibrate, names
-        if (auto* n = t.get("descriptor")) {
-          const std::string desc = text(path, *n, "descriptor");
-          d.descriptor = resolve(path, desc);
-          d.descriptor_in_corpus = desc.rfind("corpus:", 0) == 0;
-        }
-        if (auto* n = t.get("script")) d.script = text(path, *n, "script");
-        if (auto* n = t.get("script_file")) d.script = read_script_file(path, *n);
-        auto millis = [&](const toml::node& n, const char* what) {  // 0..10 s (ns fit an int64)
-          const double v = number(path, n, what);
-          if (v < 0 || v > 10000) throw ShowError{at(path, n) + ": " + what + " must be 0..10000 ms"};
-          return v;
-        };
-        if (auto* n = t.get("bounce_ms")) d.bounce_ms = millis(*n, "bounce_ms");
-        if (auto* n = t.get("debounce_ms")) d.debounce_ms = millis(*n, "debounce_ms");
-        if (auto* n = t.get("seed")) d.seed = uint32_t(integer(path, *n, "seed", 0, 2147483647));
-        if (auto* n = t.get("priority")) {
-          d.priority = int(integer(path, *n, "priority", -1000, 1000));
-          d.has_priority = true;
-        }
-        s.devices.push_back(std::move(d));
-      }
-    }
+    read_devices(path, root, s);
     read_attract(path, root, s);  // show_devices.cpp
-    if (const toml::array* sc = array_of_tables(path, root, "scenery")) {
-      if (sc->size() > 16) throw ShowError{at(path, *sc) + ": at most 16 [[scenery]] drawings"};
-      for (const toml::node& n : *sc) {
-        const toml::table& t = *n.as_table();
-        check_keys(path, t, {"file", "fit", "at", "width", "front"}, "[[scenery]]");
-        ShowScenery v;
-        v.line = int(n.source().begin.line);
-        const toml::node* f = t.get("file");
-        if (!f) throw ShowError{at(path, n) + ": [[scenery]] needs a file (an SVG or a PNG)"};
-        v.file = resolve(path, text(path, *f, "file"));
-        if (auto* x = t.get("fit")) {
-          const std::string fit = text(path, *x, "fit");
-          if (fit != "cover" && fit != "contain") throw ShowError{at(path, *x) + ": fit must be cover or contain (or give at and width)"};
-          v.fit = fit == "cover" ? ShowScenery::Cover : ShowScenery::Contain;
-        }
-        if (t.get("at") || t.get("width")) {
-          if (!t.get("at") || !t.get("width") || t.get("fit"))
-            throw ShowError{at(path, n) + ": a placed [[scenery]] gives at = [x, y] and width (canvas pixels), and no fit"};
-          auto [x, y] = pair_of(path, *t.get("at"), "at");
-          v.at = Vec2(x, y);
-          v.width = number(path, *t.get("width"), "width");
-          if (!(v.width > 0 && v.width <= 100000)) throw ShowError{at(path, *t.get("width")) + ": width must be > 0 canvas pixels"};
-          v.fit = ShowScenery::Placed;
-        }
-        if (auto* x = t.get("front")) v.front = boolean(path, *x, "front");
-        s.scenery.push_back(std::move(v));
-      }
-    }
-    if (const toml::array* ps = array_of_tables(path, root, "prop")) {
-      if (ps->size() > 16) throw ShowError{at(path, *ps) + ": at most 16 [[prop]] drawings"};
-      for (const toml::node& n : *ps) {
-        const toml::table& t = *n.as_table();
-        check_keys(path, t, {"file", "part", "at", "width", "rotation", "front"}, "[[prop]]");
-        ShowProp v;
-        v.line = int(n.source().begin.line);
-        const toml::node* f = t.get("file");
-        const toml::node* part = t.get("part");
-        if (!f || !part) throw ShowError{at(path, n) + ": [[prop]] needs a file (an SVG or a PNG) and the part that holds it"};
-        v.file = resolve(path, text(path, *f, "file"));
-        v.part = text(path, *part, "part");
-        if (auto* x = t.get("at")) {
-          auto [ax, ay] = pair_of(path, *x, "at");
-          v.at = Vec2(ax, ay);
-          v.has_at = true;
-        }
-        if (auto* x = t.get("width")) {
-          v.width = number(path, *x, "width");
-          if (!(v.width > 0 && v.width <= 1e6)) throw ShowError{at(path, *x) + ": width must be > 0 (character units)"};
-        }
-        if (auto* x = t.get("rotation")) v.rotation = number(path, *x, "rotation");
-        if (auto* x = t.get("front")) v.front = boolean(path, *x, "front");
-        s.props.push_back(std::move(v));
-      }
-    }
-    read_physics(path, root, s);  // loop/physics.cpp
-    auto handle_of = [&](const toml::node& n) {
-      const std::string h = text(path, n, "handle");
-      for (size_t i = 0; i < handles.size(); ++i)
-        if (handles[i] == h) return int(i);
-      throw ShowError{at(path, n) + ": the rig has no handle '" + h + "'"};
-    };
-    if (const toml::array* gs = array_of_tables(path, root, "group")) {
-      for (const toml::node& gn : *gs) {
-        const toml::table& t = *gn.as_table();
-        check_keys(path, t, {"name", "handles", "pivot", "pivot_handle"}, "[[group]]");
-        RotationGroup g;
-        if (auto* n = t.get("name")) g.name = text(path, *n, "name");
-        else throw ShowError{at(path, gn) + ": [[group]] needs a name"};
-        const toml::array* hs = t.get("handles") ? t.get("handles")->as_array() : nullptr;
-        if (!hs || hs->empty()) throw ShowError{at(path, gn) + ": [[group]] needs handles = [\"name\", ...]"};
-        for (const toml::node& h : *hs) g.handles.push_back(handle_of(h));
-        if (auto* n = t.get("pivot")) {
-          auto [x, y] = pair_of(path, *n, "pivot");
-          g.pivot = Vec2(x, y);
-        } else if (auto* ph = t.get("pivot_handle")) {
-          g.pivot_handle = handle_of(*ph);
-        } else {
-          throw ShowError{at(path, gn) + ": [[group]] needs pivot = [x, y] or pivot_handle"};
-        }
-        s.groups.push_back(std::move(g));
-      }
-    }
-    if (const toml::array* ps = array_of_tables(path, root, "pose")) {
-      for (const toml::node& pn : *ps) {
-        const toml::table& t = *pn.as_table();
-        check_keys(path, t, {"name", "handles"}, "[[pose]]");
-        Pose p;
-        if (auto* n = t.get("name")) p.name = text(path, *n, "name");
-        else throw ShowError{at(path, pn) + ": [[pose]] needs a name"};
-        p.positions.assign(handles.size(), Vec2(NAN, NAN));
-        const toml::table* hs = t.get("handles") ? t.get("handles")->as_table() : nullptr;
-        if (!hs) throw ShowError{at(path, pn) + ": [[pose]] needs handles = { name = [x, y], ... }"};
-        for (const auto& [k, v] : *hs) {
-          int hi = -1;
-          for (size_t i = 0; i < handles.size(); ++i)
-            if (handles[i] == k.str()) hi = int(i);
-          if (hi < 0) throw ShowError{at(path, v) + ": the rig has no handle '" + std::string(k.str()) + "'"};
-          auto [x, y] = pair_of(path, v, "pose position");
-          p.positions[size_t(hi)] = Vec2(x, y);
-        }
-        s.poses.push_back(std::move(p));
-      }
-    }
-    if (const toml::array* bs = array_of_tables(path, root, "binding")) {
-      for (const toml::node& bn : *bs) {
-        const toml::table& t = *bn.as_table();
-        check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
-                             "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led",
-                             "priority", "hold", "handover"},
-                   "[[binding]]");
-        Binding b;
-        b.line = int(bn.source().begin.line);
-        const toml::node* dev = t.get("device");
-        const toml::node* ctl = t.get("control");
-        const toml::node* tgt = t.get("target");
-        if (!dev || !ctl || !tgt) throw ShowError{at(path, bn) + ": [[binding]] needs device, control and target"};
-        const std::string dname = text(path, *dev, "device");
-        int di = -1;
-        for (size_t i = 0; i < s.devices.size(); ++i)
-          if (s.devices[i].name == dname) di = int(i);
-        if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
-        b.control.device = uint16_t(di);
-        const std::string written = text(path, *ctl, "control");
-        if (auto r = parse_control(device_control(s.devices[size_t(di)], written), b.control); !r.ok())
-          throw ShowError{at(path, *ctl) + ": " + r.error};
-        b.control.text = written;  // as the show names it ("pad_r1c1", "fader1"): the HUD and messages say that
-        b.target_text = text(path, *tgt, "target");
-        if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, &b.member); !r.ok())
-          throw ShowError{at(path, *tgt) + ": " + r.error};
-        if (const toml::node* led = t.get("led")) read_binding_led(path, *led, s.devices[size_t(di)], b);  // show_devices.cpp
-        Transform& tf = b.tf;
-        // Default ranges: a handle axis moves +-1/4 of the character's diagonal about its
-        // rest position; a rotation turns -90..90 degrees.
-        if (b.target == TargetKind::HandleX || b.target == TargetKind::HandleY) {
-          const double c = b.target == TargetKind::HandleX ? rest[size_t(b.index)].x() : rest[size_t(b.index)].y();
-          tf.lo = c - 0.25 * diag;
-          tf.hi = c + 0.25 * diag;
-        } else if (b.target == TargetKind::Rotate) {
-          tf.lo = -90;
-          tf.hi = 90;
-        } else if (b.target == TargetKind::Setting && rig.settings[size_t(b.index)].default_range) {
-          std::tie(tf.lo, tf.hi) = *rig.settings[size_t(b.index)].default_range;
-        }
-        if (auto* n = t.get("range")) {
-          std::tie(tf.lo, tf.hi) = pair_of(path, *n, "range");
-          tf.has_range = true;
-        }
-        if (auto* n = t.get("curve")) {
-          tf.curve = number(path, *n, "curve");
-          if (tf.curve <= 0) throw ShowError{at(path, *n) + ": curve must be > 0"};
-        }
-        if (auto* n = t.get("invert")) tf.invert = boolean(path, *n, "invert");
-        if (auto* n = t.get("deadzone")) {
-          tf.deadzone = number(path, *n, "deadzone");
-          if (tf.deadzone < 0 || tf.deadzone >= 1) throw ShowError{at(path, *n) + ": deadzone must be 0..1"};
-        }
-        if (auto* n = t.get("filter")) {
-          const toml::table* f = n->as_table();
-          if (!f) throw ShowError{at(path, *n) + ": filter must be { min_cutoff, beta, d_cutoff }"};
-          check_keys(path, *f, {"min_cutoff", "beta", "d_cutoff"}, "filter");
-          tf.one_euro.enabled = true;
-          if (auto* x = f->get("min_cutoff")) tf.one_euro.min_cutoff = number(path, *x, "min_cutoff");
-          if (auto* x = f->get("beta")) tf.one_euro.beta = number(path, *x, "beta");
-          if (auto* x = f->get("d_cutoff")) tf.one_euro.d_cutoff = number(path, *x, "d_cutoff");
-          if (tf.one_euro.min_cutoff <= 0 || tf.one_euro.d_cutoff <= 0 || tf.one_euro.beta < 0)
-            throw ShowError{at(path, *n) + ": filter cutoffs must be > 0 and beta >= 0"};
-        }
-        if (auto* n = t.get("slew")) tf.slew = std::max(0.0, number(path, *n, "slew"));
-        // Soft takeover by default for what a hand moves through its travel; controls that can
-        // only jump (an OSC value, a note or a button, a velocity, the clock's phase) would wait
-        // for ever, so they set their target at once unless the show says otherwise.
-        const ControlSpec& cs = b.control;
-        if (cs.kind == ControlSpec::Note || cs.kind == ControlSpec::GpioButton || cs.kind == ControlSpec::NoteVelocity ||
-            cs.kind == ControlSpec::Beat || cs.kind == ControlSpec::Bar ||
-            (cs.kind == ControlSpec::Hid && (cs.number & 0xFF000000u) == 0xFF000000u))
-          tf.takeover = false;
-        if (auto* n = t.get("takeover")) tf.takeover = boolean(path, *n, "takeover");
-        if (auto* n = t.get("mode")) {
-          const std::string m = text(path, *n, "mode");
-          static const std::pair<const char*, RelativeMode> modes[] = {
-              {"absolute", RelativeMode::Absolute}, {"twos_complement", RelativeMode::TwosComplement},
-              {"binary_offset", RelativeMode::BinaryOffset}, {"sign_magnitude", RelativeMode::SignMagnitude},
-              {"sign_magnitude_inverted", RelativeMode::SignMagnitudeInv}, {"delta", RelativeMode::Delta}};
-          bool ok = false;
-          for (auto [name, mode] : modes)
-            if (m == name) {
-              tf.relative = mode;
-              ok = true;
-            }
-          if (!ok)
-            throw ShowError{at(path, *n) + ": mode must be absolute, twos_complement, binary_offset, "
-                                           "sign_magnitude, sign_magnitude_inverted or delta"};
-        }
-        if (auto* n = t.get("step")) tf.step = number(path, *n, "step");
-        tf.toggle = b.target == TargetKind::Swap;  // a pad picks a member and it stays
-        if (auto* n = t.get("button")) {
-          const std::string m = text(path, *n, "button");
-          if (m != "momentary" && m != "toggle" && m != "latch")
-            throw ShowError{at(path, *n) + ": button must be momentary, toggle or latch"};
-          tf.toggle = m != "momentary";
-        }
-        if (auto* n = t.get("threshold")) {
-          tf.threshold = number(path, *n, "threshold");
-          if (!(tf.threshold > 0 && tf.threshold <= 1))
-            throw ShowError{at(path, *n) + ": threshold must be in (0, 1] (the fraction of the control's range that presses)"};
-        }
-        if (auto* n = t.get("transition")) {
-          if (b.target != TargetKind::Pose && b.target != TargetKind::Recall)
-            throw ShowError{at(path, *n) + ": transition goes with a pose.NAME target"};
-          tf.transition = number(path, *n, "transition");
-          if (!(tf.transition >= 0 && tf.transition <= 60)) throw ShowError{at(path, *n) + ": transition must be 0..60 seconds"};
-        }
-        if (auto* n = t.get("ease")) {
-          const std::string e = text(path, *n, "ease");
-          static const std::pair<const char*, Ease> eases[] = {
-              {"linear", Ease::Linear}, {"in", Ease::In}, {"out", Ease::Out}, {"in_out", Ease::InOut}};
-          bool ok = false;
-          for (auto [name, ea] : eases)
-            if (e == name) tf.ease = ea, ok = true;
-          if (!ok) throw ShowError{at(path, *n) + ": ease must be linear, in, out or in_out"};
-        }
-        if (auto* n = t.get("return")) {
-          if (b.control.kind != ControlSpec::Pointer || b.target != TargetKind::HandlePoint)
-            throw ShowError{at(path, *n) + ": return goes with a pointer dragging a handle (target handle.NAME)"};
-          if (n->is_string() && *n->value<std::string>() == "hold") {
-            tf.ret = -1;
-          } else {
-            tf.ret = number(path, *n, "return");
-            if (!(tf.ret >= 0 && tf.ret <= 60)) throw ShowError{at(path, *n) + ": return must be 0..60 seconds or \"hold\""};
-          }
-        }
-        if (auto* n = t.get("area")) {
-          const toml::array* a = n->as_array();
-          if (!a || a->size() != 4) throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1]"};
-          for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
-        }
-        read_priority(path, t, s.devices[size_t(di)], b);
-        s.bindings.push_back(std::move(b));
-      }
-    }
+    read_scenery(path, root, s);  // show_stage.cpp
+    read_props(path, root, s);
+    read_groups_and_poses(path, root, s, rig);
+    if (const toml::array* bs = array_of_tables(path, root, "binding"))
+      for (const toml::node& bn : *bs) s.bindings.push_back(read_binding(path, bn, s, rig));
     read_behaviors(path, root, s, rig);  // loop/idle.cpp
     return Result<ShowConfig>::success(std::move(s));
   } catch (const ShowError& e) {

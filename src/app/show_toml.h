@@ -3,8 +3,8 @@
 // file:line and caught at the loader's edge.
 #pragma once
 
-#include "character/config_toml.h"
-#include "input/read_file.h"
+#include "base/config_toml.h"
+#include "base/read_file.h"
 
 #include <cmath>
 #include <filesystem>
@@ -17,7 +17,7 @@ namespace mar::showtoml {
 
 namespace fs = std::filesystem;
 
-// The shared helpers (character/config_toml.h) under the names the show readers use.
+// The shared helpers (base/config_toml.h) under the names the show readers use.
 using ShowError = cfg::ConfigError;
 using cfg::at;
 using cfg::boolean;
@@ -48,6 +48,23 @@ inline std::string read_script_file(const std::string& show_path, const toml::no
   return std::move(*t.value);
 }
 
+/// An array of tables ([[key]]), or nullptr when absent; anything else is refused.
+inline const toml::array* array_of_tables(const std::string& path, const toml::table& root, const char* key) {
+  const toml::node* n = root.get(key);
+  if (!n) return nullptr;
+  const toml::array* a = n->as_array();
+  if (!a || !a->is_array_of_tables())
+    throw ShowError{at(path, *n) + ": use [[" + std::string(key) + "]] tables"};
+  return a;
+}
+
+/// A pair [a, b] of numbers.
+inline std::pair<double, double> pair_of(const std::string& path, const toml::node& n, const char* what) {
+  const toml::array* a = n.as_array();
+  if (!a || a->size() != 2) throw ShowError{at(path, n) + ": " + what + " must be [a, b]"};
+  return {number(path, *a->get(0), what), number(path, *a->get(1), what)};
+}
+
 }  // namespace mar::showtoml
 
 namespace mar {
@@ -70,6 +87,11 @@ void read_attract(const std::string& path, const toml::table& root, ShowConfig& 
 /// [physics] (app/loop/physics.cpp).
 void read_physics(const std::string& path, const toml::table& root, ShowConfig& s);
 struct ShowRig;
+/// [[scenery]] and [[prop]] (show_stage.cpp): drawings on the stage, still or held.
+void read_scenery(const std::string& path, const toml::table& root, ShowConfig& s);
+void read_props(const std::string& path, const toml::table& root, ShowConfig& s);
+/// [[group]] and [[pose]] (show_stage.cpp), named by the rig's handles.
+void read_groups_and_poses(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
 /// [[behavior]] (app/loop/idle.cpp), after the bindings: targets resolve the same way.
 void read_behaviors(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
 }  // namespace mar

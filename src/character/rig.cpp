@@ -1,7 +1,7 @@
 #include "character/rig.h"
 
-#include "character/config_toml.h"
-#include "input/read_file.h"
+#include "base/config_toml.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <cstdio>
@@ -37,6 +37,346 @@ using RigError = ConfigError;
 // [[physics]] (rig_physics.cpp).
 void parse_rig_physics(const std::string& path, const toml::node& n, Rig& r);
 
+namespace {
+
+// Swap sets and triggers name sub-shapes; load_puppet checks them against the character.
+std::vector<std::string> id_list(const std::string& path, const toml::node& n, const char* what) {
+  std::vector<std::string> ids;
+  const toml::array* a = n.as_array();
+  if (!a || a->empty()) throw RigError{at(path, n) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
+  for (const toml::node& e : *a) {
+    if (!e.is_string() || e.value<std::string>()->empty())
+      throw RigError{at(path, e) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
+    ids.push_back(*e.value<std::string>());
+  }
+  return ids;
+}
+
+// A swap set's or trigger's name: given, and not taken by another.
+std::string named(const std::string& path, const Rig& r, const toml::table& t, const toml::node& node, const char* what) {
+  const toml::node* nm = t.get("name");
+  if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": " + what + " needs a name"};
+  const std::string name = *nm->value<std::string>();
+  for (const RigSwap& o : r.swaps)
+    if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a swap set"};
+  for (const RigTrigger& o : r.triggers)
+    if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a trigger"};
+  return name;
+}
+
+// The rig's `weights` (its [[weights]] tables, or its [weights] table).
+void read_weights(const std::string& path, const toml::node* w, Rig& r) {
+  const toml::table* t = w->as_table();
+  if (!t) throw RigError{at(path, *w) + ": [weights] must be a table"};
+  check_keys(path, *t, {"rigidity", "coupling", "position"}, "[weights]");
+  auto get = [&](const char* k, double& out) {
+    if (const toml::node* n = t->get(k)) {
+      out = number(path, *n, k);
+      if (out < 0) throw RigError{at(path, *n) + ": " + k + " must not be negative"};
+    }
+  };
+  get("rigidity", r.w_rigidity);
+  get("coupling", r.w_coupling);
+  get("position", r.w_position);
+  if (r.w_coupling <= 0) throw RigError{at(path, *w) + ": coupling must be positive (it holds the parts together)"};
+}
+
+// The rig's `sampling` (its [[sampling]] tables, or its [sampling] table).
+void read_sampling(const std::string& path, const toml::node* s, Rig& r) {
+  const toml::table* t = s->as_table();
+  if (!t) throw RigError{at(path, *s) + ": [sampling] must be a table"};
+  check_keys(path, *t, {"mode", "interval"}, "[sampling]");
+  if (const toml::node* m = t->get("mode")) {
+    const std::string mode = m->value<std::string>().value_or("");
+    if (mode == "uniform") {
+      r.uniform_sampling = true;
+    } else if (mode != "features") {
+      throw RigError{at(path, *m) + ": sampling mode must be \"features\" or \"uniform\""};
+    }
+  }
+  if (const toml::node* i = t->get("interval")) {
+    r.interval = number(path, *i, "interval");
+    if (r.interval <= 0) throw RigError{at(path, *i) + ": interval must be positive"};
+  }
+}
+
+// The rig's `handle` (its [[handle]] tables, or its [handle] table).
+void read_handle(const std::string& path, const toml::node* hs, Rig& r) {
+  std::set<std::string> names;
+  const toml::array* a = hs->as_array();
+  if (!a) throw RigError{at(path, *hs) + ": use [[handle]] tables"};
+  for (const toml::node& hn : *a) {
+    const toml::table* t = hn.as_table();
+    if (!t) throw RigError{at(path, hn) + ": a handle must be a table"};
+    check_keys(path, *t, {"name", "rest"}, "[[handle]]");
+    RigHandle h;
+    const toml::node* name = t->get("name");
+    if (!name || !name->is_string() || name->value<std::string>()->empty()) {
+      throw RigError{at(path, hn) + ": a handle needs a non-empty name"};
+    }
+    h.name = *name->value<std::string>();
+    if (!names.insert(h.name).second) throw RigError{at(path, *name) + ": handle '" + h.name + "' defined twice"};
+    const toml::node* rest = t->get("rest");
+    if (!rest) throw RigError{at(path, hn) + ": handle '" + h.name + "' needs rest = [x, y]"};
+    h.rest = point(path, *rest, "rest");
+    r.handles.push_back(std::move(h));
+  }
+}
+
+// The rig's `sewing` (its [[sewing]] tables, or its [sewing] table).
+void read_sewing(const std::string& path, const toml::node* ss, Rig& r) {
+  const toml::array* a = ss->as_array();
+  if (!a) throw RigError{at(path, *ss) + ": use [[sewing]] tables"};
+  for (const toml::node& sn : *a) {
+    const toml::table* t = sn.as_table();
+    if (!t) throw RigError{at(path, sn) + ": a sewing edit must be a table"};
+    check_keys(path, *t, {"action", "from", "to", "new_from", "new_to"}, "[[sewing]]");
+    RigSewing e;
+    e.line = static_cast<int>(sn.source().begin.line);
+    const std::string action = t->get("action") ? t->get("action")->value<std::string>().value_or("") : "add";
+    if (action == "add") {
+      e.action = RigSewing::Add;
+    } else if (action == "delete") {
+      e.action = RigSewing::Delete;
+    } else if (action == "move") {
+      e.action = RigSewing::Move;
+    } else {
+      throw RigError{at(path, sn) + ": sewing action must be add, delete or move"};
+    }
+    const toml::node* from = t->get("from");
+    const toml::node* to = t->get("to");
+    if (!from || !to) throw RigError{at(path, sn) + ": sewing edit needs from = [x, y] and to = [x, y]"};
+    e.from = point(path, *from, "from");
+    e.to = point(path, *to, "to");
+    if (e.action == RigSewing::Move) {
+      const toml::node* nf = t->get("new_from");
+      const toml::node* nt = t->get("new_to");
+      if (!nf || !nt) throw RigError{at(path, sn) + ": move needs new_from = [x, y] and new_to = [x, y]"};
+      e.new_from = point(path, *nf, "new_from");
+      e.new_to = point(path, *nt, "new_to");
+    }
+    r.sewing.push_back(e);
+  }
+}
+
+// The rig's `feature_frame` (its [[feature_frame]] tables, or its [feature_frame] table).
+void read_feature_frame(const std::string& path, const toml::node* sv, Rig& r) {
+  const toml::table* t = sv->as_table();
+  if (!t) throw RigError{at(path, *sv) + ": [feature_frame] must be a table"};
+  check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[feature_frame]");
+  if (const toml::node* n = t->get("anderson")) {
+    const auto v = cfg::whole(*n);
+    if (!v || *v < 0 || *v > 16) throw RigError{at(path, *n) + ": anderson must be a whole number 0..16"};
+    r.anderson = static_cast<int>(*v);
+  }
+  auto mode = [&](const char* key, bool& out) {
+    if (const toml::node* n = t->get(key)) {
+      const std::string m = n->value<std::string>().value_or("");
+      if (m != "auto" && m != "none") throw RigError{at(path, *n) + ": " + key + " must be \"auto\" or \"none\""};
+      out = m == "auto";
+    }
+  };
+  mode("joints", r.auto_joints);
+  mode("stiffness", r.auto_stiffness);
+}
+
+// The rig's `joint` (its [[joint]] tables, or its [joint] table).
+void read_joint(const std::string& path, const toml::node* js, Rig& r) {
+  const toml::array* a = js->as_array();
+  if (!a) throw RigError{at(path, *js) + ": use [[joint]] tables"};
+  for (const toml::node& jn : *a) {
+    const toml::table* t = jn.as_table();
+    if (!t) throw RigError{at(path, jn) + ": a joint must be a table"};
+    check_keys(path, *t, {"at", "parts", "stiffness", "kind"}, "[[joint]]");
+    RigJoint j;
+    j.line = static_cast<int>(jn.source().begin.line);
+    if (const toml::node* n = t->get("at")) {
+      j.at = point(path, *n, "at");
+      j.has_at = true;
+    }
+    if (const toml::node* n = t->get("parts")) {
+      const toml::array* pa = n->as_array();
+      if (!pa || pa->size() != 2 || !pa->get(0)->is_string() || !pa->get(1)->is_string()) {
+        throw RigError{at(path, *n) + ": parts must be two sub-shape ids, [\"a\", \"b\"]"};
+      }
+      j.part_a = *pa->get(0)->value<std::string>();
+      j.part_b = *pa->get(1)->value<std::string>();
+    }
+    if (const toml::node* n = t->get("stiffness")) {
+      j.stiffness = number(path, *n, "stiffness");
+      if (j.stiffness < 0) throw RigError{at(path, *n) + ": stiffness must not be negative"};
+    }
+    if (const toml::node* n = t->get("kind")) {
+      const std::string k = n->value<std::string>().value_or("");
+      if (k != "hinge" && k != "weld") throw RigError{at(path, *n) + ": kind must be \"hinge\" or \"weld\""};
+      j.weld = k == "weld";
+    }
+    if (j.weld && j.part_a.empty()) throw RigError{at(path, jn) + ": a weld needs parts = [\"a\", \"b\"]"};
+    if (!j.has_at && j.part_a.empty()) throw RigError{at(path, jn) + ": a joint needs at = [x, y] or parts = [\"a\", \"b\"]"};
+    r.joints.push_back(j);
+  }
+}
+
+// The rig's `part` (its [[part]] tables, or its [part] table).
+void read_part(const std::string& path, const toml::node* ps, Rig& r) {
+  const toml::array* a = ps->as_array();
+  if (!a) throw RigError{at(path, *ps) + ": use [[part]] tables"};
+  for (const toml::node& pn : *a) {
+    const toml::table* t = pn.as_table();
+    if (!t) throw RigError{at(path, pn) + ": a part must be a table"};
+    check_keys(path, *t, {"id", "stiffness"}, "[[part]]");
+    RigPart p;
+    p.line = static_cast<int>(pn.source().begin.line);
+    const toml::node* id = t->get("id");
+    if (!id || !id->is_string() || id->value<std::string>()->empty()) throw RigError{at(path, pn) + ": a part needs id = \"sub-shape id\""};
+    p.id = *id->value<std::string>();
+    const toml::node* k = t->get("stiffness");
+    if (!k) throw RigError{at(path, pn) + ": part '" + p.id + "' needs stiffness = k"};
+    p.stiffness = number(path, *k, "stiffness");
+    if (p.stiffness <= 0) throw RigError{at(path, *k) + ": stiffness must be positive"};
+    r.parts.push_back(p);
+  }
+}
+
+// The rig's `grid` (its [[grid]] tables, or its [grid] table).
+void read_grid(const std::string& path, const toml::node* gn, Rig& r) {
+  const toml::table* t = gn->as_table();
+  if (!t) throw RigError{at(path, *gn) + ": [grid] must be a table"};
+  check_keys(path, *t, {"cell", "half_width", "stride", "weights", "junction"}, "[grid]");
+  if (const toml::node* n = t->get("junction")) {
+    const auto v = n->value<std::string>();
+    if (!v || (*v != "triangles" && *v != "mvc")) throw RigError{at(path, *n) + ": junction must be \"triangles\" or \"mvc\""};
+    r.grid_junction_term = *v;
+  }
+  if (const toml::node* n = t->get("cell")) {
+    r.grid_cell = number(path, *n, "cell");
+    if (!(r.grid_cell > 0)) throw RigError{at(path, *n) + ": cell must be positive (character units)"};
+  }
+  if (const toml::node* n = t->get("half_width")) {
+    const auto v = cfg::whole(*n);
+    if (!v || *v < 1 || *v > 32) throw RigError{at(path, *n) + ": half_width must be a whole number 1..32 (cells)"};
+    r.grid_half_width = static_cast<int>(*v);
+  }
+  if (const toml::node* n = t->get("stride")) {
+    const auto v = cfg::whole(*n);
+    if (!v || *v < 0 || *v > 32)
+      throw RigError{at(path, *n) + ": stride must be a whole number 0..32 (0: about half_width / 2; 1: every node)"};
+    r.grid_stride = static_cast<int>(*v);
+  }
+  if (const toml::node* n = t->get("weights")) {
+    const toml::table* w = n->as_table();
+    if (!w) throw RigError{at(path, *n) + ": weights must be { rigidity = 6.0, junction = 1.0 }"};
+    check_keys(path, *w, {"rigidity", "junction"}, "[grid] weights");
+    if (const toml::node* x = w->get("rigidity")) r.grid_rigidity = number(path, *x, "rigidity");
+    if (const toml::node* x = w->get("junction")) r.grid_junction = number(path, *x, "junction");
+    if (!(r.grid_rigidity > 0) || !(r.grid_junction > 0)) throw RigError{at(path, *n) + ": grid weights must be positive"};
+  }
+}
+
+// The rig's `key` (its [[key]] tables, or its [key] table).
+void read_key(const std::string& path, const toml::node* kn, Rig& r) {
+  const toml::array* a = kn->as_array();
+  if (!a) throw RigError{at(path, *kn) + ": use [[key]] tables"};
+  for (const toml::node& node : *a) {
+    const toml::table* t = node.as_table();
+    if (!t) throw RigError{at(path, node) + ": a key must be a table"};
+    check_keys(path, *t, {"name", "targets", "frame"}, "[[key]]");
+    RigKey k;
+    k.line = static_cast<int>(node.source().begin.line);
+    const toml::node* nm = t->get("name");
+    if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": a key needs a name"};
+    k.name = *nm->value<std::string>();
+    if (k.name == "rest") throw RigError{at(path, *nm) + ": 'rest' is the rest pose; name the key otherwise"};
+    for (const RigKey& o : r.keys)
+      if (o.name == k.name) throw RigError{at(path, node) + ": key '" + k.name + "' defined twice"};
+    const toml::node* tg = t->get("targets");
+    const toml::node* fr = t->get("frame");
+    if ((tg == nullptr) == (fr == nullptr)) throw RigError{at(path, node) + ": key '" + k.name + "' needs targets = { HANDLE = [x, y], ... } or frame = \"file.json\""};
+    if (fr) {
+      if (!fr->is_string()) throw RigError{at(path, *fr) + ": frame must be the path of a saved frame (pose --dump)"};
+      k.frame = *fr->value<std::string>();
+    } else {
+      const toml::table* tt = tg->as_table();
+      if (!tt) throw RigError{at(path, *tg) + ": targets must be { HANDLE = [x, y], ... }"};
+      for (const auto& [hk, hv] : *tt) {
+        const std::string hname(hk.str());
+        if (r.find_handle(hname) < 0) throw RigError{at(path, hv) + ": key '" + k.name + "' names no handle '" + hname + "'"};
+        k.targets.push_back({hname, point(path, hv, "target")});
+      }
+    }
+    r.keys.push_back(k);
+  }
+}
+
+// The rig's `stiffness` (its [[stiffness]] tables, or its [stiffness] table).
+void read_stiffness(const std::string& path, const toml::node* sn, Rig& r) {
+  const toml::array* a = sn->as_array();
+  if (!a) throw RigError{at(path, *sn) + ": use [[stiffness]] tables"};
+  for (const toml::node& node : *a) {
+    const toml::table* t = node.as_table();
+    if (!t) throw RigError{at(path, node) + ": a stiffness region must be a table"};
+    check_keys(path, *t, {"name", "center", "radius", "weight"}, "[[stiffness]]");
+    RigStiffness s;
+    s.line = static_cast<int>(node.source().begin.line);
+    const toml::node* c = t->get("center");
+    const toml::node* rad = t->get("radius");
+    const toml::node* w = t->get("weight");
+    if (!c || !rad || !w) throw RigError{at(path, node) + ": a stiffness region needs center = [x, y], radius and weight"};
+    if (const toml::node* nm = t->get("name")) s.name = nm->value<std::string>().value_or("");
+    s.center = point(path, *c, "center");
+    s.radius = number(path, *rad, "radius");
+    s.weight = number(path, *w, "weight");
+    if (!(s.radius > 0) || !(s.weight > 0)) throw RigError{at(path, node) + ": radius and weight must be positive"};
+    for (const RigStiffness& o : r.stiffness)
+      if (!s.name.empty() && o.name == s.name) throw RigError{at(path, node) + ": stiffness region '" + s.name + "' defined twice"};
+    r.stiffness.push_back(s);
+  }
+}
+
+// The rig's `swap` (its [[swap]] tables, or its [swap] table).
+void read_swap(const std::string& path, const toml::node* sn, Rig& r) {
+  const toml::array* a = sn->as_array();
+  if (!a) throw RigError{at(path, *sn) + ": use [[swap]] tables"};
+  for (const toml::node& node : *a) {
+    const toml::table* t = node.as_table();
+    if (!t) throw RigError{at(path, node) + ": a swap set must be a table"};
+    check_keys(path, *t, {"name", "members", "default"}, "[[swap]]");
+    RigSwap sw;
+    sw.line = static_cast<int>(node.source().begin.line);
+    sw.name = named(path, r, *t, node, "a swap set");
+    const toml::node* m = t->get("members");
+    if (!m) throw RigError{at(path, node) + ": swap set '" + sw.name + "' needs members = [\"a\", \"b\", ...]"};
+    sw.members = id_list(path, *m, "members");
+    if (const toml::node* d = t->get("default")) {
+      const std::string dn = d->value<std::string>().value_or("");
+      const auto it = std::find(sw.members.begin(), sw.members.end(), dn);
+      if (it == sw.members.end()) throw RigError{at(path, *d) + ": default '" + dn + "' is not one of the members"};
+      sw.default_member = int(it - sw.members.begin());
+    }
+    r.swaps.push_back(sw);
+  }
+}
+
+// The rig's `trigger` (its [[trigger]] tables, or its [trigger] table).
+void read_trigger(const std::string& path, const toml::node* tn, Rig& r) {
+  const toml::array* a = tn->as_array();
+  if (!a) throw RigError{at(path, *tn) + ": use [[trigger]] tables"};
+  for (const toml::node& node : *a) {
+    const toml::table* t = node.as_table();
+    if (!t) throw RigError{at(path, node) + ": a trigger must be a table"};
+    check_keys(path, *t, {"name", "shapes"}, "[[trigger]]");
+    RigTrigger tr;
+    tr.line = static_cast<int>(node.source().begin.line);
+    tr.name = named(path, r, *t, node, "a trigger");
+    const toml::node* sh = t->get("shapes");
+    if (!sh) throw RigError{at(path, node) + ": trigger '" + tr.name + "' needs shapes = [\"a\", ...]"};
+    tr.shapes = id_list(path, *sh, "shapes");
+    r.triggers.push_back(tr);
+  }
+}
+
+}  // namespace
+
 Result<Rig> parse_rig(std::string_view text, const std::string& path) {
   Result<toml::table> parsed = parse_toml(text, path);
   if (!parsed.ok()) return Result<Rig>::failure(parsed.error);
@@ -59,320 +399,23 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
       if (!v || *v < 1 || *v > 1000) throw RigError{at(path, *it) + ": iterations must be a whole number 1..1000"};
       r.iterations = static_cast<int>(*v);
     }
-    if (const toml::node* w = root.get("weights")) {
-      const toml::table* t = w->as_table();
-      if (!t) throw RigError{at(path, *w) + ": [weights] must be a table"};
-      check_keys(path, *t, {"rigidity", "coupling", "position"}, "[weights]");
-      auto get = [&](const char* k, double& out) {
-        if (const toml::node* n = t->get(k)) {
-          out = number(path, *n, k);
-          if (out < 0) throw RigError{at(path, *n) + ": " + k + " must not be negative"};
-        }
-      };
-      get("rigidity", r.w_rigidity);
-      get("coupling", r.w_coupling);
-      get("position", r.w_position);
-      if (r.w_coupling <= 0) throw RigError{at(path, *w) + ": coupling must be positive (it holds the parts together)"};
-    }
-    if (const toml::node* s = root.get("sampling")) {
-      const toml::table* t = s->as_table();
-      if (!t) throw RigError{at(path, *s) + ": [sampling] must be a table"};
-      check_keys(path, *t, {"mode", "interval"}, "[sampling]");
-      if (const toml::node* m = t->get("mode")) {
-        const std::string mode = m->value<std::string>().value_or("");
-        if (mode == "uniform") {
-          r.uniform_sampling = true;
-        } else if (mode != "features") {
-          throw RigError{at(path, *m) + ": sampling mode must be \"features\" or \"uniform\""};
-        }
-      }
-      if (const toml::node* i = t->get("interval")) {
-        r.interval = number(path, *i, "interval");
-        if (r.interval <= 0) throw RigError{at(path, *i) + ": interval must be positive"};
-      }
-    }
-    std::set<std::string> names;
-    if (const toml::node* hs = root.get("handle")) {
-      const toml::array* a = hs->as_array();
-      if (!a) throw RigError{at(path, *hs) + ": use [[handle]] tables"};
-      for (const toml::node& hn : *a) {
-        const toml::table* t = hn.as_table();
-        if (!t) throw RigError{at(path, hn) + ": a handle must be a table"};
-        check_keys(path, *t, {"name", "rest"}, "[[handle]]");
-        RigHandle h;
-        const toml::node* name = t->get("name");
-        if (!name || !name->is_string() || name->value<std::string>()->empty()) {
-          throw RigError{at(path, hn) + ": a handle needs a non-empty name"};
-        }
-        h.name = *name->value<std::string>();
-        if (!names.insert(h.name).second) throw RigError{at(path, *name) + ": handle '" + h.name + "' defined twice"};
-        const toml::node* rest = t->get("rest");
-        if (!rest) throw RigError{at(path, hn) + ": handle '" + h.name + "' needs rest = [x, y]"};
-        h.rest = point(path, *rest, "rest");
-        r.handles.push_back(std::move(h));
-      }
-    }
-    if (const toml::node* ss = root.get("sewing")) {
-      const toml::array* a = ss->as_array();
-      if (!a) throw RigError{at(path, *ss) + ": use [[sewing]] tables"};
-      for (const toml::node& sn : *a) {
-        const toml::table* t = sn.as_table();
-        if (!t) throw RigError{at(path, sn) + ": a sewing edit must be a table"};
-        check_keys(path, *t, {"action", "from", "to", "new_from", "new_to"}, "[[sewing]]");
-        RigSewing e;
-        e.line = static_cast<int>(sn.source().begin.line);
-        const std::string action = t->get("action") ? t->get("action")->value<std::string>().value_or("") : "add";
-        if (action == "add") {
-          e.action = RigSewing::Add;
-        } else if (action == "delete") {
-          e.action = RigSewing::Delete;
-        } else if (action == "move") {
-          e.action = RigSewing::Move;
-        } else {
-          throw RigError{at(path, sn) + ": sewing action must be add, delete or move"};
-        }
-        const toml::node* from = t->get("from");
-        const toml::node* to = t->get("to");
-        if (!from || !to) throw RigError{at(path, sn) + ": sewing edit needs from = [x, y] and to = [x, y]"};
-        e.from = point(path, *from, "from");
-        e.to = point(path, *to, "to");
-        if (e.action == RigSewing::Move) {
-          const toml::node* nf = t->get("new_from");
-          const toml::node* nt = t->get("new_to");
-          if (!nf || !nt) throw RigError{at(path, sn) + ": move needs new_from = [x, y] and new_to = [x, y]"};
-          e.new_from = point(path, *nf, "new_from");
-          e.new_to = point(path, *nt, "new_to");
-        }
-        r.sewing.push_back(e);
-      }
-    }
+    if (const toml::node* w = root.get("weights")) read_weights(path, w, r);
+    if (const toml::node* s = root.get("sampling")) read_sampling(path, s, r);
+    if (const toml::node* hs = root.get("handle")) read_handle(path, hs, r);
+    if (const toml::node* ss = root.get("sewing")) read_sewing(path, ss, r);
     if (const toml::node* sv = root.get("solver")) {
       if (!sv->is_string() || sv->value<std::string>()->empty()) throw RigError{at(path, *sv) + ": solver must be a method name, e.g. \"feature_frame\""};
       r.solver = *sv->value<std::string>();
       r.solver_line = static_cast<int>(sv->source().begin.line);
     }
-    if (const toml::node* sv = root.get("feature_frame")) {
-      const toml::table* t = sv->as_table();
-      if (!t) throw RigError{at(path, *sv) + ": [feature_frame] must be a table"};
-      check_keys(path, *t, {"anderson", "joints", "stiffness"}, "[feature_frame]");
-      if (const toml::node* n = t->get("anderson")) {
-        const auto v = cfg::whole(*n);
-        if (!v || *v < 0 || *v > 16) throw RigError{at(path, *n) + ": anderson must be a whole number 0..16"};
-        r.anderson = static_cast<int>(*v);
-      }
-      auto mode = [&](const char* key, bool& out) {
-        if (const toml::node* n = t->get(key)) {
-          const std::string m = n->value<std::string>().value_or("");
-          if (m != "auto" && m != "none") throw RigError{at(path, *n) + ": " + key + " must be \"auto\" or \"none\""};
-          out = m == "auto";
-        }
-      };
-      mode("joints", r.auto_joints);
-      mode("stiffness", r.auto_stiffness);
-    }
-    if (const toml::node* js = root.get("joint")) {
-      const toml::array* a = js->as_array();
-      if (!a) throw RigError{at(path, *js) + ": use [[joint]] tables"};
-      for (const toml::node& jn : *a) {
-        const toml::table* t = jn.as_table();
-        if (!t) throw RigError{at(path, jn) + ": a joint must be a table"};
-        check_keys(path, *t, {"at", "parts", "stiffness", "kind"}, "[[joint]]");
-        RigJoint j;
-        j.line = static_cast<int>(jn.source().begin.line);
-        if (const toml::node* n = t->get("at")) {
-          j.at = point(path, *n, "at");
-          j.has_at = true;
-        }
-        if (const toml::node* n = t->get("parts")) {
-          const toml::array* pa = n->as_array();
-          if (!pa || pa->size() != 2 || !pa->get(0)->is_string() || !pa->get(1)->is_string()) {
-            throw RigError{at(path, *n) + ": parts must be two sub-shape ids, [\"a\", \"b\"]"};
-          }
-          j.part_a = *pa->get(0)->value<std::string>();
-          j.part_b = *pa->get(1)->value<std::string>();
-        }
-        if (const toml::node* n = t->get("stiffness")) {
-          j.stiffness = number(path, *n, "stiffness");
-          if (j.stiffness < 0) throw RigError{at(path, *n) + ": stiffness must not be negative"};
-        }
-        if (const toml::node* n = t->get("kind")) {
-          const std::string k = n->value<std::string>().value_or("");
-          if (k != "hinge" && k != "weld") throw RigError{at(path, *n) + ": kind must be \"hinge\" or \"weld\""};
-          j.weld = k == "weld";
-        }
-        if (j.weld && j.part_a.empty()) throw RigError{at(path, jn) + ": a weld needs parts = [\"a\", \"b\"]"};
-        if (!j.has_at && j.part_a.empty()) throw RigError{at(path, jn) + ": a joint needs at = [x, y] or parts = [\"a\", \"b\"]"};
-        r.joints.push_back(j);
-      }
-    }
-    if (const toml::node* ps = root.get("part")) {
-      const toml::array* a = ps->as_array();
-      if (!a) throw RigError{at(path, *ps) + ": use [[part]] tables"};
-      for (const toml::node& pn : *a) {
-        const toml::table* t = pn.as_table();
-        if (!t) throw RigError{at(path, pn) + ": a part must be a table"};
-        check_keys(path, *t, {"id", "stiffness"}, "[[part]]");
-        RigPart p;
-        p.line = static_cast<int>(pn.source().begin.line);
-        const toml::node* id = t->get("id");
-        if (!id || !id->is_string() || id->value<std::string>()->empty()) throw RigError{at(path, pn) + ": a part needs id = \"sub-shape id\""};
-        p.id = *id->value<std::string>();
-        const toml::node* k = t->get("stiffness");
-        if (!k) throw RigError{at(path, pn) + ": part '" + p.id + "' needs stiffness = k"};
-        p.stiffness = number(path, *k, "stiffness");
-        if (p.stiffness <= 0) throw RigError{at(path, *k) + ": stiffness must be positive"};
-        r.parts.push_back(p);
-      }
-    }
-    if (const toml::node* gn = root.get("grid")) {
-      const toml::table* t = gn->as_table();
-      if (!t) throw RigError{at(path, *gn) + ": [grid] must be a table"};
-      check_keys(path, *t, {"cell", "half_width", "stride", "weights", "junction"}, "[grid]");
-      if (const toml::node* n = t->get("junction")) {
-        const auto v = n->value<std::string>();
-        if (!v || (*v != "triangles" && *v != "mvc")) throw RigError{at(path, *n) + ": junction must be \"triangles\" or \"mvc\""};
-        r.grid_junction_term = *v;
-      }
-      if (const toml::node* n = t->get("cell")) {
-        r.grid_cell = number(path, *n, "cell");
-        if (!(r.grid_cell > 0)) throw RigError{at(path, *n) + ": cell must be positive (character units)"};
-      }
-      if (const toml::node* n = t->get("half_width")) {
-        const auto v = cfg::whole(*n);
-        if (!v || *v < 1 || *v > 32) throw RigError{at(path, *n) + ": half_width must be a whole number 1..32 (cells)"};
-        r.grid_half_width = static_cast<int>(*v);
-      }
-      if (const toml::node* n = t->get("stride")) {
-        const auto v = cfg::whole(*n);
-        if (!v || *v < 0 || *v > 32)
-          throw RigError{at(path, *n) + ": stride must be a whole number 0..32 (0: about half_width / 2; 1: every node)"};
-        r.grid_stride = static_cast<int>(*v);
-      }
-      if (const toml::node* n = t->get("weights")) {
-        const toml::table* w = n->as_table();
-        if (!w) throw RigError{at(path, *n) + ": weights must be { rigidity = 6.0, junction = 1.0 }"};
-        check_keys(path, *w, {"rigidity", "junction"}, "[grid] weights");
-        if (const toml::node* x = w->get("rigidity")) r.grid_rigidity = number(path, *x, "rigidity");
-        if (const toml::node* x = w->get("junction")) r.grid_junction = number(path, *x, "junction");
-        if (!(r.grid_rigidity > 0) || !(r.grid_junction > 0)) throw RigError{at(path, *n) + ": grid weights must be positive"};
-      }
-    }
-    if (const toml::node* kn = root.get("key")) {
-      const toml::array* a = kn->as_array();
-      if (!a) throw RigError{at(path, *kn) + ": use [[key]] tables"};
-      for (const toml::node& node : *a) {
-        const toml::table* t = node.as_table();
-        if (!t) throw RigError{at(path, node) + ": a key must be a table"};
-        check_keys(path, *t, {"name", "targets", "frame"}, "[[key]]");
-        RigKey k;
-        k.line = static_cast<int>(node.source().begin.line);
-        const toml::node* nm = t->get("name");
-        if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": a key needs a name"};
-        k.name = *nm->value<std::string>();
-        if (k.name == "rest") throw RigError{at(path, *nm) + ": 'rest' is the rest pose; name the key otherwise"};
-        for (const RigKey& o : r.keys)
-          if (o.name == k.name) throw RigError{at(path, node) + ": key '" + k.name + "' defined twice"};
-        const toml::node* tg = t->get("targets");
-        const toml::node* fr = t->get("frame");
-        if ((tg == nullptr) == (fr == nullptr)) throw RigError{at(path, node) + ": key '" + k.name + "' needs targets = { HANDLE = [x, y], ... } or frame = \"file.json\""};
-        if (fr) {
-          if (!fr->is_string()) throw RigError{at(path, *fr) + ": frame must be the path of a saved frame (pose --dump)"};
-          k.frame = *fr->value<std::string>();
-        } else {
-          const toml::table* tt = tg->as_table();
-          if (!tt) throw RigError{at(path, *tg) + ": targets must be { HANDLE = [x, y], ... }"};
-          for (const auto& [hk, hv] : *tt) {
-            const std::string hname(hk.str());
-            if (r.find_handle(hname) < 0) throw RigError{at(path, hv) + ": key '" + k.name + "' names no handle '" + hname + "'"};
-            k.targets.push_back({hname, point(path, hv, "target")});
-          }
-        }
-        r.keys.push_back(k);
-      }
-    }
-    if (const toml::node* sn = root.get("stiffness")) {
-      const toml::array* a = sn->as_array();
-      if (!a) throw RigError{at(path, *sn) + ": use [[stiffness]] tables"};
-      for (const toml::node& node : *a) {
-        const toml::table* t = node.as_table();
-        if (!t) throw RigError{at(path, node) + ": a stiffness region must be a table"};
-        check_keys(path, *t, {"name", "center", "radius", "weight"}, "[[stiffness]]");
-        RigStiffness s;
-        s.line = static_cast<int>(node.source().begin.line);
-        const toml::node* c = t->get("center");
-        const toml::node* rad = t->get("radius");
-        const toml::node* w = t->get("weight");
-        if (!c || !rad || !w) throw RigError{at(path, node) + ": a stiffness region needs center = [x, y], radius and weight"};
-        if (const toml::node* nm = t->get("name")) s.name = nm->value<std::string>().value_or("");
-        s.center = point(path, *c, "center");
-        s.radius = number(path, *rad, "radius");
-        s.weight = number(path, *w, "weight");
-        if (!(s.radius > 0) || !(s.weight > 0)) throw RigError{at(path, node) + ": radius and weight must be positive"};
-        for (const RigStiffness& o : r.stiffness)
-          if (!s.name.empty() && o.name == s.name) throw RigError{at(path, node) + ": stiffness region '" + s.name + "' defined twice"};
-        r.stiffness.push_back(s);
-      }
-    }
-    // Swap sets and triggers name sub-shapes; load_puppet checks them against the character.
-    auto id_list = [&](const toml::node& n, const char* what) {
-      std::vector<std::string> ids;
-      const toml::array* a = n.as_array();
-      if (!a || a->empty()) throw RigError{at(path, n) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
-      for (const toml::node& e : *a) {
-        if (!e.is_string() || e.value<std::string>()->empty())
-          throw RigError{at(path, e) + ": " + what + " must be a list of sub-shape ids, [\"a\", \"b\"]"};
-        ids.push_back(*e.value<std::string>());
-      }
-      return ids;
-    };
-    auto named = [&](const toml::table& t, const toml::node& node, const char* what) {
-      const toml::node* nm = t.get("name");
-      if (!nm || !nm->is_string() || nm->value<std::string>()->empty()) throw RigError{at(path, node) + ": " + what + " needs a name"};
-      const std::string name = *nm->value<std::string>();
-      for (const RigSwap& o : r.swaps)
-        if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a swap set"};
-      for (const RigTrigger& o : r.triggers)
-        if (o.name == name) throw RigError{at(path, node) + ": '" + name + "' is already a trigger"};
-      return name;
-    };
-    if (const toml::node* sn = root.get("swap")) {
-      const toml::array* a = sn->as_array();
-      if (!a) throw RigError{at(path, *sn) + ": use [[swap]] tables"};
-      for (const toml::node& node : *a) {
-        const toml::table* t = node.as_table();
-        if (!t) throw RigError{at(path, node) + ": a swap set must be a table"};
-        check_keys(path, *t, {"name", "members", "default"}, "[[swap]]");
-        RigSwap sw;
-        sw.line = static_cast<int>(node.source().begin.line);
-        sw.name = named(*t, node, "a swap set");
-        const toml::node* m = t->get("members");
-        if (!m) throw RigError{at(path, node) + ": swap set '" + sw.name + "' needs members = [\"a\", \"b\", ...]"};
-        sw.members = id_list(*m, "members");
-        if (const toml::node* d = t->get("default")) {
-          const std::string dn = d->value<std::string>().value_or("");
-          const auto it = std::find(sw.members.begin(), sw.members.end(), dn);
-          if (it == sw.members.end()) throw RigError{at(path, *d) + ": default '" + dn + "' is not one of the members"};
-          sw.default_member = int(it - sw.members.begin());
-        }
-        r.swaps.push_back(sw);
-      }
-    }
-    if (const toml::node* tn = root.get("trigger")) {
-      const toml::array* a = tn->as_array();
-      if (!a) throw RigError{at(path, *tn) + ": use [[trigger]] tables"};
-      for (const toml::node& node : *a) {
-        const toml::table* t = node.as_table();
-        if (!t) throw RigError{at(path, node) + ": a trigger must be a table"};
-        check_keys(path, *t, {"name", "shapes"}, "[[trigger]]");
-        RigTrigger tr;
-        tr.line = static_cast<int>(node.source().begin.line);
-        tr.name = named(*t, node, "a trigger");
-        const toml::node* sh = t->get("shapes");
-        if (!sh) throw RigError{at(path, node) + ": trigger '" + tr.name + "' needs shapes = [\"a\", ...]"};
-        tr.shapes = id_list(*sh, "shapes");
-        r.triggers.push_back(tr);
-      }
-    }
+    if (const toml::node* sv = root.get("feature_frame")) read_feature_frame(path, sv, r);
+    if (const toml::node* js = root.get("joint")) read_joint(path, js, r);
+    if (const toml::node* ps = root.get("part")) read_part(path, ps, r);
+    if (const toml::node* gn = root.get("grid")) read_grid(path, gn, r);
+    if (const toml::node* kn = root.get("key")) read_key(path, kn, r);
+    if (const toml::node* sn = root.get("stiffness")) read_stiffness(path, sn, r);
+    if (const toml::node* sn = root.get("swap")) read_swap(path, sn, r);
+    if (const toml::node* tn = root.get("trigger")) read_trigger(path, tn, r);
     if (const toml::node* pn = root.get("physics")) parse_rig_physics(path, *pn, r);
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
