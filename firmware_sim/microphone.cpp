@@ -1,6 +1,6 @@
 #include "firmware_sim/microphone.h"
 
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <cmath>

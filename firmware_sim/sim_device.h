@@ -9,7 +9,7 @@
 // timeline then repeats with that period, for shows of any length.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "input/decoder.h"
 
 #include <algorithm>

@@ -4,7 +4,7 @@
 #include "app/puppet.h"
 #include "interp/interpolation.h"
 
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <cmath>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "app/keys.h"
 
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <nlohmann/json.hpp>
 

@@ -8,7 +8,7 @@
 #include "character/color.h"
 #include "character/load.h"
 #include "geom/polygon.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 #include "render/image.h"
 
 #include <SDL.h>

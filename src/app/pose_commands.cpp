@@ -8,7 +8,7 @@
 #include "render/overlay.h"
 #include "rig/edit.h"
 
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <chrono>

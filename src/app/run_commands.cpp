@@ -1,7 +1,7 @@
 // `marionette run` and `marionette replay`, and the stats JSON.
 #include "app/commands.h"
 #include "app/live.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <nlohmann/json.hpp>
 

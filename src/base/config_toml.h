@@ -3,7 +3,7 @@
 // which returns it as a failed Result.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "geom/types.h"
 
 #include <toml++/toml.h>

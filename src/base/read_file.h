@@ -11,7 +11,7 @@
 // Messages start with the path.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 
 #include <cstdint>
 #include <string>

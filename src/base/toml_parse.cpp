@@ -1,6 +1,6 @@
-// Reading TOML text (character/config_toml.h): a nesting check before toml++ sees the text,
+// Reading TOML text (base/config_toml.h): a nesting check before toml++ sees the text,
 // then toml++ itself.
-#include "character/config_toml.h"
+#include "base/config_toml.h"
 
 namespace mar::cfg {
 namespace {

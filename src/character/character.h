@@ -2,7 +2,7 @@
 #pragma once
 
 #include "geom/triangulate.h"
-#include "geom/result.h"
+#include "base/result.h"
 #include "geom/types.h"
 
 #include <cstdint>

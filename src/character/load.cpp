@@ -2,7 +2,7 @@
 
 #include "character/raster_loader.h"
 #include "character/svg_loader.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,10 +1,10 @@
 #include "character/raster_loader.h"
 
-#include "character/config_toml.h"
+#include "base/config_toml.h"
 
 #include "geom/marching_squares.h"
 #include "geom/polygon.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <stb/stb_image.h>
 #include <toml++/toml.h>

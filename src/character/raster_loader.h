@@ -45,7 +45,7 @@ constexpr size_t kMaxImagePixels = 16'000'000;
 /// Decodes a PNG (or JPEG, GIF, BMP) in memory as RGBA8; an image over `max_pixels` (or the
 /// limits above) is refused from its header, before decoding. `name` starts the messages.
 Result<Texture> decode_png(std::string_view bytes, const std::string& name, size_t max_pixels = kMaxImagePixels);
-/// Reads a PNG as RGBA8 (input/read_file.h, then decode_png).
+/// Reads a PNG as RGBA8 (base/read_file.h, then decode_png).
 Result<Texture> read_png(const std::string& path, size_t max_pixels = kMaxImagePixels);
 
 }  // namespace mar

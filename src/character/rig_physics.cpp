@@ -1,5 +1,5 @@
 // [[physics]] tables of a rig: chains of dangling parts (character/rig.h, motion/chain.h).
-#include "character/config_toml.h"
+#include "base/config_toml.h"
 #include "character/rig.h"
 
 #include <cstdio>

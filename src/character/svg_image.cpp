@@ -1,7 +1,7 @@
 #include "character/svg_parse.h"
 
 #include "character/raster_loader.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <stb/stb_image.h>
 

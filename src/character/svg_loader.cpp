@@ -3,7 +3,7 @@
 #include "character/svg_loader_impl.h"
 
 #include "geom/polygon.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <algorithm>
 #include <filesystem>

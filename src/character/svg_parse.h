@@ -95,7 +95,7 @@ std::vector<unsigned char> base64_decode(std::string_view in);
 
 /// Decodes the raster image an <image> href names: a base64 data URI or a file relative
 /// to `base_dir` (PNG, JPEG, GIF, BMP via stb_image), read as every outside file is
-/// (input/read_file.h), its size checked from its header before decoding. A file outside
+/// (base/read_file.h), its size checked from its header before decoding. A file outside
 /// `base_dir` and its subfolders (after following links) is refused unless `anywhere`.
 /// nullptr with `problem` set when it cannot (remote, nested SVG, outside the folder,
 /// missing, not a file, too large, undecodable). Defined in svg_image.cpp.

@@ -6,7 +6,7 @@
 // replay re-decodes the very bytes the show read.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "input/hid.h"
 #include "input/voice.h"
 #include "input/wire.h"

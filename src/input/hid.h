@@ -3,7 +3,7 @@
 // firmware_sim device.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 
 #include <cstdint>
 #include <span>

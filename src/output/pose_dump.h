@@ -9,7 +9,7 @@
 #pragma once
 
 #include "character/character.h"
-#include "geom/result.h"
+#include "base/result.h"
 
 #include <atomic>
 #include <cstdio>

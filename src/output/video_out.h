@@ -14,7 +14,7 @@
 // fails (a full disk) is said once with the file's name; later frames are dropped and counted.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "output/frame_ring.h"
 
 #include <atomic>

@@ -1,7 +1,7 @@
 #include "render/image.h"
 
 #include "character/raster_loader.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <stb/stb_image_write.h>
 

@@ -4,7 +4,7 @@
 // no allocation in a frame.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 
 #include <SDL2/SDL_pixels.h>
 #include <SDL2/SDL_rect.h>

@@ -7,7 +7,7 @@
 
 #include "character/character.h"
 #include "character/rig.h"
-#include "geom/result.h"
+#include "base/result.h"
 
 #include <vector>
 

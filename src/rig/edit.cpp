@@ -1,6 +1,6 @@
 #include "rig/edit.h"
 
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <cerrno>
 #include <cstdio>

@@ -3,7 +3,7 @@
 // (the same bindings work with the real device: change the [[device]] table as Devices says).
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "rig/auto_rig.h"
 
 #include <string>

@@ -1,4 +1,4 @@
-// Files that are not files (input/read_file.h), as a new user meets them: a typo naming a
+// Files that are not files (base/read_file.h), as a new user meets them: a typo naming a
 // folder, a link to a device, a FIFO, a hostile drawing. Every path the program reads is
 // opened without blocking, checked to be a regular file and its size refused past the format's
 // limit before it is read: for each loader, each kind of path ends at once (well within the

@@ -1,5 +1,5 @@
 #include "character/rig.h"
-#include "character/config_toml.h"
+#include "base/config_toml.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -305,33 +305,6 @@ TEST(load_rig, ExampleRigsLoad) {
     EXPECT_GE(r.value->handles.size(), 5u);
     EXPECT_TRUE(std::filesystem::exists(r.value->character_path())) << r.value->character_path();
   }
-}
-
-// The nesting check counts what toml++ would recurse into: dotted key segments (in keys and
-// table headers, not in floats or strings), inline tables and arrays.
-TEST(TomlNesting, CountsKeysTablesAndArraysNotStringsOrNumbers) {
-  auto deep = [](const std::string& text) { return !cfg::toml_nesting_problem(text, "t.toml", 8).empty(); };
-  EXPECT_FALSE(deep("a.b.c.d = 1.5\n[x.y.z]\nq = [1.5, 2.5, [3.5]]\n"));
-  EXPECT_TRUE(deep("a.b.c.d.e.f.g.h.i = 1\n"));
-  EXPECT_TRUE(deep("[a.b.c.d.e.f.g.h.i]\n"));
-  EXPECT_TRUE(deep("[[a.b.c.d.e.f.g.h.i]]\n"));
-  EXPECT_TRUE(deep("x = [[[[[[[[[1]]]]]]]]]\n"));
-  EXPECT_TRUE(deep("x = {a = {b = {c = {d.e.f.g.h = 1}}}}\n"));
-  EXPECT_FALSE(deep("x = {a = {b = {c = {d.e.f.g = 1}}}}\n"));  // eight: at the limit
-  EXPECT_FALSE(deep("x = \"a.b.c.d.e.f.g.h.i.j\"\ny = 1.2\n# a.b.c.d.e.f.g.h.i [[[[[[[[[[\n"));
-  EXPECT_FALSE(deep("x = \"\"\"\n[[[[[[[[[[\n\"\"\"\ny = '''\n{{{{{{{{{{\n'''\n"));
-  EXPECT_FALSE(deep("\"a.b.c.d.e.f.g.h.i.j\" = 1\n"));
-  const std::string why = cfg::toml_nesting_problem("ok = 1\n\na.b.c.d.e.f.g.h.i = 1\n", "t.toml", 8);
-  EXPECT_EQ(why, "t.toml:3: keys, tables or arrays nest deeper than 8 levels (the limit); file refused");
-  // Through parse_toml, as every reader parses: refused before toml++ sees it.
-  std::string key = "a";
-  for (int k = 0; k < 50000; ++k) key += ".a";
-  const auto r = cfg::parse_toml(key + " = 1\n", "deep.toml");
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error.find("deep.toml:1: keys, tables or arrays nest deeper than 64"), std::string::npos);
-  const auto bad = cfg::parse_toml("x = = 1\n", "bad.toml");
-  ASSERT_FALSE(bad.ok());
-  EXPECT_EQ(bad.error.rfind("bad.toml:1: ", 0), 0u) << bad.error;
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 
 #include "app/show.h"
 #include "firmware_sim/sim_device.h"
-#include "geom/result.h"
+#include "base/result.h"
 #include "input/decoder.h"
 #include "input/mapping.h"
 

@@ -1,7 +1,7 @@
 #include "app/loop/recording.h"
 
 #include "app/show.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 
 #include <array>
 #include <cerrno>

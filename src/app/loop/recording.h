@@ -9,7 +9,7 @@
 // that holds the damage; what came before it plays, and the damage is said.
 #pragma once
 
-#include "geom/result.h"
+#include "base/result.h"
 #include "input/wire.h"
 
 #include <cstdint>

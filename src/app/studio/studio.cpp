@@ -2,7 +2,7 @@
 
 #include "character/load.h"
 #include "geom/triangulate.h"
-#include "input/read_file.h"
+#include "base/read_file.h"
 #include "rig/auto_rig.h"
 #include "rig/edit.h"
 #include "rig/part_names.h"
