@@ -246,7 +246,13 @@ class LiveShow : private LedSink {
   };
   std::vector<Prop> props_;
   void draw_props(bool front);
-  void place_scenery();        ///< each scenery drawing's view on the canvas (after the canvas is made)
+  /// Each scenery drawing's view on a canvas of w x h (px, supersampled by ss).
+  void place_scenery(double w, double h, double ss);
+  /// What lies behind the character and never moves, drawn once at load (off a running show's
+  /// frame thread): the canvas copies it under each frame (Canvas::set_underlay).
+  std::vector<uint8_t> backdrop_px_;
+  bool backdrop_on_ = false;
+  void use_backdrop();
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;

@@ -6,6 +6,7 @@
 #include <SDL2/SDL.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cstdlib>
 #include <cctype>
 
@@ -196,6 +197,7 @@ Canvas::~Canvas() {
     for (auto& [k, t] : cache) SDL_DestroyTexture(t);
   if (target_) SDL_DestroyTexture(target_);
   if (white_) SDL_DestroyTexture(white_);
+  if (underlay_tex_) SDL_DestroyTexture(underlay_tex_);
   if (renderer_) SDL_DestroyRenderer(renderer_);
   if (surface_) SDL_FreeSurface(surface_);
   if (shown_tex_) SDL_DestroyTexture(shown_tex_);
@@ -234,6 +236,37 @@ void Canvas::clear(const Rgba& bg) {
   SDL_RenderClear(renderer_);
   SDL_SetRenderDrawBlendMode(renderer_, SDL_BLENDMODE_BLEND);
   composed_ = false;
+}
+
+bool Canvas::set_underlay(std::vector<std::uint8_t> px) {
+  if (px.size() != static_cast<size_t>(width_) * static_cast<size_t>(height_) * 4) return false;
+  if (underlay_tex_) SDL_DestroyTexture(underlay_tex_);
+  underlay_tex_ = nullptr;
+  if (gpu_) {
+    underlay_tex_ = SDL_CreateTexture(wrenderer_, SDL_PIXELFORMAT_ABGR8888, SDL_TEXTUREACCESS_STATIC, width_, height_);
+    if (!underlay_tex_ || SDL_UpdateTexture(underlay_tex_, nullptr, px.data(), width_ * 4) != 0) {
+      if (underlay_tex_) SDL_DestroyTexture(underlay_tex_);
+      underlay_tex_ = nullptr;
+      return false;
+    }
+    SDL_SetTextureBlendMode(underlay_tex_, SDL_BLENDMODE_NONE);
+  }
+  underlay_px_ = std::move(px);
+  return true;
+}
+
+void Canvas::clear_to_underlay() {
+  composed_ = false;
+  if (gpu_ && underlay_tex_) {
+    SDL_SetRenderTarget(wrenderer_, target_);
+    SDL_RenderCopy(wrenderer_, underlay_tex_, nullptr, nullptr);
+    SDL_SetRenderDrawBlendMode(wrenderer_, SDL_BLENDMODE_BLEND);
+    return;
+  }
+  auto* dst = static_cast<std::uint8_t*>(surface_->pixels);
+  const size_t row = static_cast<size_t>(width_) * 4;
+  for (int y = 0; y < height_; ++y)
+    std::memcpy(dst + static_cast<size_t>(y) * static_cast<size_t>(surface_->pitch), underlay_px_.data() + static_cast<size_t>(y) * row, row);
 }
 
 PixelTarget Canvas::pixels() {

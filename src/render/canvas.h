@@ -86,6 +86,13 @@ class Canvas {
 
   /// Fills the whole canvas with a straight-alpha colour (alpha 0 = transparent).
   void clear(const Rgba& background);
+  /// A picture that clear_to_underlay() puts under each frame: what does not move (a show's
+  /// scenery), drawn once. Premultiplied RGBA8 of exactly width() x height(); false (and
+  /// nothing kept) otherwise. On the GPU it becomes a texture.
+  bool set_underlay(std::vector<std::uint8_t> premultiplied);
+  bool has_underlay() const { return !underlay_px_.empty(); }
+  /// The underlay, copied over the whole canvas (no blending). No allocation.
+  void clear_to_underlay();
   /// Draws the triangles in order; returns an error message or empty.
   std::string draw(const DrawList& list);
   /// Canvas pixels as premultiplied RGBA8 (exactly what blending produced).
@@ -144,6 +151,8 @@ class Canvas {
   std::vector<SDL_Vertex> sw_vertices_;
   std::vector<int> sw_indices_;
   SDL_Surface* surface_ = nullptr;    ///< the canvas
+  std::vector<std::uint8_t> underlay_px_;  ///< set_underlay()'s picture (software copy)
+  SDL_Texture* underlay_tex_ = nullptr;    ///< ...and on the GPU
   SDL_Renderer* renderer_ = nullptr;  ///< SDL's software renderer on the canvas (clear, aliased mode)
   std::unordered_map<const Texture*, SDL_Texture*> textures_;
   // window
