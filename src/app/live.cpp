@@ -418,7 +418,7 @@ void LiveShow::map(int64_t t_ns) {
     for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
   }
   n_targets_ = grab_.apply(mapping_.grab_point(), targets_);
-  if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, *this);
+  if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
 }
 
 void LiveShow::apply_settings() {

@@ -13,6 +13,7 @@
 #include "app/loop/file_watch.h"
 #include "app/loop/late_input.h"
 #include "app/loop/leds.h"
+#include "app/loop/light_route.h"
 #include "app/loop/music.h"
 #include "app/loop/pacing.h"
 #include "app/loop/idle.h"
@@ -77,7 +78,7 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header);
 /// The canvas a show draws on: [output]'s size, else the window's (a run's --size before either).
 std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh);
 
-class LiveShow : private LedSink {
+class LiveShow {
  public:
   /// Loads a show. `previous`: a reload of that running show (app/live_reload.cpp): the new
   /// show takes over its clock, devices, simulators, window and outputs where the edit left
@@ -174,8 +175,6 @@ class LiveShow : private LedSink {
   /// after its first wait is said, once. Returns whether any is still to be decided.
   bool tell_takeover_waits(int64_t t_ns);
   bool takeover_pending_ = false;
-  bool send(uint16_t device, std::span<const uint8_t> message) override;  ///< a light (LedSink)
-  std::span<const uint8_t> last_sysex(uint16_t device, uint64_t& count) override;  ///< an answer (LedSink)
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
   long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up
   double sim_max_wait_ms_ = 0;
@@ -191,6 +190,7 @@ class LiveShow : private LedSink {
   std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
   std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
   std::unique_ptr<DeviceSet> devices_;             ///< every show device as a source (not when replaying)
+  LightRoute lights_{show_, sims_, devices_};      ///< the controllers' lights: to a simulator or through the device set
   bool has_hardware_ = false;
   std::vector<WireRecord> wires_;                  ///< this frame's wire records (capacity fixed)
   std::vector<Event> events_;                      ///< this frame's events (capacity fixed)

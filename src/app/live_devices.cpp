@@ -98,20 +98,6 @@ void LiveShow::await_simulation(int64_t t) {
   }
 }
 
-bool LiveShow::send(uint16_t device, std::span<const uint8_t> message) {
-  // An in-process simulator takes a light at once; anything else goes to its backend (whose
-  // thread writes it: USB-MIDI hands it to its I/O thread through a lock-free ring).
-  if (device < sims_.size() && sims_[device] && show_.devices[device].type == "sim") return sims_[device]->receive(message);
-  if (devices_ && device < show_.devices.size()) return devices_->backend(device).send_midi(message);
-  return false;
-}
-
-std::span<const uint8_t> LiveShow::last_sysex(uint16_t device, uint64_t& count) {
-  count = 0;
-  if (!devices_ || device >= devices_->size()) return {};
-  return devices_->last_sysex(device, count);
-}
-
 bool LiveShow::tell_takeover_waits(int64_t t_ns) {
   // A control that has not picked its target up yet does nothing until it gets there. One that
   // is still waiting a second after its first wait is said once, with where to move it (a fader

@@ -121,19 +121,25 @@ void Mapping::add_binding(Binding b) {
   bindings_.push_back(std::move(b));
   Binding& nb = bindings_.back();
   if (!arbitrable(nb.target)) return;
-  // Under arbitration when this or another binding on the same target states a priority.
+  // Arbitrated when two or more bindings drive the target and one of them states a priority
+  // (a lone binding has nobody to share with: it keeps soft takeover).
+  std::vector<int> on;
+  bool stated = false;
+  for (size_t k = 0; k < bindings_.size(); ++k)
+    if (bindings_[k].target == nb.target && bindings_[k].index == nb.index) {
+      on.push_back(int(k));
+      stated = stated || bindings_[k].tf.has_priority;
+    }
+  if (on.size() < 2 || !stated) return;
   int a = -1;
   for (size_t k = 0; k < arbs_.size(); ++k)
     if (arbs_[k].kind == nb.target && arbs_[k].index == nb.index) a = int(k);
-  if (a < 0 && !nb.tf.has_priority) return;
   if (a < 0) {
     arbs_.push_back({nb.target, nb.index, {}, {}});
     a = int(arbs_.size()) - 1;
-    for (size_t k = 0; k + 1 < bindings_.size(); ++k)  // the ones already there join it
-      if (bindings_[k].target == nb.target && bindings_[k].index == nb.index) arbs_[size_t(a)].bindings.push_back(int(k));
   }
   ArbTarget& at = arbs_[size_t(a)];
-  at.bindings.push_back(int(bindings_.size()) - 1);
+  at.bindings = std::move(on);
   std::vector<SourcePriority> sources;
   for (size_t k = 0; k < at.bindings.size(); ++k) {
     Binding& src = bindings_[size_t(at.bindings[k])];

@@ -138,6 +138,13 @@ TEST(Arbiter, TwoDevicesOnOneHandleAxisAreArbitratedInTheMapping) {
   EXPECT_DOUBLE_EQ(m.targets()[0].x(), 30) << "the override let go: the base's knob, where it was left";
   EXPECT_EQ(m.holds(0), 1);
 
+  // A lone binding with a priority has nobody to share with: not arbitrated (soft takeover stays).
+  Mapping lone;
+  lone.set_handles({"arm"}, {Vec2(0, 0)});
+  lone.add_binding(knob(0, 5, true));
+  EXPECT_EQ(lone.arbiter(0), nullptr);
+  EXPECT_EQ(lone.holds(0), -1);
+
   // Without a stated priority, two bindings on one target are the last write, as before.
   Mapping plain;
   plain.set_handles({"arm"}, {Vec2(0, 0)});
