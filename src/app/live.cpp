@@ -6,7 +6,6 @@
 #include "app/loop/learn.h"
 #include "app/simulate.h"
 #include "character/color.h"
-#include "character/load.h"
 #include "geom/polygon.h"
 #include "base/read_file.h"
 #include "render/image.h"
@@ -88,64 +87,9 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_background_color(sh.background)) s->background_ = *c;
-  for (const ShowScenery& sc : sh.scenery) {  // (loaded here, off a running show's frame thread)
-    LoadOptions lo;  // (its curves flattened against the canvas it is drawn on, as the puppet's)
-    const auto size = canvas_size(o, sh);
-    const double cw = size[0], chh = size[1];
-    lo.pixels_per_unit = [cw, chh, sc](double w, double h) {
-      w = std::max(w, 1e-9);
-      h = std::max(h, 1e-9);
-      return sc.fit == ShowScenery::Placed ? sc.width / w : sc.fit == ShowScenery::Cover ? std::max(cw / w, chh / h) : std::min(cw / w, chh / h);
-    };
-    auto c = load_character(sc.file, lo);
-    if (!c.ok()) return R::failure(sh.path + ":" + std::to_string(sc.line) + ": scenery: " + c.error);
-    if (!o.quiet)
-      for (const std::string& w : c.value->warnings) std::cerr << "warning: " << w << "\n";
-    Scenery v{std::move(*c.value), {}, Affine2::identity(), sc};
-    v.mesh = prepare_mesh(v.ch);
-    s->scenery_.push_back(std::move(v));
-  }
-  if (std::any_of(s->scenery_.begin(), s->scenery_.end(), [](const Scenery& v) { return !v.spec.front; })) {
-    // The backdrop, drawn once on a canvas of the show's size: a full-canvas gradient costs
-    // the rasterizer 14 ms a frame at 640 x 480; copied, 0.1 ms.
-    const auto size = canvas_size(o, sh);
-    const int ss = std::clamp(o.supersample, 1, 8);
-    s->place_scenery(size[0] * ss, size[1] * ss, ss);
-    auto c = Canvas::offscreen(size[0] * ss, size[1] * ss);
-    if (c.ok()) {
-      Canvas& off = **c.value;
-      DrawList list;
-      for (const Scenery& v : s->scenery_)
-        if (!v.spec.front) build_draw_list(v.ch, v.mesh, {}, v.view, 0.3, list);
-      off.clear(s->background_);
-      if (off.draw(list).empty()) s->backdrop_px_ = off.read_premultiplied();
-    }
-  }
-  for (const ShowProp& pr : sh.props) {
-    const std::string where = sh.path + ":" + std::to_string(pr.line) + ": prop: ";
-    int part = -1;
-    for (size_t k = 0; k < p.character.shapes.size(); ++k)
-      if (p.character.shapes[k].id == pr.part) part = int(k);
-    if (part < 0) return R::failure(where + "the character has no part '" + pr.part + "' (a shape id of " + p.character.source + ")");
-    // (flattened at the size it is drawn: its width in character units, at the view's scale)
-    const auto size = canvas_size(o, sh);
-    const double view_k = std::min(size[0] / std::max(1e-9, p.character.width), size[1] / std::max(1e-9, p.character.height));
-    LoadOptions lo;
-    lo.pixels_per_unit = [&pr, view_k](double w, double) { return (pr.width > 0 ? pr.width / std::max(w, 1e-9) : 1.0) * view_k; };
-    auto c = load_character(pr.file, lo);
-    if (!c.ok()) return R::failure(where + c.error);
-    Prop v;
-    v.ch = std::move(*c.value);
-    v.mesh = prepare_mesh(v.ch);
-    v.part = part;
-    v.front = pr.front;
-    const Bounds hb = p.character.shapes[size_t(part)].bounds();
-    const Vec2 at = pr.has_at ? pr.at : Vec2(0.5 * (hb.lo + hb.hi));
-    const double k = pr.width > 0 ? pr.width / std::max(1e-9, v.ch.width) : 1.0;
-    v.place = Affine2::translate(at.x(), at.y()) * Affine2::rotate(pr.rotation) * Affine2::scale(k, k) *
-              Affine2::translate(-0.5 * v.ch.width, -0.5 * v.ch.height);
-    s->props_.push_back(std::move(v));
-  }
+  // Scenery and props (loop/stage_drawings.h), loaded here: off a running show's frame thread.
+  if (std::string e = s->stage_.load(sh, p, canvas_size(o, sh), std::clamp(o.supersample, 1, 8), s->background_, o.quiet); !e.empty())
+    return R::failure(e);
 
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
@@ -314,7 +258,7 @@ bool LiveShow::open_output(std::string* err) {
     canvas_ = std::move(*c.value);
   }
   view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
-  place_scenery(canvas_->width(), canvas_->height(), ss);
+  stage_.place(canvas_->width(), canvas_->height(), ss);
   use_backdrop();
   canvas_->set_antialias(!opt_.aliased);
   if (!opt_.replay_path.empty()) {
@@ -503,60 +447,25 @@ void LiveShow::render() {
     worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
   quality_pct_ = worst * 100.0 / std::max(1e-9, p.character.height);
   stats_.quality.add(quality_pct_ * 1000.0);
-  if (backdrop_on_)
+  if (stage_.copied())
     canvas_->clear_to_underlay();  // the scenery behind, drawn once
   else
     canvas_->clear(background_);
   list_.clear();
   list_.fringe = canvas_->wants_fringe();
-  for (const Scenery& sc : scenery_)
-    if (!sc.spec.front && !backdrop_on_) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
-  draw_props(false);
+  stage_.append_behind(p, view_, list_);
   build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
-  draw_props(true);
-  for (const Scenery& sc : scenery_)
-    if (sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list_);
+  stage_.append_front(p, view_, list_);
   // Warming up, the list makes room for twice what it holds: a pose later in the show may need
   // more triangles than the first ones did (a stroke's round joins change with its angles).
   if (stats_.frames < opt_.warmup) list_.reserve_twice();
   canvas_->draw(list_);
 }
 
-void LiveShow::draw_props(bool front) {
-  // A prop moves as its part: the part's best rigid motion from rest to now (no allocation).
-  const Puppet& p = *puppet_;
-  for (const Prop& pr : props_) {
-    if (pr.front != front) continue;
-    const RigidMotion m = rigid_fit(p.character.shapes[size_t(pr.part)].points, p.shapes[size_t(pr.part)]);
-    const Affine2 move = Affine2::translate(m.to_c.x(), m.to_c.y()) * Affine2{m.c, m.s, -m.s, m.c, 0, 0} *
-                         Affine2::translate(-m.from_c.x(), -m.from_c.y());
-    build_draw_list(pr.ch, pr.mesh, {}, view_ * move * pr.place, 0.3, list_);
-  }
-}
-
 void LiveShow::use_backdrop() {
   // (the canvas the show got may differ from the one it was drawn for: then drawn each frame)
-  backdrop_on_ = !backdrop_px_.empty() && canvas_->set_underlay(std::move(backdrop_px_));
-  backdrop_px_.clear();
-}
-
-void LiveShow::place_scenery(double W, double H, double ss) {
-  // Cover: fills the canvas, centred, what overflows cut; contain: inside it, centred; placed:
-  // its top-left corner at `at` and `width` wide (canvas pixels at the show's size).
-  for (Scenery& sc : scenery_) {
-    const double w = std::max(1e-9, sc.ch.width), h = std::max(1e-9, sc.ch.height);
-    double k = 0, x = 0, y = 0;
-    if (sc.spec.fit == ShowScenery::Placed) {
-      k = sc.spec.width * ss / w;
-      x = sc.spec.at.x() * ss;
-      y = sc.spec.at.y() * ss;
-    } else {
-      k = sc.spec.fit == ShowScenery::Cover ? std::max(W / w, H / h) : std::min(W / w, H / h);
-      x = 0.5 * (W - k * w);
-      y = 0.5 * (H - k * h);
-    }
-    sc.view = Affine2{k, 0, 0, k, x, y};
-  }
+  std::vector<uint8_t> px = stage_.take_backdrop();
+  stage_.set_copied(!px.empty() && canvas_->set_underlay(std::move(px)));
 }
 
 void LiveShow::present() {

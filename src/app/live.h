@@ -20,6 +20,7 @@
 #include "app/loop/key_poses.h"
 #include "app/loop/outputs.h"
 #include "app/loop/physics.h"
+#include "app/loop/stage_drawings.h"
 #include "app/loop/recording.h"
 #include "app/loop/service.h"
 #include "app/loop/run_stats.h"
@@ -29,7 +30,6 @@
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
-#include "render/tessellate.h"
 
 #include <atomic>
 #include <array>
@@ -230,29 +230,8 @@ class LiveShow {
   uint64_t refactor_allocs_ = 0;
   Histogram refactor_us_;
   // render, present
-  struct Scenery {             ///< [[scenery]]: drawn at rest, behind or in front of the character
-    Character ch;
-    CharacterMesh mesh;
-    Affine2 view;
-    ShowScenery spec;
-  };
-  std::vector<Scenery> scenery_;
-  struct Prop {                ///< [[prop]]: drawn where the part that holds it has moved
-    Character ch;
-    CharacterMesh mesh;
-    int part = -1;             ///< the holding shape
-    Affine2 place;             ///< prop -> character units, at rest
-    bool front = true;
-  };
-  std::vector<Prop> props_;
-  void draw_props(bool front);
-  /// Each scenery drawing's view on a canvas of w x h (px, supersampled by ss).
-  void place_scenery(double w, double h, double ss);
-  /// What lies behind the character and never moves, drawn once at load (off a running show's
-  /// frame thread): the canvas copies it under each frame (Canvas::set_underlay).
-  std::vector<uint8_t> backdrop_px_;
-  bool backdrop_on_ = false;
-  void use_backdrop();
+  StageDrawings stage_;        ///< [[scenery]] and [[prop]] (loop/stage_drawings.h)
+  void use_backdrop();         ///< the canvas takes the scenery behind, drawn once at load
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
   Affine2 view_;

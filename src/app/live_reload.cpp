@@ -184,7 +184,7 @@ void LiveShow::adopt(LiveShow& old) {
   }
   const int ss = std::clamp(opt_.supersample, 1, 8);
   view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
-  place_scenery(canvas_->width(), canvas_->height(), ss);
+  stage_.place(canvas_->width(), canvas_->height(), ss);
   use_backdrop();
   if (started_) {  // the OSC address space follows the rig
     OutputsSpec out;
