@@ -64,74 +64,102 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   using R = Result<std::unique_ptr<LiveShow>>;
   std::unique_ptr<LiveShow> s(new LiveShow());
   s->opt_ = o;
-  // The show file is parsed once; its [show] table names the rig, and the rest is resolved
-  // against the loaded puppet: its handles and the settings a binding may drive.
-  std::vector<SolverParameter> params;
+  // The show file is parsed once; its [show] table names the rig (or its [[character]] tables
+  // the cast's), and the rest is resolved against the loaded puppets: their handles and the
+  // settings a binding may drive.
+  std::vector<std::unique_ptr<Puppet>> puppets;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
-    // (on the canvas begin() makes, curves are flattened to within 0.1 px)
-    auto puppet = load_puppet(header.character, header.rig, "", true, header.images_anywhere, canvas_size(o, header));
-    if (!puppet.ok()) return Result<ShowRig>::failure(puppet.error);
-    s->puppet_ = std::move(*puppet.value);
-    const Puppet& p = *s->puppet_;
-    if (!s->opt_.quiet)
-      for (const std::string& w : p.character.warnings) std::cerr << "warning: " << w << "\n";
-    params = p.solver->parameters();
-    return Result<ShowRig>::success(show_rig(p, header));
+    using RR = Result<ShowRig>;
+    auto load_one = [&](const std::string& character, const std::string& rig) -> std::string {
+      // (on the canvas begin() makes, curves are flattened to within 0.1 px)
+      auto puppet = load_puppet(character, rig, "", true, header.images_anywhere, canvas_size(o, header));
+      if (!puppet.ok()) return puppet.error;
+      if (!s->opt_.quiet)
+        for (const std::string& w : (*puppet.value)->character.warnings) std::cerr << "warning: " << w << "\n";
+      puppets.push_back(std::move(*puppet.value));
+      return {};
+    };
+    if (header.cast.empty()) {
+      if (std::string e = load_one(header.character, header.rig); !e.empty()) return RR::failure(e);
+      return RR::success(show_rig(*puppets.front(), header));
+    }
+    std::vector<ShowRig> rigs;
+    std::vector<std::string> names;
+    for (const ShowCharacter& c : header.cast) {
+      if (std::string e = load_one(c.character, c.rig); !e.empty())
+        return RR::failure(header.path + ":" + std::to_string(c.line) + ": character '" + c.name + "': " + e);
+      rigs.push_back(show_rig(*puppets.back(), header));
+      names.push_back(c.name);
+    }
+    return RR::success(cast_rig(names, std::move(rigs)));
   });
   if (!show.ok()) return R::failure(show.error);
   s->show_ = std::move(*show.value);
   ShowConfig& sh = s->show_;
-  Puppet& p = *s->puppet_;
   s->pacer_ = Pacer(1.0 / (o.rate > 0 ? o.rate : sh.rate_hz), false);
   s->governor_ = Governor(sh.iterations, sh.min_iterations);
   if (o.kiosk) sh.kiosk.enabled = true;
   s->hud_ = sh.hud && !sh.kiosk.enabled;
   if (auto c = parse_background_color(sh.background)) s->background_ = *c;
-  // Scenery and props (loop/stage_drawings.h), loaded here: off a running show's frame thread.
-  if (std::string e = s->stage_.load(sh, p, canvas_size(o, sh), std::clamp(o.supersample, 1, 8), s->background_, o.quiet); !e.empty())
-    return R::failure(e);
 
+  // One mapping for the whole cast: every actor's handles, settings, swap sets and triggers are a
+  // range of its own (loop/actor.h), in ShowRig order.
   Mapping& m = s->mapping_;
   std::vector<std::string> names;
-  for (const auto& h : p.rig.handles) names.push_back(h.name);
-  const std::vector<Vec2> rest = p.rest_targets();
+  std::vector<Vec2> rest;
+  for (size_t c = 0; c < puppets.size(); ++c) {
+    for (const auto& h : puppets[c]->rig.handles) names.push_back(sh.cast.empty() ? h.name : sh.cast[c].name + "." + h.name);
+    const std::vector<Vec2> r = puppets[c]->rest_targets();
+    rest.insert(rest.end(), r.begin(), r.end());
+  }
   m.set_handles(names, rest);
-  // Settings, in ShowRig order: the iteration count (the governor's ceiling), then the
-  // solver's parameters (a change re-factorises).
+  // Settings: the iteration count (the governor's ceiling), then each actor's own.
   s->setting_iterations_ = m.add_setting({double(sh.iterations), double(sh.min_iterations), 200, true});
-  s->setting_solver_ = int(m.setting_count());
-  for (const SolverParameter& sp : params) {
-    m.add_setting({sp.value, sp.lo, sp.hi, false});
-    s->solver_params_.push_back(sp.value);
+  size_t h0 = 0, sw0 = 0, tr0 = 0;
+  for (size_t c = 0; c < puppets.size(); ++c) {
+    // Swap sets and triggers: what shows (the rig's defaults until a control changes them).
+    for (const RigSwap& sw : puppets[c]->rig.swaps) {
+      s->swap_counts_.push_back(int(sw.members.size()));
+      s->swap_members_.push_back(sw.default_member);
+    }
+    const size_t nh = puppets[c]->rig.handles.size(), nsw = puppets[c]->rig.swaps.size(), ntr = puppets[c]->rig.triggers.size();
+    auto a = std::make_unique<Actor>();
+    if (std::string e = a->prepare(std::move(puppets[c]), sh, m, h0, sw0, tr0, int(c)); !e.empty()) return R::failure(e);
+    if (!sh.cast.empty()) {
+      a->set_name(sh.cast[c].name);
+      a->shown = sh.cast[c].shown;
+      a->z = sh.cast[c].z;
+    }
+    h0 += nh;
+    sw0 += nsw;
+    tr0 += ntr;
+    s->actors_.push_back(std::move(a));
   }
-  // Then the key-pose settings, in the same order (their ranges are 0..1).
-  if (p.feature_frame() && !p.rig.keys.empty()) s->keys_.add_settings(m, int(p.rig.keys.size()));
-  // Then secondary motion's ([[physics]] chains; app/loop/physics.h).
-  s->physics_.prepare(p, sh.physics);
-  s->setting_physics_ = int(m.setting_count());
-  for (const PhysicsStage::SettingInfo& si : s->physics_.settings()) m.add_setting({si.value, si.lo, si.hi, false});
-  // Only the settings a binding drives count; solve the keys once and prepare their interpolation.
-  if (s->keys_.keep_driven(sh)) {
-    auto keys = solve_keys(p);
-    if (!keys.ok()) return R::failure(keys.error);
-    if (std::string err = s->keys_.prepare(p, *keys.value); !err.empty()) return R::failure(err);
-    s->key_values_.assign(s->keys_.settings().size(), 0.0);
+  for (const auto& a : s->actors_) s->z_order_.push_back(a.get());
+  std::stable_sort(s->z_order_.begin(), s->z_order_.end(), [](const Actor* x, const Actor* y) { return x->z < y->z; });
+  s->triggers_on_.assign(tr0, 0);
+  m.set_swaps(s->swap_counts_, s->swap_members_, tr0);
+  {
+    const auto [cw, chh] = canvas_size(o, sh);
+    const int ss = std::clamp(o.supersample, 1, 8);
+    s->place_cast(cw * ss, chh * ss, ss);
+    // Scenery and props (loop/stage_drawings.h), loaded here: off a running show's frame thread.
+    if (std::string e = s->stage_.load(sh, s->actors_, {cw, chh}, ss, s->background_, o.quiet); !e.empty()) return R::failure(e);
   }
-  // Swap sets and triggers: what shows (the rig's defaults until a control changes them).
-  for (const RigSwap& sw : p.rig.swaps) {
-    s->swap_counts_.push_back(int(sw.members.size()));
-    s->swap_members_.push_back(sw.default_member);
-  }
-  s->triggers_on_.assign(p.rig.triggers.size(), 0);
-  m.set_swaps(s->swap_counts_, s->swap_members_, p.rig.triggers.size());
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
-  const Bounds bb = p.character.bounds();
-  s->rest_bounds_ = bb;
-  s->rest_cover_ = cover_cells(p.character, bb, kCoverCells);  // (the HUD keeps off them)
+  auto actor_of = [&](const Binding& b) -> const Actor& {  // (a pointer's character: its handle's, or its grab's)
+    if (b.target == TargetKind::Grab) return *s->actors_[size_t(b.index)];
+    for (const auto& a : s->actors_)
+      if (b.target == TargetKind::HandlePoint && size_t(b.index) >= a->ranges().handle0 &&
+          size_t(b.index) < a->ranges().handle0 + a->ranges().handles)
+        return *a;
+    return *s->actors_.front();
+  };
   for (Binding b : sh.bindings) {
     if (b.control.kind == ControlSpec::Pointer && b.tf.area[0] == 0 && b.tf.area[2] == 1) {
       // Default pointer area: the tablet covers the character's bounding box.
+      const Bounds bb = actor_of(b).rest_bounds;
       b.tf.area[0] = bb.lo.x();
       b.tf.area[1] = bb.lo.y();
       b.tf.area[2] = bb.hi.x();
@@ -178,7 +206,6 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   s->wires_.resize(4096);
   s->events_.resize(4096);
   s->targets_ = rest;
-  s->targets_.push_back(Vec2::Zero());  // the grab handle's target (used while grabbing)
   s->replay_wires_.reserve(1 << 16);
   s->replay_decoders_.resize(sh.devices.size());
   s->replay_retired_.resize(sh.devices.size());
@@ -224,10 +251,14 @@ bool LiveShow::open_output(std::string* err) {
     // Blur, shadows, clip paths and masks are composited by the software rasterizer: a character
     // that has them is drawn there and uploaded, in a GPU window too (the GPU multiplies a
     // group's opacity into its shapes).
-    for (const Composite& c : puppet_->character.composites)
-      wo.gpu = wo.gpu && !(c.blur > 0 || c.shadow || c.offset.squaredNorm() > 0 || !c.clip.empty() || !c.mask.empty());
-    if (!wo.gpu && !opt_.quiet)
-      std::cout << "drawn in software: " << puppet_->character.source << " has blur, shadows, clip paths or masks" << std::endl;
+    std::string soft;
+    for (const auto& a : actors_)
+      for (const Composite& c : a->puppet().character.composites)
+        if (c.blur > 0 || c.shadow || c.offset.squaredNorm() > 0 || !c.clip.empty() || !c.mask.empty()) {
+          wo.gpu = false;
+          soft = a->puppet().character.source;
+        }
+    if (!wo.gpu && !opt_.quiet) std::cout << "drawn in software: " << soft << " has blur, shadows, clip paths or masks" << std::endl;
     std::string note;
     auto w = Canvas::window(wo, canvas_w * ss, canvas_h * ss, &note);
     if (!note.empty() && !opt_.quiet) std::cerr << "warning: " << sh.path << ": [display] " << note << "\n";
@@ -257,7 +288,7 @@ bool LiveShow::open_output(std::string* err) {
     }
     canvas_ = std::move(*c.value);
   }
-  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
+  place_cast(canvas_->width(), canvas_->height(), ss);
   stage_.place(canvas_->width(), canvas_->height(), ss);
   use_backdrop();
   canvas_->set_antialias(!opt_.aliased);
@@ -283,6 +314,37 @@ bool LiveShow::open_output(std::string* err) {
     }
   }
   return true;
+}
+
+void LiveShow::place_cast(int w, int h, int ss) {
+  // A show's single rig fills the canvas (less a margin). A cast stands side by side: the
+  // characters with no position each in its share of the canvas's width, as it would fill it
+  // alone; then each is scaled and turned about its box's centre, which goes to its position.
+  size_t free = 0;
+  for (const ShowCharacter& sc : show_.cast) free += sc.has_position ? 0 : 1;
+  const double share = double(w) / double(std::max<size_t>(1, free));
+  for (size_t c = 0, next = 0; c < actors_.size(); ++c) {
+    Actor& a = *actors_[c];
+    const Character& ch = a.puppet().character;
+    if (show_.cast.empty()) {
+      a.view = fit_view(ch.width, ch.height, w, h, kShowMargin * ss);
+      continue;
+    }
+    const ShowCharacter& sc = show_.cast[c];
+    const double k = fit_view(ch.width, ch.height, int(share), h, kShowMargin * ss).a * sc.scale;
+    const Vec2 at = sc.has_position ? Vec2(sc.position * ss) : Vec2(share * (double(next++) + 0.5), 0.5 * h);
+    a.view = Affine2::translate(at.x(), at.y()) * Affine2::rotate(sc.rotation) * Affine2::scale(k, k) *
+             Affine2::translate(-0.5 * ch.width, -0.5 * ch.height);
+  }
+}
+
+std::vector<std::string> LiveShow::watched_files() const {
+  std::vector<std::string> files{show_.path};
+  for (const auto& a : actors_) {
+    files.push_back(a->puppet().rig.path);
+    files.push_back(a->puppet().character.source);
+  }
+  return files;
 }
 
 // ---- the stages ----------------------------------------------------------------------
@@ -342,7 +404,11 @@ void LiveShow::map(int64_t t_ns) {
     shown_by_attract_ = by_attract;
     for (size_t i = 0; i < swap_members_.size(); ++i) swap_members_[i] = by.swap_member(i);
     for (size_t i = 0; i < triggers_on_.size(); ++i) triggers_on_[i] = by.trigger_on(i);
-    puppet_->show(swap_members_, triggers_on_);
+    for (auto& a : actors_) {
+      const Actor::Ranges& r = a->ranges();
+      a->puppet().show(std::span<const int>(swap_members_).subspan(r.swap0, r.swaps),
+                       std::span<const char>(triggers_on_).subspan(r.trigger0, r.triggers));
+    }
   }
   // Iterations: replays use the recorded counts; on the wall clock the budget governor follows
   // the last frame's cost; on the virtual clock the count is what the show asks for, so a busy
@@ -353,7 +419,13 @@ void LiveShow::map(int64_t t_ns) {
   } else {
     governor_.force(int(mapping_.setting(setting_iterations_)));
   }
-  if (mapping_.grab_active() != grab_.active()) grab_.set(mapping_.grab_active(), mapping_.grab_point(), *puppet_);
+  // The pen: the actor it holds lets go when it comes up or another pen takes over.
+  const int want = mapping_.grab_active() ? mapping_.grab_who() : -1;
+  if (want != grabbed_) {
+    if (grabbed_ >= 0) actors_[size_t(grabbed_)]->set_grab(false, mapping_.grab_point());
+    if (want >= 0) actors_[size_t(want)]->set_grab(true, mapping_.grab_point());
+    grabbed_ = want;
+  }
   const auto mt = mapping_.targets();
   for (size_t i = 0; i < mt.size(); ++i) targets_[i] = mt[i];
   if (attract_ && attract_->shown()) {  // the crossfade: from the visitor's targets to the attract's
@@ -361,29 +433,22 @@ void LiveShow::map(int64_t t_ns) {
     const auto at = attract_->mapping().targets();
     for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
   }
-  n_targets_ = grab_.apply(mapping_.grab_point(), targets_);
+  for (auto& a : actors_) a->apply_grab(mapping_.grab_point(), slice(*a));
   if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
 }
 
 void LiveShow::apply_settings() {
   // New solver parameters from a control: the system changes, so it is factorised again
   // (measured: refactor_us; the factorisation allocates, counted on its own).
-  bool changed = false;
-  for (size_t k = 0; k < solver_params_.size(); ++k) {
-    const double v = mapping_.setting(setting_solver_ + int(k));
-    changed = changed || v != solver_params_[k];
-    solver_params_[k] = v;
+  for (auto& a : actors_) {
+    const double t0 = now_us();
+    const uint64_t a0 = allocations();
+    if (!a->apply_settings(mapping_)) continue;
+    refactor_us_.add(now_us() - t0);
+    ++refactorizations_;
+    refactor_allocs_ += allocations() - a0;
+    alloc_base_ += allocations() - a0;
   }
-  if (!changed) return;
-  Puppet& p = *puppet_;
-  const double t0 = now_us();
-  const uint64_t a0 = allocations();
-  p.solver->set_parameters(solver_params_, nullptr);
-  grab_.restore(mapping_.grab_point(), p);
-  refactor_us_.add(now_us() - t0);
-  ++refactorizations_;
-  refactor_allocs_ += allocations() - a0;
-  alloc_base_ += allocations() - a0;
 }
 
 void LiveShow::poses() {
@@ -391,61 +456,45 @@ void LiveShow::poses() {
   // puts 1 − t on A and t on B; blends add), the interpolated frame is the base pose, and every
   // handle's target moves by where the base pose has it (the performer's own offsets ride on top).
   idle_.step(dt_, mapping_, beat_.beats());  // idle behaviours: their keys' weights are read below
-  if (keys_.empty()) return;
   // Each key setting's value: the mapping's, crossfaded with the attract's, and an idle
   // behaviour's on top (app/loop/key_poses.h turns them into key weights).
   const double w = attract_ && attract_->shown() ? attract_->weight() : 0.0;
-  const auto& ks = keys_.settings();
-  for (size_t i = 0; i < ks.size(); ++i) {
-    double v = mapping_.setting(ks[i].setting);
-    if (w > 0) v += w * (attract_->mapping().setting(ks[i].setting) - v);
-    key_values_[i] = v + idle_.setting_offset(ks[i].setting);
-  }
+  auto value = [&](int setting) {
+    double v = mapping_.setting(setting);
+    if (w > 0) v += w * (attract_->mapping().setting(setting) - v);
+    return v + idle_.setting_offset(setting);
+  };
   Recall r;
   const bool asked = mapping_.take_recall(r);
-  if (keys_.step(dt_, key_values_, asked ? &r : nullptr)) physics_.reset();  // a jump: the chains start again at rest
-  keys_.offset(std::span<Vec2>(targets_.data(), n_targets_));
+  for (auto& a : actors_) a->poses(dt_, value, asked && r.who == a->ranges().who ? &r : nullptr, slice(*a));
 }
 
 void LiveShow::motion() {
   if (!idle_.empty()) {  // breathing and looking move targets; blinks show over the swaps and triggers
-    idle_.apply_targets(std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()), show_.groups);
+    idle_.apply_targets(targets_, show_.groups);
     if (idle_.has_blinks()) {
       idle_.shown(swap_members_, triggers_on_);
-      puppet_->show(idle_.members(), idle_.triggers());
+      for (auto& a : actors_) {
+        const Actor::Ranges& r = a->ranges();
+        a->puppet().show(std::span<const int>(idle_.members()).subspan(r.swap0, r.swaps),
+                         std::span<const char>(idle_.triggers()).subspan(r.trigger0, r.triggers));
+      }
     }
   }
-  if (physics_.empty()) return;
-  for (size_t k = 0, n = physics_.setting_count(); k < n; ++k) {
-    const int i = setting_physics_ + int(k);
-    physics_.set(k, mapping_.setting(i) + idle_.setting_offset(i));
-  }
-  physics_.set_beats(beat_.beats());
-  physics_.step(dt_, *puppet_, std::span<Vec2>(targets_.data(), puppet_->rig.handles.size()));
+  auto value = [&](int setting) { return mapping_.setting(setting) + idle_.setting_offset(setting); };
+  for (auto& a : actors_) a->motion(dt_, beat_.beats(), value, slice(*a));
 }
 
 void LiveShow::solve() {
-  puppet_->solver->solve(std::span<const Vec2>(targets_.data(), n_targets_), governor_.iterations());
+  for (auto& a : actors_) a->solve(slice(*a), governor_.iterations());
 }
 
 void LiveShow::render() {
-  Puppet& p = *puppet_;
-  p.reconstruct();
-  // After a reload, the figure moves from where the running show drew it to where this show's
-  // solver puts it over kReloadBlendFrames (the new solver starts from its own guess, up to 6 %
-  // of the figure away): no jump in one frame (Reload.TheFigureDoesNotJumpAtAReload).
-  if (blend_left_ > 0) {
-    const double u = 1.0 - double(blend_left_) / double(kReloadBlendFrames + 1), w = u * u * (3 - 2 * u);
-    for (size_t k = 0; k < p.shapes.size(); ++k)
-      for (size_t i = 0; i < p.shapes[k].size(); ++i) p.shapes[k][i] = blend_from_[k][i] + w * (p.shapes[k][i] - blend_from_[k][i]);
-    --blend_left_;
-  }
-  // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its
-  // rest shape), in thousandths of a percent of the character's height.
+  // Pose quality: the worst part's distortion in the cast (RMS residual of its best rigid fit
+  // to its rest shape), in thousandths of a percent of its character's height.
   double worst = 0;
-  for (size_t k = 0; k < p.shapes.size(); ++k)
-    worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
-  quality_pct_ = worst * 100.0 / std::max(1e-9, p.character.height);
+  for (auto& a : actors_) worst = std::max(worst, a->reconstruct());
+  quality_pct_ = worst;
   stats_.quality.add(quality_pct_ * 1000.0);
   if (stage_.copied())
     canvas_->clear_to_underlay();  // the scenery behind, drawn once
@@ -453,9 +502,14 @@ void LiveShow::render() {
     canvas_->clear(background_);
   list_.clear();
   list_.fringe = canvas_->wants_fringe();
-  stage_.append_behind(p, view_, list_);
-  build_draw_list(p.character, p.mesh, p.shapes, view_, 0.3, list_, p.shown);
-  stage_.append_front(p, view_, list_);
+  stage_.append_scenery(false, list_);
+  for (const Actor* a : z_order_) {  // the cast back to front, each with the props it holds
+    if (!a->shown) continue;
+    stage_.append_props(*a, false, list_);
+    a->draw(list_);
+    stage_.append_props(*a, true, list_);
+  }
+  stage_.append_scenery(true, list_);
   // Warming up, the list makes room for twice what it holds: a pose later in the show may need
   // more triangles than the first ones did (a stroke's round joins change with its angles).
   if (stats_.frames < opt_.warmup) list_.reserve_twice();
@@ -486,9 +540,17 @@ void LiveShow::present() {
       // keeps off it where it can.
       const SDL_Rect shown = canvas_->canvas_rect();
       const double sx = double(shown.w) / std::max(1, canvas_->width()), sy = double(shown.h) / std::max(1, canvas_->height());
-      const Vec2 lo = view_.apply(rest_bounds_.lo), hi = view_.apply(rest_bounds_.hi);
-      const HudAvoid avoid{shown.x + int(std::min(lo.x(), hi.x()) * sx), shown.y + int(std::min(lo.y(), hi.y()) * sy),
-                           int(std::abs(hi.x() - lo.x()) * sx), int(std::abs(hi.y() - lo.y()) * sy), kCoverCells, rest_cover_.data()};
+      // A cast: the box round them all, kept off whole.
+      Vec2 lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+      for (const auto& a : actors_)
+        for (const Vec2& c : {a->rest_bounds.lo, a->rest_bounds.hi, Vec2(a->rest_bounds.lo.x(), a->rest_bounds.hi.y()),
+                              Vec2(a->rest_bounds.hi.x(), a->rest_bounds.lo.y())}) {
+          const Vec2 v = a->view.apply(c);
+          lo = lo.cwiseMin(v);
+          hi = hi.cwiseMax(v);
+        }
+      const HudAvoid avoid{shown.x + int(lo.x() * sx), shown.y + int(lo.y() * sy), int((hi.x() - lo.x()) * sx), int((hi.y() - lo.y()) * sy),
+                           actors_.size() == 1 ? Actor::kCoverCells : 0, actors_.size() == 1 ? lead().rest_cover.data() : nullptr};
       hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_, &avoid);
     }
   }
@@ -511,7 +573,7 @@ void LiveShow::present() {
 }
 
 void LiveShow::finish(int64_t t_ns, double compute_us) {
-  stats_.hash.add(puppet_->shapes);
+  for (const auto& a : actors_) stats_.hash.add(a->puppet().shapes);
   int64_t newest_ns = -1;  // this frame's newest input (-1: none), for its age at frame-ready
   for (size_t i = 0; i < n_events_; ++i) newest_ns = std::max(newest_ns, events_[i].t_ns);
   newest_ns_ = newest_ns;
@@ -519,8 +581,8 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
-  compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, *puppet_, *canvas_,
-                               {keys_.weights(), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
+  compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, lead().puppet(), *canvas_,
+                               {lead().key_weights(), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
     if (stats_.frames >= opt_.warmup) present_allocs_ += n;
@@ -619,8 +681,8 @@ std::string LiveShow::begin() {
   out.width = canvas_->width();
   out.height = canvas_->height();
   out.rate = int(std::lround(1.0 / period));
-  out.set_osc(show_, puppet_->rig);
-  if (std::string e = outputs_->open(out, puppet_->character); !e.empty()) return e;
+  out.set_osc(show_, lead().puppet().rig);
+  if (std::string e = outputs_->open(out, lead().puppet().character); !e.empty()) return e;
   if (!opt_.record_path.empty() && !recorder_) {  // (an output: a take that cannot be written is exit 1)
     auto r = Recorder::open(opt_.record_path, show_identity(show_));
     if (!r.ok()) return r.error;
@@ -630,7 +692,7 @@ std::string LiveShow::begin() {
   const bool late_timed = realtime() && !playback_;
   if (late_timed) {  // hot reload on save (the virtual clock's shows run as given, start to end)
     watch_ = std::make_unique<FileWatch>();
-    if (const std::string e = watch_->watch({show_.path, show_.rig, puppet_->character.source}); !e.empty()) {
+    if (const std::string e = watch_->watch(watched_files()); !e.empty()) {
       if (!opt_.quiet) std::cerr << "warning: " << show_.path << ": no reload on save (" << e << ")\n";
       watch_.reset();
     }

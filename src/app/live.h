@@ -6,6 +6,7 @@
 // fixed-rate virtual clock).
 #pragma once
 
+#include "app/loop/actor.h"
 #include "app/loop/attract.h"
 #include "app/loop/governor.h"
 #include "app/loop/hud.h"
@@ -128,7 +129,10 @@ class LiveShow {
   const Mapping& mapping() const { return mapping_; }
   /// The attract loop ([attract]), or nullptr.
   const Attract* attract() const { return attract_.get(); }
-  const Puppet& puppet() const { return *puppet_; }
+  /// The cast's first character's puppet (a show's single rig).
+  const Puppet& puppet() const { return actors_.front()->puppet(); }
+  /// The cast, in the order of its [[character]] tables.
+  const std::vector<std::unique_ptr<Actor>>& actors() const { return actors_; }
   std::string stats_json() const;
   /// Heap allocations counted after warm-up (needs an allocation counter).
   uint64_t allocations_after_warmup() const { return allocs_; }
@@ -137,8 +141,9 @@ class LiveShow {
   DeviceSet* devices() { return devices_.get(); }
   /// The show's identity in its takes (loop/recording.h).
   uint64_t identity() const { return show_identity(show_); }
-  /// This frame's handle targets (after the crossfade and the key poses), what the solver got.
-  std::span<const Vec2> targets() const { return {targets_.data(), n_targets_}; }
+  /// This frame's handle targets of the whole cast, in the mapping's order (after the crossfade,
+  /// the key poses and the motion): what the solvers got.
+  std::span<const Vec2> targets() const { return targets_; }
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
   /// Whether frames follow the wall clock: a window, real hardware devices, or --realtime.
@@ -184,7 +189,13 @@ class LiveShow {
 
   RunOptions opt_;
   ShowConfig show_;
-  std::unique_ptr<Puppet> puppet_;
+  std::vector<std::unique_ptr<Actor>> actors_;     ///< the cast (loop/actor.h): one for a show's single rig
+  std::vector<Actor*> z_order_;                    ///< the cast back to front
+  void place_cast(int w, int h, int ss);   ///< each actor's view on a w x h canvas
+  std::vector<std::string> watched_files() const;  ///< the show's, every rig's and drawing's
+  std::span<Vec2> slice(const Actor& a) { return std::span<Vec2>(targets_).subspan(a.ranges().handle0, a.ranges().handles); }
+  Actor& lead() { return *actors_.front(); }
+  const Actor& lead() const { return *actors_.front(); }
   Mapping mapping_;
   // inputs
   std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
@@ -206,24 +217,16 @@ class LiveShow {
   std::unique_ptr<Attract> attract_;               ///< [attract]: plays when nobody touches the show
   bool shown_by_attract_ = false;                  ///< swaps and triggers follow the attract's mapping
   int setting_iterations_ = 0;                     ///< Mapping setting: the solver's iteration count
-  int setting_solver_ = 0;                         ///< first of the solver's parameters
-  std::vector<double> solver_params_;              ///< as last given to the solver
-  // poses: morph.A.B and blend.KEY settings (after the solver's), when a binding uses one
-  KeyPoseStage keys_;
-  std::vector<double> key_values_;                 ///< this frame's value of each of keys_.settings()
   double dt_ = 0;                                  ///< this frame's step, seconds
-  // swap sets and triggers (what shows)
+  // swap sets and triggers (what shows): the whole cast's, each actor's a range
   std::vector<int> swap_counts_, swap_members_;
   std::vector<char> triggers_on_;
   IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
   MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
   LedFeedback leds_;                               ///< controllers' lights from the show's state
-  PhysicsStage physics_;                           ///< motion: the rig's [[physics]] chains
-  int setting_physics_ = 0;                        ///< first of its settings
   Governor governor_{8, 2};
-  Grab grab_;
-  std::vector<Vec2> targets_;                      ///< handles, then the grab handle's target
-  size_t n_targets_ = 0;
+  int grabbed_ = -1;                               ///< the actor the pen holds (-1: none)
+  std::vector<Vec2> targets_;                      ///< the cast's handles' targets, mapping order
   double last_compute_ms_ = 0;
   int64_t last_t_ = 0;
   long refactorizations_ = 0;
@@ -234,14 +237,7 @@ class LiveShow {
   void use_backdrop();         ///< the canvas takes the scenery behind, drawn once at load
   std::unique_ptr<Canvas> canvas_;
   DrawList list_;
-  Affine2 view_;
-  Bounds rest_bounds_;  ///< the character at rest (the HUD keeps off it)
-  static constexpr int kReloadBlendFrames = 20;
-  std::vector<Points> blend_from_;  ///< the figure as the running show last drew it (a reload)
-  int blend_left_ = 0;              ///< frames of the blend from it still to come
   bool stats_frames_drawn() const { return stats_.frames > 0; }
-  static constexpr int kCoverCells = 24;
-  std::vector<uint8_t> rest_cover_;  ///< kCoverCells^2: where its drawing covers that box
   Rgba background_{244, 241, 234, 255};
   std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
   std::vector<Event> last_events_;                 ///< for the HUD: each device's last control

@@ -107,7 +107,7 @@ std::string LiveShow::keeps(const LiveShow& old) const {
                                             b.screen_name, b.kiosk.enabled, b.kiosk.display))
     return "[display] or [output]";
   if ((background_.a < 1) != (old.background_.a < 1)) return "the background's transparency";
-  if (!opt_.dump_poses.empty() && puppet_->shapes.size() != old.puppet_->shapes.size()) return "the pose dump's shapes";
+  if (!opt_.dump_poses.empty() && lead().puppet().shapes.size() != old.lead().puppet().shapes.size()) return "the pose dump's shapes";
   if (a.rate_hz != b.rate_hz) return "the rate";
   return {};
 }
@@ -156,21 +156,21 @@ void LiveShow::adopt(LiveShow& old) {
   refused_ = old.refused_;
   prepare_frames_ = old.prepare_frames_;
   watch_ = std::move(old.watch_);
-  if (watch_) watch_->watch({show_.path, show_.rig, puppet_->character.source});  // (an edit may name new files)
+  if (watch_) watch_->watch(watched_files());  // (an edit may name new files)
   service_ = old.service_;
   // where the controls and the handles were
   mapping_.carry_from(old.mapping_);
-  physics_.carry_from(old.physics_);  // the chains go on swinging
-  // and where the figure was drawn, when it is the same drawing: the next frames blend from it
-  bool same = old.puppet_->shapes.size() == puppet_->shapes.size();
-  for (size_t k = 0; same && k < puppet_->shapes.size(); ++k) same = old.puppet_->shapes[k].size() == puppet_->shapes[k].size();
-  if (same && old.stats_frames_drawn()) {
-    blend_from_ = old.puppet_->shapes;
-    blend_left_ = kReloadBlendFrames;
-    // The stages that read the last frame's pose (the chains hang from it) read the old one,
-    // not the rest pose: a chain's anchor does not leap at the reload.
-    puppet_->shapes = old.puppet_->shapes;
-  }
+  // Each character that was in the old cast (by name) goes on from where it was: its chains
+  // swing on, and where it was drawn, when it is the same drawing, the next frames blend from it.
+  // The stages that read the last frame's pose (the chains hang from it) read the old one, not
+  // the rest pose: a chain's anchor does not leap at the reload.
+  for (auto& a : actors_)
+    for (const auto& o : old.actors_)
+      if (o->name() == a->name()) {
+        a->carry_from(*o);
+        if (old.stats_frames_drawn()) a->carry_shapes_from(*o);
+      }
+  grabbed_ = -1;  // (the new solvers hold nothing)
   // the window and the outputs (the HUD's lines follow the new show's devices and bindings)
   canvas_ = std::move(old.canvas_);
   list_ = std::move(old.list_);  // (its buffers' capacity: the new drawing's frames allocate nothing)
@@ -183,13 +183,13 @@ void LiveShow::adopt(LiveShow& old) {
       std::cerr << "warning: the HUD has no text: " << e << "\n";
   }
   const int ss = std::clamp(opt_.supersample, 1, 8);
-  view_ = fit_view(puppet_->character.width, puppet_->character.height, canvas_->width(), canvas_->height(), kShowMargin * ss);
+  place_cast(canvas_->width(), canvas_->height(), ss);
   stage_.place(canvas_->width(), canvas_->height(), ss);
   use_backdrop();
   if (started_) {  // the OSC address space follows the rig
     OutputsSpec out;
-    out.set_osc(show_, puppet_->rig);
-    if (const std::string e = outputs_->relayout(out, puppet_->character); !e.empty() && !opt_.quiet)
+    out.set_osc(show_, lead().puppet().rig);
+    if (const std::string e = outputs_->relayout(out, lead().puppet().character); !e.empty() && !opt_.quiet)
       std::cerr << "warning: " << e << " (OSC out stays off)\n";
   }
 }

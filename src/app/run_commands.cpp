@@ -93,9 +93,33 @@ std::string LiveShow::stats_json() const {
          return a;
        }()},
       {"music", {{"bpm", beat_.clock().bpm()}, {"locked", beat_.clock().locked()}, {"beats", beat_.clock().beats()}}},
-      {"physics", {{"chains", physics_.size()}, {"steps", physics_.steps()}, {"resets", physics_.resets()},
-                   {"reverted_steps", physics_.reverts()}}},
-      {"grabs", {{"count", grab_.count()}, {"p50_us", grab_.cost_us().quantile(0.5)}, {"max_us", grab_.cost_us().max()}}},
+      {"physics", [&] {  // (the cast's chains together)
+         size_t chains = 0;
+         long steps = 0, resets = 0, reverts = 0;
+         for (const auto& a : actors_) {
+           chains += a->physics().size();
+           steps += long(a->physics().steps());
+           resets += long(a->physics().resets());
+           reverts += long(a->physics().reverts());
+         }
+         return json{{"chains", chains}, {"steps", steps}, {"resets", resets}, {"reverted_steps", reverts}};
+       }()},
+      {"grabs", [&] {  // (the cast's together; p50 of the character grabbed most)
+         long count = 0;
+         double max_us = 0;
+         const Grab* most = &lead().grab();
+         for (const auto& a : actors_) {
+           count += a->grab().count();
+           max_us = std::max(max_us, a->grab().cost_us().max());
+           if (a->grab().count() > most->count()) most = &a->grab();
+         }
+         return json{{"count", count}, {"p50_us", most->cost_us().quantile(0.5)}, {"max_us", max_us}};
+       }()},
+      {"cast", [&] {
+         json c = json::array();
+         for (const auto& a : actors_) c.push_back(a->name().empty() ? a->puppet().rig.path : a->name());
+         return c;
+       }()},
       {"heap_allocations_after_warmup", allocs_},
       // Reloads (SIGHUP, a saved edit): how many, how many edits were refused, what the last one
       // was, and what it started over (empty: the clock, devices and outputs went on).

@@ -28,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
   check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out",
-                          "scenery", "prop"}, "the show file");
+                          "scenery", "prop", "character"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -42,7 +42,9 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   }
   if (auto* n = t.get("character")) s.character = resolve(path, text(path, *n, "character"));
   if (auto* n = t.get("rig")) s.rig = resolve(path, text(path, *n, "rig"));
-  else throw ShowError{at(path, *sn) + ": [show] needs a rig"};
+  else if (!root.get("character")) throw ShowError{at(path, *sn) + ": [show] needs a rig (or the show a cast: [[character]] tables)"};
+  if (s.rig.empty() && root.get("character") && t.get("character"))
+    throw ShowError{at(path, *t.get("character")) + ": [show] character goes with [show] rig; a cast's characters are [[character]] tables"};
   if (auto* n = t.get("rate")) {
     s.rate_hz = number(path, *n, "rate");
     if (s.rate_hz < 1 || s.rate_hz > 1000) throw ShowError{at(path, *n) + ": rate must be 1..1000 Hz"};
@@ -177,7 +179,6 @@ void read_devices(const std::string& path, const toml::table& root, ShowConfig& 
 // transforms, its light and its priority.
 Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& s, const ShowRig& rig) {
   const std::vector<Vec2>& rest = rig.rest;
-  const double diag = rig.diag;
   const toml::table& t = *bn.as_table();
   check_keys(path, t, {"device", "control", "target", "range", "curve", "invert", "deadzone", "filter", "slew",
                        "takeover", "mode", "step", "button", "area", "threshold", "transition", "ease", "return", "led",
@@ -208,8 +209,8 @@ Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& 
   // rest position; a rotation turns -90..90 degrees.
   if (b.target == TargetKind::HandleX || b.target == TargetKind::HandleY) {
     const double c = b.target == TargetKind::HandleX ? rest[size_t(b.index)].x() : rest[size_t(b.index)].y();
-    tf.lo = c - 0.25 * diag;
-    tf.hi = c + 0.25 * diag;
+    tf.lo = c - 0.25 * rig.diag_of(b.index);
+    tf.hi = c + 0.25 * rig.diag_of(b.index);
   } else if (b.target == TargetKind::Rotate) {
     tf.lo = -90;
     tf.hi = 90;
@@ -437,6 +438,7 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
       if (list[i] == name) return int(i);
     return -1;
   };
+  if (!rig.cast.empty()) return parse_cast_target(t, s, rig, kind, index, member);  // show_cast.cpp
   if (t == "grab") {
     kind = TargetKind::Grab;
     index = 0;
@@ -610,6 +612,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
     s.path = path;
     const toml::table root = parse_file(path);  // the one parse of the file
     read_header(path, root, s);
+    read_cast(path, root, s);  // show_cast.cpp
     auto loaded = load_rig(s);
     if (!loaded.ok()) return Result<ShowConfig>::failure(loaded.error);
     const ShowRig& rig = *loaded.value;

@@ -114,9 +114,25 @@ struct ShowBehavior {
   int line = 0;
 };
 
+/// [[character]]: one of the show's cast, with its own rig and its place on the canvas.
+struct ShowCharacter {
+  std::string name;             ///< what the show's names start with: `NAME.handle.left-hand`
+  std::string character, rig;   ///< resolved paths (character empty: the rig's own)
+  bool has_position = false;
+  Vec2 position{0, 0};          ///< where the centre of its rest box goes, canvas px (default: the cast side by side)
+  double scale = 1;             ///< 1: the size it would have alone on the canvas (its share of it, side by side)
+  double rotation = 0;          ///< degrees, clockwise on screen, about its position
+  int z = 0;                    ///< drawing order: higher in front (equal: the order of the tables)
+  bool shown = true;            ///< on stage at the start
+  int line = 0;
+};
+
 struct ShowConfig {
   std::string path;             ///< the show file
-  std::string character, rig;   ///< resolved paths (character empty: the rig's own)
+  std::string character, rig;   ///< resolved paths (character empty: the rig's own); a cast: the first's
+  /// [[character]] tables: the cast. Empty: [show]'s rig alone, a cast of one whose names have no
+  /// character in front.
+  std::vector<ShowCharacter> cast;
   // (no defaults here: default_show() has them all)
   double rate_hz = 0;
   int iterations = 0, min_iterations = 0;
@@ -191,7 +207,22 @@ struct ShowRig {
   /// Key poses a pose.NAME may recall along the interpolation (empty when the rig's method
   /// cannot interpolate them).
   std::vector<std::string> keys;
+  /// A cast ([[character]]): each character's own names (its rig as a show of its own would
+  /// see it) and where they start in the lists above, which hold them all, prefixed `NAME.`
+  /// (settings after `iterations`, the show's own). Empty: a show's single rig.
+  struct Member {
+    std::string name;
+    size_t handle0 = 0, setting0 = 0, swap0 = 0, trigger0 = 0, key0 = 0;
+  };
+  std::vector<Member> cast;
+  std::vector<ShowRig> cast_rigs;
+  /// A handle's character's diagonal (a binding's default range).
+  double diag_of(int handle) const;
+  /// A handle's character in the cast (-1: a show's single rig).
+  int member_of(int handle) const;
 };
+/// The cast's names as one ShowRig: every character's, prefixed with its name.
+ShowRig cast_rig(const std::vector<std::string>& names, std::vector<ShowRig> rigs);
 /// Loads the rig a show names (called with the [show] table read: character and rig paths,
 /// iterations); an error is returned as is.
 using RigLoader = std::function<Result<ShowRig>(const ShowConfig& header)>;
@@ -217,6 +248,9 @@ std::string format_control(const ControlSpec& c);
 /// Parses a target ("handle.NAME.x", "handle.NAME", "rotate.GROUP", "pose.NAME" (a show
 /// [[pose]], else a rig key or rest), "grab", "solver.SETTING" for a setting `rig` offers,
 /// "morph.A.B", "blend.KEY", "swap.SET.MEMBER", "trigger.NAME") against the show and the rig.
+/// In a cast every target of a rig starts with its character's name ("robot.handle.left-hand",
+/// "robot.grab": index is the character, as `member` is for "robot.pose.KEY"); rotate.GROUP,
+/// pose.NAME (a [[pose]]) and solver.iterations are the show's.
 Result<bool> parse_target(const std::string& text, const ShowConfig& show, const ShowRig& rig, TargetKind& kind,
                           int& index, int* member = nullptr);
 

@@ -95,6 +95,10 @@ void read_groups_and_poses(const std::string& path, const toml::table& root, Sho
       } else {
         throw ShowError{at(path, gn) + ": [[group]] needs pivot = [x, y] or pivot_handle"};
       }
+      // (in a cast, one character's handles: its pivot is in that character's units)
+      for (int h : g.handles)
+        if (rig.member_of(h) != rig.member_of(g.handles.front()) || (g.pivot_handle >= 0 && rig.member_of(g.pivot_handle) != rig.member_of(h)))
+          throw ShowError{at(path, gn) + ": a [[group]] turns one character's handles (" + g.name + " names two characters')"};
       s.groups.push_back(std::move(g));
     }
   }
@@ -108,13 +112,22 @@ void read_groups_and_poses(const std::string& path, const toml::table& root, Sho
       p.positions.assign(handles.size(), Vec2(NAN, NAN));
       const toml::table* hs = t.get("handles") ? t.get("handles")->as_table() : nullptr;
       if (!hs) throw ShowError{at(path, pn) + ": [[pose]] needs handles = { name = [x, y], ... }"};
-      for (const auto& [k, v] : *hs) {
+      // In a cast a handle is NAME.HANDLE: TOML reads `robot.left-hand = [x, y]` as a table
+      // `robot` holding `left-hand`, so a table's keys are its name's handles.
+      auto put = [&](const std::string& name, const toml::node& v) {
         int hi = -1;
         for (size_t i = 0; i < handles.size(); ++i)
-          if (handles[i] == k.str()) hi = int(i);
-        if (hi < 0) throw ShowError{at(path, v) + ": the rig has no handle '" + std::string(k.str()) + "'"};
+          if (handles[i] == name) hi = int(i);
+        if (hi < 0) throw ShowError{at(path, v) + ": the rig has no handle '" + name + "'"};
         auto [x, y] = pair_of(path, v, "pose position");
         p.positions[size_t(hi)] = Vec2(x, y);
+      };
+      for (const auto& [k, v] : *hs) {
+        if (const toml::table* who = v.as_table(); who && !rig.cast.empty()) {
+          for (const auto& [k2, v2] : *who) put(std::string(k.str()) + "." + std::string(k2.str()), v2);
+          continue;
+        }
+        put(std::string(k.str()), v);
       }
       s.poses.push_back(std::move(p));
     }

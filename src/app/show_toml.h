@@ -88,6 +88,10 @@ void read_attract(const std::string& path, const toml::table& root, ShowConfig& 
 void read_physics(const std::string& path, const toml::table& root, ShowConfig& s);
 struct ShowRig;
 /// [[scenery]] and [[prop]] (show_stage.cpp): drawings on the stage, still or held.
+/// [[character]] tables (show_cast.cpp): the cast; and a target of a cast's show.
+void read_cast(const std::string& path, const toml::table& root, ShowConfig& s);
+Result<bool> parse_cast_target(const std::string& t, const ShowConfig& s, const ShowRig& rig, TargetKind& kind, int& index,
+                               int* member);
 void read_scenery(const std::string& path, const toml::table& root, ShowConfig& s);
 void read_props(const std::string& path, const toml::table& root, ShowConfig& s);
 /// [[group]] and [[pose]] (show_stage.cpp), named by the rig's handles.

@@ -309,9 +309,10 @@ bool Mapping::apply(const Event& e) {
         {
           const double* a = b.tf.area;
           const Vec2 p(a[0] + b.px * (a[2] - a[0]), a[1] + b.py * (a[3] - a[1]));
-          if (b.target == TargetKind::Grab) {
+          if (b.target == TargetKind::Grab && (b.tip || b.index == grab_who_)) {  // (one pen grabs at a time)
             grab_active_ = b.tip;
             grab_point_ = p;
+            grab_who_ = b.index;
           } else if (b.target == TargetKind::HandlePoint && b.tip) {
             goal_[size_t(b.index)] = p;
             written_by(&b, TargetKind::HandleX, b.index);
@@ -510,7 +511,7 @@ void Mapping::button(Binding& b, bool down) {
     }
     case TargetKind::Recall:
       if (edge) {
-        recall_ = {b.index, b.tf.transition, b.tf.ease};
+        recall_ = {b.index, b.tf.transition, b.tf.ease, b.member};
         recall_pending_ = true;
       }
       return;

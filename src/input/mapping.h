@@ -88,7 +88,7 @@ struct Binding {
   ControlSpec control;
   TargetKind target = TargetKind::HandleX;
   int index = 0;  ///< handle, group, pose, setting, swap set, trigger or key (-1: rest) index
-  int member = 0; ///< swap targets: the member shown
+  int member = 0; ///< swap targets: the member shown; a recall's: the cast's character
   Transform tf;
   int line = 0;   ///< show-file line (messages)
   std::string target_text;  ///< as written (the HUD)
@@ -125,6 +125,7 @@ struct Recall {
   int key = -1;  ///< rig key index, -1: rest
   double seconds = 0;
   Ease ease = Ease::InOut;
+  int who = 0;   ///< the cast's character (0: a show's single rig)
 };
 
 struct MappingStats {
@@ -184,6 +185,8 @@ class Mapping {
   bool take_settings_changed() { bool c = settings_changed_; settings_changed_ = false; return c; }
   /// Grab-and-drag: a pointer with its tip down (position in character units).
   bool grab_active() const { return grab_active_; }
+  /// The cast's character the pen grabs (a grab binding's index; 0: a show's single rig).
+  int grab_who() const { return grab_who_; }
   Vec2 grab_point() const { return grab_point_; }
   const MappingStats& stats() const { return stats_; }
   // For the HUD: each binding, the value its target has now (NaN for targets without one:
@@ -251,6 +254,7 @@ class Mapping {
   bool recall_pending_ = false;
   bool grab_active_ = false;
   Vec2 grab_point_ = Vec2::Zero();
+  int grab_who_ = 0;
   MappingStats stats_;
 };
 

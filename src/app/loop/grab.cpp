@@ -51,15 +51,14 @@ void Grab::restore(const Vec2& point, Puppet& p) {
   set(true, point, p);
 }
 
-size_t Grab::apply(const Vec2& point, std::vector<Vec2>& targets) const {
-  const size_t handles = targets.size() - 1;
-  if (!active_) return handles;
+size_t Grab::apply(const Vec2& point, std::span<Vec2> handles, Vec2& temporary) const {
+  if (!active_) return handles.size();
   if (handle_ >= 0) {
-    targets[size_t(handle_)] = point + offset_;
-    return handles;
+    handles[size_t(handle_)] = point + offset_;
+    return handles.size();
   }
-  targets.back() = point;
-  return targets.size();
+  temporary = point;
+  return handles.size() + 1;
 }
 
 }  // namespace mar

@@ -8,6 +8,7 @@
 #include "app/puppet.h"
 #include "app/stats.h"
 
+#include <span>
 #include <vector>
 
 namespace mar {
@@ -18,9 +19,9 @@ class Grab {
   void set(bool down, const Vec2& point, Puppet& p);
   /// After the solver re-factorised (new parameters): a temporary handle is added again.
   void restore(const Vec2& point, Puppet& p);
-  /// Writes the grab's target into `targets` (the rig's handles, then one slot for the
-  /// temporary handle) and returns how many of them the solve uses.
-  size_t apply(const Vec2& point, std::vector<Vec2>& targets) const;
+  /// Writes the grab's target into `handles` (the rig's handles' targets: a handle taken over)
+  /// or `temporary` (the temporary handle's) and returns how many targets the solve uses.
+  size_t apply(const Vec2& point, std::span<Vec2> handles, Vec2& temporary) const;
   bool active() const { return active_; }
   /// The handle taken over, or -1 (a temporary handle, or no grab).
   int handle() const { return active_ ? handle_ : -1; }

@@ -14,7 +14,7 @@ void KeyPoseStage::add_settings(Mapping& m, int keys) {
   for (int k = 0; k < keys; ++k) settings_.push_back({m.add_setting({0, 0, 1, false}), -2, k});
 }
 
-bool KeyPoseStage::keep_driven(const ShowConfig& sh) {
+bool KeyPoseStage::keep_driven(const ShowConfig& sh, int who) {
   std::erase_if(settings_, [&](const KeySetting& k) {
     for (const Binding& b : sh.bindings)
       if (b.target == TargetKind::Setting && b.index == k.setting) return false;
@@ -23,7 +23,7 @@ bool KeyPoseStage::keep_driven(const ShowConfig& sh) {
     return true;
   });
   bool recalls = false;
-  for (const Binding& b : sh.bindings) recalls = recalls || b.target == TargetKind::Recall;
+  for (const Binding& b : sh.bindings) recalls = recalls || (b.target == TargetKind::Recall && b.member == who);
   return !settings_.empty() || recalls;
 }
 

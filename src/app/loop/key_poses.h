@@ -34,8 +34,8 @@ class KeyPoseStage {
   void add_settings(Mapping& m, int keys);
   /// Keeps only the settings a binding or an idle behaviour drives (an unbound morph.A.B would
   /// hold key A at t = 0). Returns whether the poses stage is wanted: a setting is driven, or
-  /// a binding recalls a pose.
-  bool keep_driven(const ShowConfig& sh);
+  /// a binding recalls a pose of the cast's character `who` (0: a show's single rig).
+  bool keep_driven(const ShowConfig& sh, int who = 0);
   /// Prepares the interpolation over the rig's keys (solved: app/keys.h). Empty, or the error.
   std::string prepare(const Puppet& p, const std::vector<Points>& keys);
   bool empty() const { return !interp_; }

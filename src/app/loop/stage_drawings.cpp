@@ -4,12 +4,13 @@
 #include "geom/polygon.h"
 
 #include <algorithm>
+#include <cmath>
 #include <iostream>
 
 namespace mar {
 
-std::string StageDrawings::load(const ShowConfig& sh, const Puppet& p, std::array<int, 2> canvas, int ss, const Rgba& background,
-                                bool quiet) {
+std::string StageDrawings::load(const ShowConfig& sh, const std::vector<std::unique_ptr<Actor>>& cast, std::array<int, 2> canvas,
+                                int ss, const Rgba& background, bool quiet) {
   const double cw = canvas[0], chh = canvas[1];
   for (const ShowScenery& sc : sh.scenery) {
     LoadOptions lo;
@@ -40,14 +41,27 @@ std::string StageDrawings::load(const ShowConfig& sh, const Puppet& p, std::arra
       if (off.draw(list).empty()) backdrop_ = off.read_premultiplied();
     }
   }
-  // (a prop is flattened at the size it is drawn: its width in character units, at the view's scale)
-  const double view_k = std::min(cw / std::max(1e-9, p.character.width), chh / std::max(1e-9, p.character.height));
   for (const ShowProp& pr : sh.props) {
     const std::string where = sh.path + ":" + std::to_string(pr.line) + ": prop: ";
+    // In a cast the part is NAME.PART: the holding character's name, then its shape id.
+    int who = 0;
+    std::string id = pr.part;
+    if (!sh.cast.empty()) {
+      who = -1;
+      const size_t dot = pr.part.find('.');
+      for (size_t c = 0; c < cast.size() && dot != std::string::npos; ++c)
+        if (cast[c]->name() == pr.part.substr(0, dot)) who = int(c);
+      if (who < 0) return where + "'" + pr.part + "': in a cast the part is NAME.PART, the character's name, then its part";
+      id = pr.part.substr(dot + 1);
+    }
+    const Puppet& p = cast[size_t(who)]->puppet();
     int part = -1;
     for (size_t k = 0; k < p.character.shapes.size(); ++k)
-      if (p.character.shapes[k].id == pr.part) part = int(k);
-    if (part < 0) return where + "the character has no part '" + pr.part + "' (a shape id of " + p.character.source + ")";
+      if (p.character.shapes[k].id == id) part = int(k);
+    if (part < 0) return where + "the character has no part '" + id + "' (a shape id of " + p.character.source + ")";
+    // (a prop is flattened at the size it is drawn: its width in character units, at the view's scale)
+    const Affine2& v0 = cast[size_t(who)]->view;
+    const double view_k = std::sqrt(std::abs(v0.a * v0.d - v0.b * v0.c)) / ss;
     LoadOptions lo;
     lo.pixels_per_unit = [&pr, view_k](double w, double) { return (pr.width > 0 ? pr.width / std::max(w, 1e-9) : 1.0) * view_k; };
     auto c = load_character(pr.file, lo);
@@ -56,6 +70,7 @@ std::string StageDrawings::load(const ShowConfig& sh, const Puppet& p, std::arra
     v.ch = std::move(*c.value);
     v.mesh = prepare_mesh(v.ch);
     v.part = part;
+    v.who = who;
     v.front = pr.front;
     const Bounds hb = p.character.shapes[size_t(part)].bounds();
     const Vec2 at = pr.has_at ? pr.at : Vec2(0.5 * (hb.lo + hb.hi));
@@ -86,10 +101,12 @@ void StageDrawings::place(double W, double H, double ss) {
   }
 }
 
-void StageDrawings::append_props(const Puppet& p, const Affine2& view, bool front, DrawList& list) const {
+void StageDrawings::append_props(const Actor& a, bool front, DrawList& list) const {
   // A prop moves as its part: the part's best rigid motion from rest to now.
+  const Puppet& p = a.puppet();
+  const Affine2& view = a.view;
   for (const Prop& pr : props_) {
-    if (pr.front != front) continue;
+    if (pr.front != front || pr.who != a.ranges().who) continue;
     const RigidMotion m = rigid_fit(p.character.shapes[size_t(pr.part)].points, p.shapes[size_t(pr.part)]);
     const Affine2 move = Affine2::translate(m.to_c.x(), m.to_c.y()) * Affine2{m.c, m.s, -m.s, m.c, 0, 0} *
                          Affine2::translate(-m.from_c.x(), -m.from_c.y());
@@ -97,17 +114,10 @@ void StageDrawings::append_props(const Puppet& p, const Affine2& view, bool fron
   }
 }
 
-void StageDrawings::append_behind(const Puppet& p, const Affine2& view, DrawList& list) const {
-  if (!copied_)
-    for (const Scenery& sc : scenery_)
-      if (!sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list);
-  append_props(p, view, false, list);
-}
-
-void StageDrawings::append_front(const Puppet& p, const Affine2& view, DrawList& list) const {
-  append_props(p, view, true, list);
+void StageDrawings::append_scenery(bool front, DrawList& list) const {
+  if (!front && copied_) return;
   for (const Scenery& sc : scenery_)
-    if (sc.spec.front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list);
+    if (sc.spec.front == front) build_draw_list(sc.ch, sc.mesh, {}, sc.view, 0.3, list);
 }
 
 }  // namespace mar

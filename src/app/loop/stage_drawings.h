@@ -7,6 +7,7 @@
 // frame by its part's best rigid motion from rest. append_*() allocate nothing.
 #pragma once
 
+#include "app/loop/actor.h"
 #include "app/puppet.h"
 #include "app/show.h"
 #include "render/canvas.h"
@@ -14,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -21,10 +23,12 @@ namespace mar {
 
 class StageDrawings {
  public:
-  /// Loads the show's scenery and props for `p` drawn on a canvas of `canvas` px, supersampled
-  /// `ss` times, and draws what lies behind over `background` (backdrop()). Empty, or the
-  /// error with the show's file and line. `quiet`: the drawings' warnings are not printed.
-  std::string load(const ShowConfig& sh, const Puppet& p, std::array<int, 2> canvas, int ss, const Rgba& background, bool quiet);
+  /// Loads the show's scenery and props for the cast (placed: each actor's view) drawn on a
+  /// canvas of `canvas` px, supersampled `ss` times, and draws what lies behind over
+  /// `background` (backdrop()). Empty, or the error with the show's file and line. `quiet`: the
+  /// drawings' warnings are not printed.
+  std::string load(const ShowConfig& sh, const std::vector<std::unique_ptr<Actor>>& cast, std::array<int, 2> canvas, int ss,
+                   const Rgba& background, bool quiet);
   /// Each scenery drawing's view on a canvas of w x h px (supersampled `ss` times).
   void place(double w, double h, double ss);
   /// The scenery behind, drawn once at load (premultiplied RGBA8 of the canvas's size; empty
@@ -33,10 +37,10 @@ class StageDrawings {
   std::vector<uint8_t> take_backdrop() { return std::move(backdrop_); }
   void set_copied(bool copied) { copied_ = copied; }
   bool copied() const { return copied_; }
-  /// Appends what goes under the character (scenery unless copied, props held behind it), and
-  /// what goes over it (props in front, scenery in front), for `p` as now posed on `view`.
-  void append_behind(const Puppet& p, const Affine2& view, DrawList& list) const;
-  void append_front(const Puppet& p, const Affine2& view, DrawList& list) const;
+  /// Appends the scenery behind the cast (unless copied) or in front of it.
+  void append_scenery(bool front, DrawList& list) const;
+  /// Appends the props actor `a` holds behind it or in front of it, as it is now posed.
+  void append_props(const Actor& a, bool front, DrawList& list) const;
 
  private:
   struct Scenery {
@@ -48,11 +52,11 @@ class StageDrawings {
   struct Prop {
     Character ch;
     CharacterMesh mesh;
+    int who = 0;    ///< the holding actor (its index in the cast)
     int part = -1;  ///< the holding shape
     Affine2 place;  ///< prop -> character units, at rest
     bool front = true;
   };
-  void append_props(const Puppet& p, const Affine2& view, bool front, DrawList& list) const;
   std::vector<Scenery> scenery_;
   std::vector<Prop> props_;
   std::vector<uint8_t> backdrop_;

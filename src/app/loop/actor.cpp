@@ -1,0 +1,109 @@
+#include "app/loop/actor.h"
+
+#include "app/keys.h"
+#include "app/loop/hud.h"
+#include "geom/polygon.h"
+
+#include <algorithm>
+
+namespace mar {
+
+std::string Actor::prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
+                           size_t trigger0, int who) {
+  puppet_ = std::move(p);
+  Puppet& pp = *puppet_;
+  r_.handle0 = handle0;
+  r_.handles = pp.rig.handles.size();
+  r_.who = who;
+  // Its settings, in the order its ShowRig names them (live_setup.cpp show_rig): the solver's
+  // parameters (a change re-factorises), its key poses' (0..1), its chains'.
+  r_.solver0 = int(m.setting_count());
+  for (const SolverParameter& sp : pp.solver->parameters()) {
+    m.add_setting({sp.value, sp.lo, sp.hi, false});
+    solver_params_.push_back(sp.value);
+  }
+  if (pp.feature_frame() && !pp.rig.keys.empty()) keys_.add_settings(m, int(pp.rig.keys.size()));
+  physics_.prepare(pp, sh.physics);
+  r_.physics0 = int(m.setting_count());
+  for (const PhysicsStage::SettingInfo& si : physics_.settings()) m.add_setting({si.value, si.lo, si.hi, false});
+  // Only the key settings a binding drives count; solve the keys once and prepare their interpolation.
+  if (keys_.keep_driven(sh, who)) {
+    auto keys = solve_keys(pp);
+    if (!keys.ok()) return keys.error;
+    if (std::string err = keys_.prepare(pp, *keys.value); !err.empty()) return err;
+    key_values_.assign(keys_.settings().size(), 0.0);
+  }
+  r_.swap0 = swap0;
+  r_.swaps = pp.rig.swaps.size();
+  r_.trigger0 = trigger0;
+  r_.triggers = pp.rig.triggers.size();
+  rest_bounds = pp.character.bounds();
+  rest_cover = cover_cells(pp.character, rest_bounds, kCoverCells);  // (the HUD keeps off them)
+  solve_targets_ = pp.rest_targets();
+  solve_targets_.push_back(Vec2::Zero());  // the grab's temporary handle (used while grabbing)
+  n_solve_ = r_.handles;
+  return {};
+}
+
+bool Actor::apply_settings(const Mapping& m) {
+  bool changed = false;
+  for (size_t k = 0; k < solver_params_.size(); ++k) {
+    const double v = m.setting(r_.solver0 + int(k));
+    changed = changed || v != solver_params_[k];
+    solver_params_[k] = v;
+  }
+  if (!changed) return false;
+  puppet_->solver->set_parameters(solver_params_, nullptr);
+  grab_.restore(m.grab_point(), *puppet_);
+  return true;
+}
+
+void Actor::apply_grab(const Vec2& point, std::span<Vec2> targets) {
+  n_solve_ = grab_.apply(point, targets, solve_targets_.back());
+}
+
+void Actor::solve(std::span<const Vec2> targets, int iterations) {
+  std::copy(targets.begin(), targets.end(), solve_targets_.begin());
+  puppet_->solver->solve(std::span<const Vec2>(solve_targets_.data(), n_solve_), iterations);
+}
+
+double Actor::reconstruct() {
+  Puppet& p = *puppet_;
+  p.reconstruct();
+  // After a reload, the figure moves from where the running show drew it to where this show's
+  // solver puts it over kReloadBlendFrames (the new solver starts from its own guess, up to 6 %
+  // of the figure away): no jump in one frame (Reload.TheFigureDoesNotJumpAtAReload).
+  if (blend_left_ > 0) {
+    const double u = 1.0 - double(blend_left_) / double(kReloadBlendFrames + 1), w = u * u * (3 - 2 * u);
+    for (size_t k = 0; k < p.shapes.size(); ++k)
+      for (size_t i = 0; i < p.shapes[k].size(); ++i) p.shapes[k][i] = blend_from_[k][i] + w * (p.shapes[k][i] - blend_from_[k][i]);
+    --blend_left_;
+  }
+  // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its rest
+  // shape), in percent of the character's height.
+  double worst = 0;
+  for (size_t k = 0; k < p.shapes.size(); ++k) worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
+  return worst * 100.0 / std::max(1e-9, p.character.height);
+}
+
+void Actor::draw(DrawList& list) const {
+  const Puppet& p = *puppet_;
+  build_draw_list(p.character, p.mesh, p.shapes, view, 0.3, list, p.shown);
+}
+
+void Actor::carry_from(const Actor& old) {
+  physics_.carry_from(old.physics_);  // the chains go on swinging
+}
+
+void Actor::carry_shapes_from(const Actor& old) {
+  Puppet& p = *puppet_;
+  const Puppet& o = *old.puppet_;
+  bool same = o.shapes.size() == p.shapes.size();
+  for (size_t k = 0; same && k < p.shapes.size(); ++k) same = o.shapes[k].size() == p.shapes[k].size();
+  if (!same) return;
+  blend_from_ = o.shapes;
+  blend_left_ = kReloadBlendFrames;
+  p.shapes = o.shapes;
+}
+
+}  // namespace mar

@@ -1,0 +1,126 @@
+// One character of a show's cast: its puppet and solver, its key poses, its secondary motion and
+// the pen's grab on it, and its place on the canvas. The stage (LiveShow) reads the devices and
+// runs one Mapping for the whole cast: an actor's handles, settings, swap sets and triggers are a
+// range of the mapping's (Actor::Ranges), so arbitration, the HUD, the lights, idle behaviours
+// and the attract loop see one show. Each frame an actor takes its slice of the stage's targets
+// through its stages — poses, motion, solve, then its shapes and draw list — and touches nothing
+// of another actor's: actors can solve on threads of their own.
+//
+// A show with `[show] rig` alone is a cast of one whose ranges start at 0: it computes exactly
+// what the show computed before there was a cast.
+#pragma once
+
+#include "app/loop/grab.h"
+#include "app/loop/key_poses.h"
+#include "app/loop/physics.h"
+#include "app/puppet.h"
+#include "app/show.h"
+#include "render/tessellate.h"
+
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace mar {
+
+class Attract;
+class IdleStage;
+
+class Actor {
+ public:
+  /// Where the actor's names live in the stage's mapping.
+  struct Ranges {
+    size_t handle0 = 0, handles = 0;   ///< its handles
+    int solver0 = 0;                   ///< its solver's parameters (then its key settings)
+    int physics0 = 0;                  ///< its [[physics]] chains' settings
+    size_t swap0 = 0, swaps = 0;       ///< its swap sets
+    size_t trigger0 = 0, triggers = 0; ///< its triggers
+    int who = 0;                       ///< its index in the cast (a recall's or a grab's character)
+  };
+
+  /// Adds the actor's settings to `m` (its solver's parameters, its key poses', its chains') and
+  /// prepares its key poses and motion. `sh`'s bindings are resolved; `swap0` and `trigger0`:
+  /// where its swap sets and triggers start among the cast's. Empty, or the error.
+  std::string prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
+                      size_t trigger0, int who);
+
+  const std::string& name() const { return name_; }
+  void set_name(std::string n) { name_ = std::move(n); }
+  const Ranges& ranges() const { return r_; }
+  Puppet& puppet() { return *puppet_; }
+  const Puppet& puppet() const { return *puppet_; }
+
+  /// New solver parameters from the mapping: re-factorises when they changed (allocates).
+  /// Returns whether it did.
+  bool apply_settings(const Mapping& m);
+  /// The pen went down or came up on this actor at `point` (character units).
+  void set_grab(bool down, const Vec2& point) { grab_.set(down, point, *puppet_); }
+  /// Writes the grab's target into the actor's slice of the stage's targets (a handle taken
+  /// over), or into its own slot (a temporary handle).
+  void apply_grab(const Vec2& point, std::span<Vec2> targets);
+  const Grab& grab() const { return grab_; }
+
+  // The stages of a frame, on the actor's slice of the stage's targets (mapping order).
+  /// Key poses: the weights from this frame's settings (`setting_value`: the mapping's,
+  /// crossfaded with the attract's, with idle offsets), a recall if one was asked for this
+  /// actor; then the base pose's offsets on the targets.
+  template <class SettingValue>
+  void poses(double dt, SettingValue&& setting_value, const Recall* recall, std::span<Vec2> targets) {
+    if (keys_.empty()) return;
+    const auto& ks = keys_.settings();
+    for (size_t i = 0; i < ks.size(); ++i) key_values_[i] = setting_value(ks[i].setting);
+    if (keys_.step(dt, key_values_, recall)) physics_.reset();  // a jump: the chains start again at rest
+    keys_.offset(targets);
+  }
+  /// Secondary motion: the chains' settings (`setting_value` as above), then a fixed-step run.
+  template <class SettingValue>
+  void motion(double dt, double beats, SettingValue&& setting_value, std::span<Vec2> targets) {
+    if (physics_.empty()) return;
+    for (size_t k = 0, n = physics_.setting_count(); k < n; ++k) physics_.set(k, setting_value(r_.physics0 + int(k)));
+    physics_.set_beats(beats);
+    physics_.step(dt, *puppet_, targets);
+  }
+  /// The solve, from its slice of the stage's targets (and the grab's slot).
+  void solve(std::span<const Vec2> targets, int iterations);
+  /// The shapes from the solve, blended from a reload's last drawing while one is under way;
+  /// returns the worst part's distortion, % of the height.
+  double reconstruct();
+  /// Its shapes as now posed, on its view.
+  void draw(DrawList& list) const;
+
+  bool has_keys() const { return !keys_.empty(); }
+  std::span<const double> key_weights() const { return keys_.weights(); }
+  const PhysicsStage& physics() const { return physics_; }
+
+  /// Where it stands: character units -> canvas px.
+  Affine2 view;
+  bool shown = true;
+  int z = 0;
+  /// Its rest box (the HUD keeps off it) and where its drawing covers that box.
+  Bounds rest_bounds;
+  static constexpr int kCoverCells = 24;
+  std::vector<uint8_t> rest_cover;
+
+  /// A reload: the new actor goes on from `old` (the same character): its chains swing on, and
+  /// its shapes blend from where `old` drew them over kReloadBlendFrames.
+  static constexpr int kReloadBlendFrames = 20;
+  void carry_from(const Actor& old);
+  void carry_shapes_from(const Actor& old);
+
+ private:
+  std::string name_;
+  std::unique_ptr<Puppet> puppet_;
+  Ranges r_;
+  std::vector<double> solver_params_;   ///< as last given to the solver
+  KeyPoseStage keys_;
+  std::vector<double> key_values_;      ///< this frame's value of each of keys_.settings()
+  PhysicsStage physics_;
+  Grab grab_;
+  std::vector<Vec2> solve_targets_;     ///< its handles', then the grab's temporary handle's
+  size_t n_solve_ = 0;
+  std::vector<Points> blend_from_;      ///< the figure as the running show last drew it (a reload)
+  int blend_left_ = 0;                  ///< frames of the blend from it still to come
+};
+
+}  // namespace mar
