@@ -28,6 +28,7 @@
 #include "app/puppet.h"
 #include "interp/interpolation.h"
 #include "app/show.h"
+#include "base/worker_pool.h"
 #include "devices/device.h"
 #include "firmware_sim/sim_device.h"
 #include "render/canvas.h"
@@ -131,6 +132,8 @@ class LiveShow {
   const Attract* attract() const { return attract_.get(); }
   /// The cast's first character's puppet (a show's single rig).
   const Puppet& puppet() const { return actors_.front()->puppet(); }
+  /// The threads the cast's actors solve on (1: the frame's alone).
+  int solve_threads() const { return pool_ ? pool_->threads() : 1; }
   /// The cast, in the order of its [[character]] tables.
   const std::vector<std::unique_ptr<Actor>>& actors() const { return actors_; }
   std::string stats_json() const;
@@ -191,8 +194,11 @@ class LiveShow {
   ShowConfig show_;
   std::vector<std::unique_ptr<Actor>> actors_;     ///< the cast (loop/actor.h): one for a show's single rig
   std::vector<Actor*> z_order_;                    ///< the cast back to front
+  std::unique_ptr<WorkerPool> pool_;               ///< a cast's actors solve on it (started at load)
+  std::vector<double> quality_;                    ///< each actor's pose quality this frame
   void place_cast(int w, int h, int ss);   ///< each actor's view on a w x h canvas
   std::vector<std::string> watched_files() const;  ///< the show's, every rig's and drawing's
+  void reserve_layers();                           ///< the canvas's room for the cast's layers
   std::span<Vec2> slice(const Actor& a) { return std::span<Vec2>(targets_).subspan(a.ranges().handle0, a.ranges().handles); }
   Actor& lead() { return *actors_.front(); }
   const Actor& lead() const { return *actors_.front(); }
@@ -221,6 +227,7 @@ class LiveShow {
   // swap sets and triggers (what shows): the whole cast's, each actor's a range
   std::vector<int> swap_counts_, swap_members_;
   std::vector<char> triggers_on_;
+  int stage_trigger0_ = 0;                         ///< a cast's NAME.on-stage triggers, after the rigs' 
   IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
   MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
   LedFeedback leds_;                               ///< controllers' lights from the show's state

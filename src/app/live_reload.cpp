@@ -184,6 +184,7 @@ void LiveShow::adopt(LiveShow& old) {
   }
   const int ss = std::clamp(opt_.supersample, 1, 8);
   place_cast(canvas_->width(), canvas_->height(), ss);
+  reserve_layers();
   stage_.place(canvas_->width(), canvas_->height(), ss);
   use_backdrop();
   if (started_) {  // the OSC address space follows the rig

@@ -32,7 +32,7 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
-  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations", "late_input", "late_input_margin_ms", "images"},
+  check_keys(path, t, {"character", "rig", "rate", "iterations", "min_iterations", "late_input", "late_input_margin_ms", "images", "threads"},
              "[show]");
   if (auto* n = t.get("images")) {
     const std::string v = text(path, *n, "images");
@@ -59,6 +59,7 @@ void read_header(const std::string& path, const toml::table& root, ShowConfig& s
   }
   s.min_iterations = std::min(s.min_iterations, s.iterations);
   if (auto* n = t.get("late_input")) s.late_input = boolean(path, *n, "late_input");
+  if (auto* n = t.get("threads")) s.threads = integer(path, *n, "threads", 1, 64);
   if (auto* n = t.get("late_input_margin_ms")) {
     s.late_input_margin_ms = number(path, *n, "late_input_margin_ms");
     if (!(s.late_input_margin_ms >= 0 && s.late_input_margin_ms <= 100))

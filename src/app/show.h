@@ -123,7 +123,11 @@ struct ShowCharacter {
   double scale = 1;             ///< 1: the size it would have alone on the canvas (its share of it, side by side)
   double rotation = 0;          ///< degrees, clockwise on screen, about its position
   int z = 0;                    ///< drawing order: higher in front (equal: the order of the tables)
-  bool shown = true;            ///< on stage at the start
+  bool shown = true;            ///< on stage at the start (its NAME.on-stage trigger's first state)
+  /// How it enters and leaves when its NAME.on-stage trigger changes: "fade", "slide-left",
+  /// "slide-right", "slide-up", "slide-down" (from and to beyond that edge) or "cut".
+  std::string entrance = "fade";
+  double entrance_seconds = 0.6;
   int line = 0;
 };
 
@@ -143,6 +147,9 @@ struct ShowConfig {
   /// [show] images = "anywhere": an SVG character may name images outside its own folder
   /// (default "beside": such an image is skipped with a warning).
   bool images_anywhere = false;
+  /// [show] threads: the threads a cast's actors solve on, the frame's own included (0: from 4
+  /// characters on, one a character up to the machine's cores; fewer, the frame's alone).
+  int threads = 0;
   int width = 0, height = 0;
   bool fullscreen = false, hud = false;
   /// [display] vsync: a window's present waits for the display's refresh (no tearing; the show's

@@ -33,7 +33,8 @@ void read_cast(const std::string& path, const toml::table& root, ShowConfig& s) 
   if (cs->empty() || cs->size() > 16) throw ShowError{at(path, *cs) + ": a cast has 1 to 16 [[character]] tables"};
   for (const toml::node& n : *cs) {
     const toml::table& t = *n.as_table();
-    check_keys(path, t, {"name", "rig", "character", "position", "scale", "rotation", "z", "shown"}, "[[character]]");
+    check_keys(path, t, {"name", "rig", "character", "position", "scale", "rotation", "z", "shown", "entrance", "entrance_seconds"},
+               "[[character]]");
     ShowCharacter c;
     c.line = int(n.source().begin.line);
     const toml::node* name = t.get("name");
@@ -65,6 +66,16 @@ void read_cast(const std::string& path, const toml::table& root, ShowConfig& s) 
     }
     if (auto* x = t.get("z")) c.z = integer(path, *x, "z", -1000, 1000);
     if (auto* x = t.get("shown")) c.shown = boolean(path, *x, "shown");
+    if (auto* x = t.get("entrance")) {
+      c.entrance = text(path, *x, "entrance");
+      if (c.entrance != "fade" && c.entrance != "cut" && c.entrance != "slide-left" && c.entrance != "slide-right" &&
+          c.entrance != "slide-up" && c.entrance != "slide-down")
+        throw ShowError{at(path, *x) + ": entrance must be fade, slide-left, slide-right, slide-up, slide-down or cut"};
+    }
+    if (auto* x = t.get("entrance_seconds")) {
+      c.entrance_seconds = number(path, *x, "entrance_seconds");
+      if (!(c.entrance_seconds >= 0 && c.entrance_seconds <= 10)) throw ShowError{at(path, *x) + ": entrance_seconds must be 0..10"};
+    }
     s.cast.push_back(std::move(c));
   }
   s.rig = s.cast.front().rig;  // (what a single-rig tool reads: the first character's)
@@ -87,6 +98,7 @@ ShowRig cast_rig(const std::vector<std::string>& names, std::vector<ShowRig> rig
     for (const std::string& t : r.triggers) all.triggers.push_back(pre + t);
     for (const std::string& k : r.keys) all.keys.push_back(pre + k);
   }
+  for (const std::string& n : names) all.triggers.push_back(n + ".on-stage");  // (entering and leaving, after the rigs')
   all.cast_rigs = std::move(rigs);
   return all;
 }
@@ -129,6 +141,11 @@ Result<bool> parse_cast_target(const std::string& t, const ShowConfig& s, const 
   const std::string rest = t.substr(dot + 1);
   if (rest.rfind("rotate.", 0) == 0 || rest == "solver.iterations")
     return R::failure("'" + t + "': " + rest + " is the show's, with no character in front");
+  if (rest == "on-stage") {  // entering and leaving: a trigger of the stage's, after the rigs'
+    kind = TargetKind::Trigger;
+    index = int(rig.triggers.size() - rig.cast.size()) + c;
+    return R::success(true);
+  }
   if (rest.rfind("pose.", 0) == 0) {  // a recall of one of its key poses, or of its rest
     const std::string key = rest.substr(5);
     kind = TargetKind::Recall;

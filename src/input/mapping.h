@@ -147,6 +147,8 @@ class Mapping {
   int add_setting(Setting s);
   /// Swap sets (member count, shown member) and triggers, in the rig's order.
   void set_swaps(std::vector<int> member_counts, std::vector<int> defaults, size_t triggers);
+  /// A trigger's state as the show starts (a cast's NAME.on-stage: on when it is shown).
+  void set_trigger(size_t t, bool on) { trigger_on_[t] = on ? 1 : 0; }
   int swap_member(size_t set) const { return swap_now_[set]; }
   bool trigger_on(size_t t) const { return trigger_on_[t] != 0; }
   /// Whether a swap or trigger changed since the last call.

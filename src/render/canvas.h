@@ -78,6 +78,10 @@ class Canvas {
   bool is_window() const { return window_ != nullptr; }
   /// Anti-aliased (the default) or SDL's aliased software triangles.
   void set_antialias(bool on) { antialias_ = on; }
+  /// Makes now what drawing layers nested `depth` deep needs (the software rasterizer's buffers).
+  void reserve_layers(size_t depth) {
+    if (!gpu_) compositor_.reserve(depth, width(), height());
+  }
   bool antialias() const { return antialias_; }
   /// Whether draw() wants its list built with fringes (the GPU draws the canvas, anti-aliased).
   bool wants_fringe() const { return gpu_ && antialias_; }

@@ -155,6 +155,14 @@ void Compositor::range(Rasterizer& raster, const DrawList& list, const PixelTarg
   raster.draw(list, target, at, index_end);
 }
 
+void Compositor::reserve(size_t depth, int w, int h) {
+  const size_t need = depth + 3;
+  if (pool_.size() < need) pool_.resize(need);
+  for (size_t k = 0; k < need; ++k)
+    if (pool_[k].size() < size_t(w) * size_t(h) * 4) pool_[k].resize(size_t(w) * size_t(h) * 4);
+  nest_.reserve(depth + 1);
+}
+
 void Compositor::draw(Rasterizer& raster, const DrawList& list, const PixelTarget& target) {
   used_ = 0;
   // Every buffer this list can hold at once, made now: a layer's own for each layer it is in,

@@ -19,6 +19,9 @@ class Compositor {
   /// Draws the whole list onto `target` with `raster`: items outside every layer as the
   /// rasterizer draws them, each layer through its own buffer.
   void draw(Rasterizer& raster, const DrawList& list, const PixelTarget& target);
+  /// Makes now the buffers a list with layers nested `depth` deep needs on a w x h target (a
+  /// layer that first shows late in a show, such as a character fading in, then allocates nothing).
+  void reserve(size_t depth, int w, int h);
 
  private:
   struct Box {

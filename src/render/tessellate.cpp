@@ -650,12 +650,22 @@ Affine2 part_motion(const Character& ch, std::span<const Points> positions, cons
 
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view, double tolerance_px,
-                     DrawList& out, std::span<const char> shown) {
+                     DrawList& out, std::span<const char> shown, float opacity) {
+  // The whole drawing at `opacity`: a layer round it (outside every layer of its own), or on the
+  // GPU's list the factor in every shape's alpha.
+  const bool whole = opacity < 1.0f && !out.fringe;
+  const size_t whole_at = out.layers.size();
+  if (whole) {
+    DrawList::Layer l;
+    l.begin = static_cast<int>(out.indices.size());
+    l.opacity = std::max(0.0f, opacity);
+    out.layers.push_back(l);
+  }
   auto draw = [&](size_t i) {
     const SubShape& s = ch.shapes[i];
     const Points& pts = positions.empty() ? s.points : positions[i];
     if (pts.size() != s.points.size()) return;
-    float alpha = 1.0f;
+    float alpha = out.fringe ? std::clamp(opacity, 0.0f, 1.0f) : 1.0f;
     for (const auto& [end, a] : out.alpha_stack)
       if (size_t(end) > i) alpha *= a;
     draw_shape(s, i < mesh.shapes.size() ? &mesh.shapes[i] : nullptr, pts, view, tolerance_px, alpha, out);
@@ -720,6 +730,10 @@ void build_draw_list(const Character& ch, const CharacterMesh& mesh,
     draw(i);
   }
   close_through(ch.shapes.size() + 1);
+  if (whole) {
+    DrawList::Layer& l = out.layers[whole_at];
+    l.content_end = l.clip_end = l.mask_end = static_cast<int>(out.indices.size());
+  }
 }
 
 }  // namespace mar

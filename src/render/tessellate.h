@@ -130,9 +130,11 @@ void stroke_polyline(std::span<const Vec2> pts, bool closed, const StrokeStyle& 
 /// Appends fill and stroke triangles of every shape, in paint order, mapped by `view`
 /// (character units -> pixels). `positions` gives per-shape deformed points (same sizes
 /// as the rest points); empty = rest pose. `tolerance_px` bounds round join error. `shown`:
-/// per shape, 0 leaves it out (empty = every shape).
+/// per shape, 0 leaves it out (empty = every shape). `opacity` < 1: the whole drawing at that
+/// opacity, composited as one (a layer round it; on a list with fringes, the GPU's, multiplied
+/// into every shape).
 void build_draw_list(const Character& ch, const CharacterMesh& mesh,
                      std::span<const Points> positions, const Affine2& view,
-                     double tolerance_px, DrawList& out, std::span<const char> shown = {});
+                     double tolerance_px, DrawList& out, std::span<const char> shown = {}, float opacity = 1.0f);
 
 }  // namespace mar

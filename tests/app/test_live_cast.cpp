@@ -134,6 +134,30 @@ TEST(Cast, ACastOfOneComputesWhatTheSingleRigShowComputes) {
   EXPECT_GT(moved(b->puppet()), 1.0);  // (it moved: the hash compares a performance, not a rest pose)
 }
 
+// The duet's actors solve on a pool of threads: the same frames as on the frame's thread alone,
+// and no frame allocates.
+TEST(Cast, TheRunHashIsTheSameOnOneThreadOrMany) {
+  set_allocation_counter(&heap_allocation_count);
+  std::string text = read_text(test::source_dir() / "config/shows/duet.toml");
+  replace_all(text, "../", (test::source_dir() / "config").string() + "/");
+  auto hash = [&](int threads) {
+    std::string t = text;
+    replace_all(t, "[show]\n", "[show]\nthreads = " + std::to_string(threads) + "\n");
+    RunOptions o;
+    o.frames = 420;
+    auto s = load(test::write_temp("cast_threads.toml", t), o);
+    EXPECT_TRUE(s);
+    if (!s) return uint64_t(0);
+    EXPECT_EQ(s->solve_threads(), threads);
+    EXPECT_EQ(s->run(), 0);
+    EXPECT_EQ(s->allocations_after_warmup(), 0u) << threads << " threads";
+    return s->run_hash();
+  };
+  const uint64_t one = hash(1);
+  EXPECT_EQ(hash(3), one);
+  EXPECT_EQ(hash(2), one);
+}
+
 // Two characters at one place: the higher z is drawn over the other; swapping z swaps them.
 TEST(Cast, TheCanvasIsDrawnInZOrder) {
   auto centre = [](int z_robot) {
@@ -190,6 +214,68 @@ TEST(Cast, TheDuetsRecallAndPenGoToTheirCharactersAndAllocateNothing) {
   EXPECT_EQ(j["cast"], nlohmann::json::array({"figure", "robot", "cat"}));
   EXPECT_GT(wave, 0.9);
   EXPECT_FALSE(s->actors()[1]->has_keys());  // (the robot's rig has none: its recall would be refused)
+}
+
+// A character off stage enters when its NAME.on-stage trigger comes on: a fade over its
+// entrance's seconds (drawn as one layer: its parts do not show through each other), or a
+// slide from beyond the canvas's edge; entering after warm-up allocates nothing.
+TEST(Cast, ACharacterEntersAndLeavesByItsOnStageTrigger) {
+  set_allocation_counter(&heap_allocation_count);
+  const std::string path = cast_show("cast_enter.toml",
+                                     character("a", "figure", "entrance = \"slide-left\"\nentrance_seconds = 0.5") +
+                                         character("b", "figure", "shown = false\nentrance_seconds = 0.5") + R"(
+[[device]]
+name = "knobs"
+sim = "knob_box"
+script = """
+1.0 press 1 for 0.2
+3.0 press 1 for 0.2
+3.0 press 2 for 0.2
+"""
+
+[[binding]]
+device = "knobs"
+control = "button 1"
+target = "b.on-stage"
+button = "toggle"
+
+[[binding]]
+device = "knobs"
+control = "button 2"
+target = "a.on-stage"
+button = "toggle"
+)");
+  RunOptions o;
+  o.warmup = 30;
+  auto s = load(path, o);
+  ASSERT_TRUE(s);
+  const Actor& a = *s->actors()[0];
+  const Actor& b = *s->actors()[1];
+  std::vector<double> pb, oa;
+  std::vector<float> fade;
+  pb.reserve(300);
+  oa.reserve(300);
+  fade.reserve(300);
+  for (int f = 0; f < 30; ++f) s->frame(int64_t(f * 1e9 / 60));
+  const long before = test::allocation_count();
+  for (int f = 30; f < 300; ++f) {
+    s->frame(int64_t(f * 1e9 / 60));
+    pb.push_back(b.presence());
+    fade.push_back(b.opacity());
+    oa.push_back((a.drawn_view().apply(Vec2(0, 0)) - a.view.apply(Vec2(0, 0))).norm());
+  }
+  EXPECT_EQ(test::allocation_count() - before, 0) << "a fade's layer and a slide allocate nothing";
+  auto at = [](double t) { return size_t(t * 60) - 30; };
+  EXPECT_EQ(pb[at(0.9)], 0.0) << "b starts off stage";
+  EXPECT_GT(fade[at(1.3)], 0.1f);
+  EXPECT_LT(fade[at(1.3)], 0.9f) << "half way in, b is half faded in";
+  EXPECT_EQ(pb[at(1.8)], 1.0);
+  EXPECT_EQ(fade[at(1.8)], 1.0f);
+  EXPECT_EQ(oa[at(2.9)], 0.0) << "a stands where it stands";
+  EXPECT_GT(oa[at(3.3)], 20.0) << "a slides away to the left";
+  EXPECT_EQ(pb[at(3.8)], 0.0) << "b has left";
+  EXPECT_EQ(a.presence(), 0.0);
+  EXPECT_LT(a.drawn_view().apply(a.rest_bounds.hi).x(), 0.0) << "a ends beyond the canvas's left edge";
 }
 
 }  // namespace

@@ -5,7 +5,11 @@
 #include "base/read_file.h"
 #include "test_util.h"
 
+#include "base/worker_pool.h"
+
 #include <gtest/gtest.h>
+
+#include <atomic>
 
 #include <sys/stat.h>
 
@@ -63,6 +67,30 @@ TEST(ReadFile, AFileWithinItsLimitIsReadAndOtherThingsAreRefusedByName) {
   ASSERT_FALSE(pipe.ok());
   EXPECT_NE(pipe.error.find("FIFO"), std::string::npos) << pipe.error;
   EXPECT_EQ(file_problem(small, 100, "a test file"), "");
+}
+
+// The worker pool runs every item exactly once per run, whatever thread takes it, run after
+// run (each run's items see that run's job: no helper is still in the last one), and a pool of
+// one thread is a plain loop.
+TEST(WorkerPool, EveryItemRunsOncePerRunOnAnyNumberOfThreads) {
+  for (int threads : {1, 2, 4}) {
+    WorkerPool pool(threads);
+    EXPECT_EQ(pool.threads(), threads);
+    std::vector<std::atomic<int>> hits(37);
+    for (int run = 0; run < 2000; ++run) {
+      const int add = run % 3 + 1;
+      auto job = [&](size_t i) { hits[i].fetch_add(add, std::memory_order_relaxed); };
+      pool.run(hits.size(), job);
+    }
+    int want = 0;
+    for (int run = 0; run < 2000; ++run) want += run % 3 + 1;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      EXPECT_EQ(hits[i].load(), want) << "item " << i << " with " << threads << " threads";
+    }
+    if (threads == 1) {
+      EXPECT_EQ(pool.helped(), 0u);
+    }
+  }
 }
 
 }  // namespace

@@ -148,6 +148,37 @@ TEST(Fringe, AGroupsOpacityIsInItsShapesOnTheGpusList) {
   EXPECT_EQ(most[2], 255);  // (after the group)
 }
 
+// A whole drawing at an opacity (a cast's character fading in): on the software rasterizer's
+// list one layer round all of it, outside its own groups' layers; on the GPU's, the factor in
+// every shape's alpha.
+TEST(Fringe, AWholeDrawingsOpacityIsOneLayerOrInEveryShape) {
+  auto ch = load_svg_string(R"svg(<svg xmlns="http://www.w3.org/2000/svg" width="60" height="30">
+      <g opacity="0.5"><rect width="20" height="20" fill="#f00"/></g>
+      <rect x="40" width="10" height="10" fill="#0f0"/></svg>)svg", "o.svg");
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  DrawList gpu, cpu;
+  gpu.fringe = true;
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, gpu, {}, 0.5f);
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, cpu, {}, 0.5f);
+  EXPECT_TRUE(gpu.layers.empty());
+  ASSERT_EQ(cpu.layers.size(), 2u);
+  EXPECT_EQ(cpu.layers[0].begin, 0);  // (outer first: the whole drawing, then its group)
+  EXPECT_EQ(cpu.layers[0].mask_end, int(cpu.indices.size()));
+  EXPECT_FLOAT_EQ(cpu.layers[0].opacity, 0.5f);
+  EXPECT_FLOAT_EQ(cpu.layers[1].opacity, 0.5f);
+  EXPECT_LT(cpu.layers[1].mask_end, cpu.layers[0].mask_end);
+  int most[2] = {0, 0};  // the largest alpha of red and green vertices
+  for (const SDL_Vertex& v : gpu.vertices) {
+    const int k = v.color.r > 100 ? 0 : v.color.g > 100 ? 1 : -1;
+    if (k >= 0) most[k] = std::max(most[k], int(v.color.a));
+  }
+  EXPECT_NEAR(most[0], 64, 1);
+  EXPECT_NEAR(most[1], 128, 1);
+  DrawList plain;
+  build_draw_list(*ch.value, prepare_mesh(*ch.value), {}, Affine2{}, 0.25, plain);
+  EXPECT_EQ(plain.layers.size(), 1u);  // (at opacity 1: no layer of its own)
+}
+
 // Fills: one thinner than a pixel is drawn at its coverage (0.4 px wide: alpha 0.4 along its
 // middle), and a long rectangle, triangulated into slivers from side to side, stays opaque
 // inside (a sliver turned over by the pull is not a thin part).

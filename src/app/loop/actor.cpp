@@ -37,6 +37,7 @@ std::string Actor::prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapp
   r_.swaps = pp.rig.swaps.size();
   r_.trigger0 = trigger0;
   r_.triggers = pp.rig.triggers.size();
+  presence_ = shown ? 1 : 0;
   rest_bounds = pp.character.bounds();
   rest_cover = cover_cells(pp.character, rest_bounds, kCoverCells);  // (the HUD keeps off them)
   solve_targets_ = pp.rest_targets();
@@ -88,7 +89,35 @@ double Actor::reconstruct() {
 
 void Actor::draw(DrawList& list) const {
   const Puppet& p = *puppet_;
-  build_draw_list(p.character, p.mesh, p.shapes, view, 0.3, list, p.shown);
+  build_draw_list(p.character, p.mesh, p.shapes, drawn_view(), 0.3, list, p.shown, opacity());
+}
+
+void Actor::stage_step(bool on, double dt) {
+  const double step = entrance_s > 0 ? dt / entrance_s : 1.0;
+  presence_ = on ? std::min(1.0, presence_ + step) : std::max(0.0, presence_ - step);
+}
+
+namespace {
+double smooth(double u) { return u * u * (3 - 2 * u); }
+}  // namespace
+
+size_t Actor::layer_depth() const {
+  size_t depth = 0;
+  std::vector<int> ends;
+  for (const Composite& c : puppet_->character.composites) {
+    while (!ends.empty() && ends.back() <= c.first) ends.pop_back();
+    ends.push_back(c.end);
+    depth = std::max(depth, ends.size());
+  }
+  return depth + (fade ? 1 : 0);
+}
+
+float Actor::opacity() const { return fade ? float(smooth(presence_)) : 1.0f; }
+
+Affine2 Actor::drawn_view() const {
+  if (fade || presence_ >= 1) return view;
+  const Vec2 o = (1 - smooth(presence_)) * offstage;
+  return Affine2::translate(o.x(), o.y()) * view;
 }
 
 void Actor::carry_from(const Actor& old) {

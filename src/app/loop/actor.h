@@ -86,7 +86,7 @@ class Actor {
   /// The shapes from the solve, blended from a reload's last drawing while one is under way;
   /// returns the worst part's distortion, % of the height.
   double reconstruct();
-  /// Its shapes as now posed, on its view.
+  /// Its shapes as now posed, on its view as now drawn, at its opacity.
   void draw(DrawList& list) const;
 
   bool has_keys() const { return !keys_.empty(); }
@@ -97,6 +97,21 @@ class Actor {
   Affine2 view;
   bool shown = true;
   int z = 0;
+  /// Entering and leaving (its NAME.on-stage trigger): a fade, or a slide from `offstage` (canvas
+  /// px from where it stands), over `entrance_s` seconds; 0 s: a cut.
+  bool fade = true;
+  Vec2 offstage{0, 0};
+  double entrance_s = 0.6;
+  /// Moves its presence toward on stage (`on`) or off it by a frame of `dt` seconds.
+  void stage_step(bool on, double dt);
+  /// 0: off stage (not drawn) .. 1: on stage; its opacity and view as now drawn.
+  double presence() const { return presence_; }
+  float opacity() const;
+  Affine2 drawn_view() const;
+  /// How deep its drawing's layers nest (with the layer of its fade, when it fades), and how
+  /// many it may have at once: what the canvas makes room for at load.
+  size_t layer_depth() const;
+  size_t layer_count() const { return puppet_->character.composites.size() + (fade ? 1 : 0); }
   /// Its rest box (the HUD keeps off it) and where its drawing covers that box.
   Bounds rest_bounds;
   static constexpr int kCoverCells = 24;
@@ -119,6 +134,7 @@ class Actor {
   Grab grab_;
   std::vector<Vec2> solve_targets_;     ///< its handles', then the grab's temporary handle's
   size_t n_solve_ = 0;
+  double presence_ = 1;
   std::vector<Points> blend_from_;      ///< the figure as the running show last drew it (a reload)
   int blend_left_ = 0;                  ///< frames of the blend from it still to come
 };

@@ -104,13 +104,13 @@ void StageDrawings::place(double W, double H, double ss) {
 void StageDrawings::append_props(const Actor& a, bool front, DrawList& list) const {
   // A prop moves as its part: the part's best rigid motion from rest to now.
   const Puppet& p = a.puppet();
-  const Affine2& view = a.view;
+  const Affine2 view = a.drawn_view();
   for (const Prop& pr : props_) {
     if (pr.front != front || pr.who != a.ranges().who) continue;
     const RigidMotion m = rigid_fit(p.character.shapes[size_t(pr.part)].points, p.shapes[size_t(pr.part)]);
     const Affine2 move = Affine2::translate(m.to_c.x(), m.to_c.y()) * Affine2{m.c, m.s, -m.s, m.c, 0, 0} *
                          Affine2::translate(-m.from_c.x(), -m.from_c.y());
-    build_draw_list(pr.ch, pr.mesh, {}, view * move * pr.place, 0.3, list);
+    build_draw_list(pr.ch, pr.mesh, {}, view * move * pr.place, 0.3, list, {}, a.opacity());
   }
 }
 
