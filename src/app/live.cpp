@@ -141,6 +141,15 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   }
   for (const auto& a : s->actors_) s->z_order_.push_back(a.get());
   s->quality_.assign(s->actors_.size(), 0.0);
+  if (!sh.cast.empty()) {
+    size_t nh = 0, nk = 0;
+    for (const auto& a : s->actors_) {
+      nh += a->puppet().rig.handles.size();
+      nk += a->puppet().rig.keys.size();
+    }
+    s->cast_handles_.assign(nh, Vec2::Zero());
+    s->cast_keys_.assign(nk, 0.0);
+  }
   if (s->actors_.size() > 1) {
     // The cast's solves in parallel: one thread a character, up to the cores, from 4 characters
     // on (bench_cast on 2 cores: 2 characters' solve p50 116 us alone, 154 us on the pool —
@@ -360,6 +369,32 @@ void LiveShow::place_cast(int w, int h, int ss) {
     a.offstage = e == "slide-left" ? Vec2(-at.x() - 0.5 * k * ch.width, 0) : e == "slide-right" ? Vec2(w - at.x() + 0.5 * k * ch.width, 0)
                : e == "slide-up" ? Vec2(0, -at.y() - 0.5 * k * ch.height) : e == "slide-down" ? Vec2(0, h - at.y() + 0.5 * k * ch.height)
                                  : Vec2(0, 0);
+  }
+}
+
+void LiveShow::osc_names(OutputsSpec& out) const {
+  if (show_.cast.empty()) {
+    out.set_osc(show_, lead().puppet().rig);
+    return;
+  }
+  std::vector<const Rig*> rigs;
+  std::vector<std::string> names;
+  for (const auto& a : actors_) {
+    rigs.push_back(&a->puppet().rig);
+    names.push_back(a->name());
+  }
+  out.set_osc(show_, rigs, names);
+}
+
+void LiveShow::cast_state() {
+  // A cast's handles and key weights for the outputs, every character's in the cast's order (a
+  // character with no key stage: its keys at 0).
+  size_t h = 0, k = 0;
+  for (const auto& a : actors_) {
+    const Puppet& p = a->puppet();
+    for (size_t i = 0; i < p.rig.handles.size(); ++i) cast_handles_[h++] = p.solver->handle_point(i);
+    const auto w = a->key_weights();
+    for (size_t i = 0; i < p.rig.keys.size(); ++i) cast_keys_[k++] = i < w.size() ? w[i] : 0.0;
   }
 }
 
@@ -626,8 +661,10 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
+  if (!show_.cast.empty()) cast_state();
   compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, lead().puppet(), *canvas_,
-                               {lead().key_weights(), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
+                               {show_.cast.empty() ? lead().key_weights() : std::span<const double>(cast_keys_),
+                                std::span<const Vec2>(cast_handles_), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
     if (stats_.frames >= opt_.warmup) present_allocs_ += n;
@@ -726,7 +763,7 @@ std::string LiveShow::begin() {
   out.width = canvas_->width();
   out.height = canvas_->height();
   out.rate = int(std::lround(1.0 / period));
-  out.set_osc(show_, lead().puppet().rig);
+  osc_names(out);
   if (std::string e = outputs_->open(out, lead().puppet().character); !e.empty()) return e;
   if (!opt_.record_path.empty() && !recorder_) {  // (an output: a take that cannot be written is exit 1)
     auto r = Recorder::open(opt_.record_path, show_identity(show_));

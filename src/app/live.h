@@ -199,6 +199,10 @@ class LiveShow {
   void place_cast(int w, int h, int ss);   ///< each actor's view on a w x h canvas
   std::vector<std::string> watched_files() const;  ///< the show's, every rig's and drawing's
   void reserve_layers();                           ///< the canvas's room for the cast's layers
+  void osc_names(OutputsSpec& out) const;          ///< OSC out's names: the rig's, or the cast's
+  void cast_state();                               ///< a cast's handles and keys for the outputs
+  std::vector<Vec2> cast_handles_;                 ///< (sized at load)
+  std::vector<double> cast_keys_;
   std::span<Vec2> slice(const Actor& a) { return std::span<Vec2>(targets_).subspan(a.ranges().handle0, a.ranges().handles); }
   Actor& lead() { return *actors_.front(); }
   const Actor& lead() const { return *actors_.front(); }

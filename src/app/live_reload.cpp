@@ -189,7 +189,7 @@ void LiveShow::adopt(LiveShow& old) {
   use_backdrop();
   if (started_) {  // the OSC address space follows the rig
     OutputsSpec out;
-    out.set_osc(show_, lead().puppet().rig);
+    osc_names(out);
     if (const std::string e = outputs_->relayout(out, lead().puppet().character); !e.empty() && !opt_.quiet)
       std::cerr << "warning: " << e << " (OSC out stays off)\n";
   }

@@ -72,10 +72,15 @@ std::unique_ptr<OscOut> OscOut::open(const OscOutOptions& o, const ShowStateLayo
   for (ShowState& s : out->slots_) s.size_for(layout);
   auto link = std::make_unique<Link>();
   link->fd = fd;
-  for (const auto& n : layout.handles) link->handle.push_back(o.prefix + "/handle/" + n);
-  for (const auto& n : layout.keys) link->key.push_back(o.prefix + "/key/" + n);
-  for (const auto& n : layout.swaps) link->swap.push_back(o.prefix + "/swap/" + n);
-  for (const auto& n : layout.triggers) link->trigger.push_back(o.prefix + "/trigger/" + n);
+  // (a cast's: the character's name after the prefix)
+  auto address = [&](const std::vector<std::string>& who, size_t i, const char* kind, const std::string& n) {
+    return o.prefix + (i < who.size() && !who[i].empty() ? "/" + who[i] : std::string()) + kind + n;
+  };
+  for (size_t i = 0; i < layout.handles.size(); ++i) link->handle.push_back(address(layout.handle_who, i, "/handle/", layout.handles[i]));
+  for (size_t i = 0; i < layout.keys.size(); ++i) link->key.push_back(address(layout.key_who, i, "/key/", layout.keys[i]));
+  for (size_t i = 0; i < layout.swaps.size(); ++i) link->swap.push_back(address(layout.swap_who, i, "/swap/", layout.swaps[i]));
+  for (size_t i = 0; i < layout.triggers.size(); ++i)
+    link->trigger.push_back(address(layout.trigger_who, i, "/trigger/", layout.triggers[i]));
   for (const auto& n : layout.devices) link->device.push_back(o.prefix + "/device/" + n);
   link->frame = o.prefix + "/frame";
   link->sent.size_for(layout);

@@ -16,6 +16,9 @@ namespace mar {
 struct ShowStateLayout {
   std::vector<std::string> handles, keys, swaps, triggers, devices;
   std::vector<std::vector<std::string>> swap_members;  ///< per swap set
+  /// A cast's: each handle's, key's, swap set's and trigger's character (its address then
+  /// starts with its name: /marionette/robot/handle/left-hand). Empty: a show's single rig.
+  std::vector<std::string> handle_who, key_who, swap_who, trigger_who;
 };
 
 struct ShowState {

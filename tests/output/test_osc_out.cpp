@@ -156,6 +156,31 @@ TEST(OscOut, SendsEachValueOnceThenOnlyChangesAtMostAtItsRate) {
   EXPECT_EQ(out->send_errors(), 0u);
 }
 
+// A cast's state: each handle, key, swap set and trigger under its character's name.
+TEST(OscOut, ACastsAddressesCarryTheCharactersName) {
+  Receiver rx;
+  std::string err;
+  ShowStateLayout l = layout();
+  l.handle_who = {"robot", "cat"};
+  l.key_who = {"robot"};
+  l.swap_who = {"cat"};
+  l.trigger_who = {"cat"};
+  auto out = OscOut::open({"127.0.0.1", rx.port, 50, "/marionette"}, l, &err);
+  ASSERT_NE(out, nullptr) << err;
+  fill(out->state(), 10, 0);
+  out->publish();
+  auto got = rx.take_when([](const std::vector<Received>& v) { return v.size() >= 7; });
+  std::map<std::string, Received> by;
+  for (const auto& r : got) by[r.path] = r;
+  EXPECT_EQ(by["/marionette/robot/handle/head"].f, (std::vector<double>{10, 20}));
+  EXPECT_EQ(by["/marionette/cat/handle/hand"].f, (std::vector<double>{5, 6}));
+  EXPECT_EQ(by["/marionette/robot/key/wave"].f, (std::vector<double>{0.25}));
+  EXPECT_EQ(by["/marionette/cat/swap/mouth"].s, (std::vector<std::string>{"smile"}));
+  EXPECT_EQ(by["/marionette/cat/trigger/blink"].i, (std::vector<int>{0}));
+  EXPECT_EQ(by["/marionette/device/korg"].s, (std::vector<std::string>{"connected"}));  // (the show's)
+  EXPECT_EQ(by.count("/marionette/handle/head"), 0u);
+}
+
 TEST(OscOut, AFailedSendIsCountedAndAHostThatDoesNotResolveIsNamed) {
   std::string err;
   // Nobody listens on port 9: after the first send the kernel refuses the rest (ECONNREFUSED).

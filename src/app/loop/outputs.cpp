@@ -50,6 +50,38 @@ void OutputsSpec::set_osc(const ShowConfig& show, const Rig& rig) {
   for (const auto& d : show.devices) osc_layout.devices.push_back(d.name);
 }
 
+void OutputsSpec::set_osc(const ShowConfig& show, const std::vector<const Rig*>& rigs, const std::vector<std::string>& names) {
+  osc = show.osc_out.port > 0;
+  if (!osc) return;
+  osc_options = {show.osc_out.host, show.osc_out.port, show.osc_out.rate, show.osc_out.prefix};
+  ShowStateLayout& l = osc_layout;
+  l = {};
+  for (size_t c = 0; c < rigs.size(); ++c) {
+    for (const RigHandle& h : rigs[c]->handles) {
+      l.handles.push_back(h.name);
+      l.handle_who.push_back(names[c]);
+    }
+    for (const RigKey& k : rigs[c]->keys) {
+      l.keys.push_back(k.name);
+      l.key_who.push_back(names[c]);
+    }
+    for (const RigSwap& w : rigs[c]->swaps) {
+      l.swaps.push_back(w.name);
+      l.swap_members.push_back(w.members);
+      l.swap_who.push_back(names[c]);
+    }
+    for (const RigTrigger& t : rigs[c]->triggers) {
+      l.triggers.push_back(t.name);
+      l.trigger_who.push_back(names[c]);
+    }
+  }
+  for (const std::string& n : names) {  // (after the rigs', as the show's triggers are)
+    l.triggers.push_back("on-stage");
+    l.trigger_who.push_back(n);
+  }
+  for (const auto& d : show.devices) l.devices.push_back(d.name);
+}
+
 FrameOutputs::FrameOutputs() = default;
 FrameOutputs::~FrameOutputs() = default;
 
@@ -125,7 +157,10 @@ double FrameOutputs::frame(uint64_t n, int64_t t_ns, const Puppet& p, Canvas& ca
     ShowState& s = osc_->state();
     s.frame = n;
     s.t = double(t_ns) * 1e-9;
-    for (size_t h = 0; h < s.handles.size() && h < p.solver->handle_count(); ++h) s.handles[h] = p.solver->handle_point(h);
+    if (!state.handles.empty())
+      for (size_t h = 0; h < s.handles.size() && h < state.handles.size(); ++h) s.handles[h] = state.handles[h];
+    else
+      for (size_t h = 0; h < s.handles.size() && h < p.solver->handle_count(); ++h) s.handles[h] = p.solver->handle_point(h);
     for (size_t k = 0; k < s.keys.size() && k < state.keys.size(); ++k) s.keys[k] = state.keys[k];
     for (size_t k = 0; k < s.swaps.size() && k < state.swaps.size(); ++k) s.swaps[k] = state.swaps[k];
     for (size_t k = 0; k < s.triggers.size() && k < state.triggers.size(); ++k) s.triggers[k] = uint8_t(state.triggers[k] != 0);

@@ -43,11 +43,15 @@ struct OutputsSpec {
   ShowStateLayout osc_layout;  ///< the rig's handles, keys, swap sets, triggers; the show's devices
   /// OSC out as the show's [osc_out] says (off without it), named after `rig` and the show.
   void set_osc(const ShowConfig& show, const Rig& rig);
+  /// A cast's: every character's rig (`rigs`, in the cast's order, named `names`), then each
+  /// character's on-stage trigger.
+  void set_osc(const ShowConfig& show, const std::vector<const Rig*>& rigs, const std::vector<std::string>& names);
 };
 
 /// What a frame knew besides its shapes (spans over the loop's own arrays).
 struct FrameState {
   std::span<const double> keys;
+  std::span<const Vec2> handles;  ///< a cast's handles (empty: the puppet's solver's)
   std::span<const int> swaps;
   std::span<const char> triggers;
   std::span<const DeviceState> devices;
