@@ -115,7 +115,8 @@ struct RigArgs {
   std::string input;   ///< the character
   std::string mask;
   std::string output;  ///< the rig to write ("-": print it; "": open the rig studio)
-  std::string show;    ///< a starter show to write beside it (needs `output`)
+  std::string show;    ///< a starter show to write beside it (needs `output`); with `character_name`, the show to open
+  std::string character_name;  ///< studio: the cast's character of `show` to open (its rig and drawing)
   std::string device = "nanokontrol2";  ///< the starter show's device
   std::string preview;  ///< a picture of what was found (rig_preview.h)
   // The rig studio (no `output`):

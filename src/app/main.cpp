@@ -108,10 +108,11 @@ int main(int argc, char** argv) {
 
   mar::RigArgs rigargs;
   CLI::App* rig_cmd = app.add_subcommand("rig", "The automatic rig of a character: hinges at its drawn joints, handles, swap sets and triggers");
-  rig_cmd->add_option("character", rigargs.input, "Character file (.svg or .png)")->required();
+  rig_cmd->add_option("character", rigargs.input, "Character file (.svg or .png); not with --show SHOW --character NAME");
   rig_cmd->add_option("-o,--output", rigargs.output, "Rig file to write ('-': print it); without -o the rig studio opens");
   rig_cmd->add_option("--mask", rigargs.mask, "Mask PNG for a PNG character (non-black = figure)");
-  rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o)");
+  rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o); with --character, the show whose character the studio opens");
+  rig_cmd->add_option("--character", rigargs.character_name, "Studio: open this character of --show's cast ([[character]] name), its rig and drawing");
   rig_cmd->add_option("--preview", rigargs.preview, "Also draw what was found into this PNG: body, limbs, hinges, handles, what was left out");
   rig_cmd->add_option("--device", rigargs.device, "The starter show's device: nanokontrol2 (default), gamepad, pen_tablet, knob_box");
   rig_cmd->add_option("--rig", rigargs.rig, "Studio: the rig to edit and save (default: <character>.toml in this folder; the automatic rig if it does not exist)");

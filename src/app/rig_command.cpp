@@ -1,6 +1,7 @@
 // `marionette rig`: the automatic rig of a character, written as a commented rig file.
 #include "app/commands.h"
 #include "app/puppet.h"
+#include "app/show.h"
 #include "app/rig_preview.h"
 #include "app/studio/studio_window.h"
 #include "character/load.h"
@@ -78,9 +79,49 @@ int run_studio(const RigArgs& a) {
   return kExitOk;
 }
 
+// `rig --show SHOW --character NAME`: the studio on one character of a show's cast.
+int cast_studio(RigArgs a) {
+  if (!a.output.empty() || !a.input.empty() || a.show.empty()) {
+    std::cerr << "error: --character opens the studio on a character of --show's cast: rig --show SHOW.toml --character NAME "
+                 "(no character file, no -o)\n";
+    return kExitBadInput;
+  }
+  auto show = read_show_cast(a.show);
+  if (!show.ok()) {
+    std::cerr << "error: " << show.error << "\n";
+    return kExitBadInput;
+  }
+  std::string names;
+  for (const ShowCharacter& c : show.value->cast) {
+    names += (names.empty() ? "" : ", ") + c.name;
+    if (c.name != a.character_name) continue;
+    a.rig = c.rig;
+    a.input = c.character;
+    if (a.input.empty()) {  // the rig's own drawing
+      auto rig = load_rig(c.rig);
+      if (!rig.ok()) {
+        std::cerr << "error: " << rig.error << "\n";
+        return kExitBadInput;
+      }
+      a.input = rig.value->character_path();
+      if (a.mask.empty()) a.mask = rig.value->mask_path();
+    }
+    a.show.clear();
+    return run_studio(a);
+  }
+  std::cerr << "error: " << a.show << ": no character '" << a.character_name << "' in its cast"
+            << (names.empty() ? std::string(" (it has no [[character]] tables)") : " (" + names + ")") << "\n";
+  return kExitBadInput;
+}
+
 }  // namespace
 
 int cmd_rig(const RigArgs& a) {
+  if (!a.character_name.empty()) return cast_studio(a);
+  if (a.input.empty()) {
+    std::cerr << "error: rig needs a character file (or --show SHOW --character NAME)\n";
+    return kExitBadInput;
+  }
   if (a.output.empty()) {
     if (!a.show.empty()) {
       std::cerr << "error: --show needs -o RIG.toml (the show names the rig file)\n";

@@ -631,6 +631,19 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
   }
 }
 
+Result<ShowConfig> read_show_cast(const std::string& path) {
+  try {
+    ShowConfig s = default_show();
+    s.path = path;
+    const toml::table root = parse_file(path);
+    read_header(path, root, s);
+    read_cast(path, root, s);
+    return Result<ShowConfig>::success(std::move(s));
+  } catch (const ShowError& e) {
+    return Result<ShowConfig>::failure(e.message);
+  }
+}
+
 std::string append_binding(const std::string& path, const std::string& device, const std::string& control,
                            const std::string& target) {
   // (atomically: the show file as it was, comments and all, then the binding)

@@ -234,6 +234,10 @@ ShowRig cast_rig(const std::vector<std::string>& names, std::vector<ShowRig> rig
 /// iterations); an error is returned as is.
 using RigLoader = std::function<Result<ShowRig>(const ShowConfig& header)>;
 
+/// A show's [show] table and its cast ([[character]] tables) alone, without loading a rig (what
+/// `rig --show SHOW --character NAME` opens). Errors name file:line.
+Result<ShowConfig> read_show_cast(const std::string& path);
+
 /// Parses the show file once and validates it: the [show] table first, then `rig(header)`,
 /// then devices, groups, poses and bindings resolved against what it returns. Errors name
 /// file:line.

@@ -505,3 +505,35 @@ TEST(cli_interp, InBetweensOfTheRigsKeysAndBadKeys) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// `rig --show SHOW --character NAME` opens the studio on one character of a cast: its rig and
+// its drawing; a name not in the cast is refused with the cast's names.
+TEST(cli_rig, TheStudioOpensOneCharacterOfACast) {
+  const std::string duet = q(test::source_dir() / "config/shows/duet.toml");
+  auto bad = test::run_cli("rig --show " + duet + " --character dog");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.err.find("no character 'dog' in its cast (figure, robot, cat)"), std::string::npos) << bad.err;
+  auto both = test::run_cli("rig " + q(test::characters_dir() / "robot.svg") + " --show " + duet + " --character robot");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.err.find("no character file"), std::string::npos) << both.err;
+  if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
+  const auto dir = test::temp_dir("cast_studio");
+  const std::string shot = (dir / "robot.png").string(), out = (dir / "out.txt").string();
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" + std::string(MARIONETTE_BINARY) +
+                          "' rig --show " + duet + " --character robot --software --seconds 0.3 --screenshot " + q(shot) + " > " + q(out) +
+                          " 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream in(out);
+  const std::string said((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(said.find("editing "), std::string::npos) << said;
+  EXPECT_NE(said.find("robot.toml"), std::string::npos) << said;
+  auto img = read_png_image(shot);
+  ASSERT_TRUE(img.ok()) << img.error;
+  EXPECT_GT(img.value->width, 0);
+}
+
+}  // namespace
+}  // namespace mar
