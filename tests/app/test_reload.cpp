@@ -127,6 +127,74 @@ TEST(Reload, TheFigureDoesNotJumpAtAReload) {
   EXPECT_LT(across, without + 0.01 * diag);
 }
 
+// A cast reloads as a whole, each character going on from where it was (by name): an edit to
+// one character's rig (the robot's head held by a new handle) lets the figure go on without a
+// jump — across the reload none of its steps between frames is larger than its own without a
+// reload, plus 1 % of its diagonal — and the robot eases into its new pose over the reload's
+// blend (its first frame after the reload no further than that from its last before).
+TEST(Reload, AnEditToOneCharacterOfACastLeavesTheOthersWhereTheyAre) {
+  const auto dir = test::temp_dir("reload-cast");
+  const std::string robot = (dir / "robot.toml").string();
+  const std::string robot_text = "character = \"" + (test::source_dir() / "config/characters/robot.svg").string() +
+                                 "\"\niterations = 12\n[[handle]]\nname = \"chest\"\nrest = [150.0, 206.0]\n"
+                                 "[[handle]]\nname = \"left-hand\"\nrest = [87.0, 266.0]\n";
+  save(robot, robot_text);
+  const std::string path = (dir / "show.toml").string();
+  const std::string show = "[show]\nrate = 60\n[display]\nwidth = 320\nheight = 200\n"
+                           "[[character]]\nname = \"figure\"\nrig = \"" + (test::source_dir() / "config/rigs/figure.toml").string() +
+                           "\"\n[[character]]\nname = \"robot\"\nrig = \"" + robot + "\"\n"
+                           "[[device]]\nname = \"k\"\nsim = \"nanokontrol2\"\nscript = \"\"\"\n0 move fader1 0\n0 move fader2 0\n"
+                           "0.1 move fader1 1 over 3\n0.1 move fader2 1 over 3\n\"\"\"\n"
+                           "[[binding]]\ndevice = \"k\"\ncontrol = \"cc 0\"\ntarget = \"figure.handle.chest.x\"\nrange = [100.0, 300.0]\n"
+                           "[[binding]]\ndevice = \"k\"\ncontrol = \"cc 1\"\ntarget = \"robot.handle.left-hand.y\"\nrange = [266.0, 150.0]\n";
+  save(path, show);
+  auto ref = load(path);
+  auto a = load(path);
+  ASSERT_TRUE(ref && a);
+  auto step = [](const std::vector<Points>& x, const std::vector<Points>& y) {
+    double d = 0;
+    for (size_t s = 0; s < x.size() && s < y.size(); ++s)
+      for (size_t i = 0; i < x[s].size() && i < y[s].size(); ++i) d = std::max(d, (x[s][i] - y[s][i]).norm());
+    return d;
+  };
+  for (long k = 0; k < 90; ++k) {
+    a->frame(int64_t(double(k) * 1e9 / 60));
+    ref->frame(int64_t(double(k) * 1e9 / 60));
+  }
+  std::vector<std::vector<Points>> last, last_ref;
+  for (size_t c = 0; c < 2; ++c) {
+    last.push_back(a->actors()[c]->puppet().shapes);
+    last_ref.push_back(ref->actors()[c]->puppet().shapes);
+  }
+  save(robot, robot_text + "[[handle]]\nname = \"head\"\nrest = [150.0, 90.0]\n");  // the robot's head held too
+  auto b = load(path, a.get());
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->restarted(), "") << "the devices and the clock go on";
+  EXPECT_EQ(b->actors()[1]->puppet().rig.handles.size(), 3u) << "the edit took";
+  double across[2] = {0, 0}, without[2] = {0, 0}, first_robot = 0;
+  for (long k = 90; k < 150; ++k) {
+    b->frame(int64_t(double(k) * 1e9 / 60));
+    ref->frame(int64_t(double(k) * 1e9 / 60));
+    if (k == 90) first_robot = step(last[1], b->actors()[1]->puppet().shapes);
+    for (size_t c = 0; c < 2; ++c) {
+      across[c] = std::max(across[c], step(last[c], b->actors()[c]->puppet().shapes));
+      without[c] = std::max(without[c], step(last_ref[c], ref->actors()[c]->puppet().shapes));
+      last[c] = b->actors()[c]->puppet().shapes;
+      last_ref[c] = ref->actors()[c]->puppet().shapes;
+    }
+  }
+  double diag[2];
+  for (size_t c = 0; c < 2; ++c) {
+    const Bounds bb = b->actors()[c]->puppet().character.bounds();
+    diag[c] = (bb.hi - bb.lo).norm();
+    std::cout << b->actors()[c]->name() << ": largest step between frames 90-150: " << without[c] << " units without a reload, "
+              << across[c] << " across it (diagonal " << diag[c] << ")\n";
+  }
+  EXPECT_LT(across[0], without[0] + 0.01 * diag[0]) << "the figure, not edited";
+  EXPECT_LT(first_robot, without[1] + 0.01 * diag[1]) << "the robot's first frame after the edit";
+  EXPECT_GT(across[1], without[1]) << "(the edit changed the robot's pose: the test sees a reload)";
+}
+
 // A bomb saved over a running show's character (a hang for 10 minutes once, SIGTERM ignored):
 // the edit is prepared on a thread of its own while the show plays on, refused with its bound,
 // and the running show goes on; then a good edit is prepared the same way and takes over.
