@@ -43,6 +43,9 @@ uint64_t LiveShow::allocation_count() { return allocations(); }
 LiveShow::~LiveShow() {
   if (simulation_) simulation_->stop();
   devices_.reset();
+  // (the outputs' threads may still read the cast's drawings: they finish before the cast goes)
+  outputs_.reset();
+  recorder_.reset();
 }
 
 

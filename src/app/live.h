@@ -80,7 +80,49 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header);
 /// The canvas a show draws on: [output]'s size, else the window's (a run's --size before either).
 std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh);
 
-class LiveShow {
+/// What a reload that keeps the running show's devices carries into the edited show, as one
+/// object (LiveShow::adopt moves it whole): the run's options, the devices and their
+/// simulators, the clock, the run's stats and counts, the file watch, the window and its draw
+/// list, the outputs and the recording. The rest of a show is its own: the edited show's cast
+/// and mapping, which take over where the old ones were by name (Mapping::carry_from,
+/// Actor::carry_from).
+struct LiveRun {
+  RunOptions opt_;
+  // inputs
+  std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
+  std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
+  std::unique_ptr<DeviceSet> devices_;             ///< every show device as a source (not when replaying)
+  bool has_hardware_ = false;
+  std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
+  std::vector<Event> last_events_;                 ///< for the HUD: each device's last control
+  uint64_t dropped_events_ = 0, dropped_records_ = 0;
+  long sim_waits_ = 0, sim_timeouts_ = 0;          ///< --simulate on the wall clock: frames that waited for the players / gave up
+  double sim_max_wait_ms_ = 0;
+  // the clock
+  Pacer pacer_{1.0 / 60, false};
+  LateInput late_;                                 ///< on the wall clock: when a frame wakes; the latency split
+  MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
+  int64_t last_t_ = 0;
+  double last_compute_ms_ = 0;
+  // the run's stats and counts
+  RunStats stats_;
+  uint64_t allocs_ = 0, alloc_base_ = 0;
+  uint64_t swap_allocs_ = 0;                       ///< the allocation count when a prepared reload ended run()
+  uint64_t present_allocs_ = 0;                    ///< a window's present (the window system's), after warm-up
+  bool started_ = false;
+  int reloads_ = 0, refused_ = 0;
+  long prepare_frames_ = 0;                        ///< frames played while the last edit was prepared
+  std::unique_ptr<FileWatch> watch_;               ///< the show's files, on the wall clock
+  ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
+  // the window and the outputs
+  std::unique_ptr<Canvas> canvas_;
+  DrawList list_;                                  ///< (its buffers' capacity: a new drawing's frames allocate nothing)
+  bool hud_ = true;
+  std::unique_ptr<Recorder> recorder_;
+  std::unique_ptr<FrameOutputs> outputs_ = std::make_unique<FrameOutputs>();  ///< dumps, video, PipeWire, OSC out
+};
+
+class LiveShow : private LiveRun {
  public:
   /// Loads a show. `previous`: a reload of that running show (app/live_reload.cpp): the new
   /// show takes over its clock, devices, simulators, window and outputs where the edit left
@@ -184,13 +226,10 @@ class LiveShow {
   bool tell_takeover_waits(int64_t t_ns);
   bool takeover_pending_ = false;
   void await_simulation(int64_t t);  ///< --simulate: until the simulated devices are written through `t`
-  long sim_waits_ = 0, sim_timeouts_ = 0;  ///< --simulate on the wall clock: frames that waited for the players / gave up
-  double sim_max_wait_ms_ = 0;
   void replay_device(uint16_t source, std::span<const uint8_t> description);
   bool handle_window_events();
   bool learn_from_events();
 
-  RunOptions opt_;
   ShowConfig show_;
   std::vector<std::unique_ptr<Actor>> actors_;     ///< the cast (loop/actor.h): one for a show's single rig
   std::vector<Actor*> z_order_;                    ///< the cast back to front
@@ -208,17 +247,10 @@ class LiveShow {
   const Actor& lead() const { return *actors_.front(); }
   Mapping mapping_;
   // inputs
-  std::vector<std::unique_ptr<SimDevice>> sims_;   ///< per show device with a sim (in-process or --simulate)
-  std::unique_ptr<HardwareSimulation> simulation_; ///< --simulate: hardware sims at the kernel interface
-  std::unique_ptr<DeviceSet> devices_;             ///< every show device as a source (not when replaying)
   LightRoute lights_{show_, sims_, devices_};      ///< the controllers' lights: to a simulator or through the device set
-  bool has_hardware_ = false;
   std::vector<WireRecord> wires_;                  ///< this frame's wire records (capacity fixed)
   std::vector<Event> events_;                      ///< this frame's events (capacity fixed)
   size_t n_events_ = 0;
-  uint64_t dropped_events_ = 0, dropped_records_ = 0;
-  std::unique_ptr<Recorder> recorder_;
-  std::unique_ptr<FrameOutputs> outputs_ = std::make_unique<FrameOutputs>();  ///< dumps, video, PipeWire, OSC out
   std::unique_ptr<Playback> playback_;
   std::vector<WireRecord> replay_wires_;
   std::vector<std::unique_ptr<Decoder>> replay_decoders_;  ///< per source, from the recording
@@ -233,47 +265,29 @@ class LiveShow {
   std::vector<char> triggers_on_;
   int stage_trigger0_ = 0;                         ///< a cast's NAME.on-stage triggers, after the rigs' 
   IdleStage idle_;                                 ///< [[behavior]]: blinks, breathing, looking about
-  MusicTime beat_;                                 ///< MIDI clock's music time (sync = "beat")
   LedFeedback leds_;                               ///< controllers' lights from the show's state
   Governor governor_{8, 2};
   int grabbed_ = -1;                               ///< the actor the pen holds (-1: none)
   std::vector<Vec2> targets_;                      ///< the cast's handles' targets, mapping order
-  double last_compute_ms_ = 0;
-  int64_t last_t_ = 0;
   long refactorizations_ = 0;
   uint64_t refactor_allocs_ = 0;
   Histogram refactor_us_;
   // render, present
   StageDrawings stage_;        ///< [[scenery]] and [[prop]] (loop/stage_drawings.h)
   void use_backdrop();         ///< the canvas takes the scenery behind, drawn once at load
-  std::unique_ptr<Canvas> canvas_;
-  DrawList list_;
   bool stats_frames_drawn() const { return stats_.frames > 0; }
   Rgba background_{244, 241, 234, 255};
-  std::vector<DeviceState> device_states_;         ///< for the HUD (sized at load)
-  std::vector<Event> last_events_;                 ///< for the HUD: each device's last control
-  bool hud_ = true;
   std::unique_ptr<Hud> hud_panel_;                 ///< a window's HUD (glyphs made at load)
   // the run
-  Pacer pacer_{1.0 / 60, false};
-  LateInput late_;                                 ///< on the wall clock: when a frame wakes; the latency split
   double marks_[3] = {0, 0, 0};                    ///< this frame's read, ready and presented (now_us)
   int64_t newest_ns_ = -1;                         ///< this frame's newest input (show clock; -1: none)
-  RunStats stats_;
-  ServiceNotifier* service_ = nullptr;             ///< under systemd: READY, then WATCHDOG while frames come
-  uint64_t allocs_ = 0, alloc_base_ = 0;
-  uint64_t swap_allocs_ = 0;  ///< the allocation count when a prepared reload ended run()
   static uint64_t allocation_count();
-  uint64_t present_allocs_ = 0;  ///< a window's present (the window system's), after warm-up
   double quality_pct_ = 0;       ///< this frame's pose quality (the HUD)
   std::atomic<bool> stop_{false};
-  bool quit_ = false, learned_ = false, reload_asked_ = false, started_ = false, released_ = false;
+  bool quit_ = false, learned_ = false, reload_asked_ = false, released_ = false;
   std::string reload_cause_, restarted_, last_reload_;
-  int reloads_ = 0, refused_ = 0;
   std::shared_ptr<ReloadJob> reload_job_;        ///< an edit being prepared (live_reload.cpp)
   bool reload_again_ = false;                      ///< a newer edit came while it was
-  long prepare_frames_ = 0;                        ///< frames played while the last edit was prepared
-  std::unique_ptr<FileWatch> watch_;               ///< the show's files, on the wall clock
 };
 
 }  // namespace mar

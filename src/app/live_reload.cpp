@@ -127,37 +127,14 @@ void LiveShow::release() {
 }
 
 void LiveShow::adopt(LiveShow& old) {
-  opt_ = old.opt_;  // (open_output may have turned a window without a display headless)
-  // the devices, as connected, and the simulators where their scripts are
-  devices_ = std::move(old.devices_);
-  simulation_ = std::move(old.simulation_);
-  sims_ = std::move(old.sims_);
-  has_hardware_ = old.has_hardware_;
-  device_states_ = std::move(old.device_states_);
-  last_events_ = std::move(old.last_events_);
-  // the clock
-  pacer_ = old.pacer_;
-  stats_ = std::move(old.stats_);
-  late_ = std::move(old.late_);
-  last_t_ = old.last_t_;
-  beat_ = old.beat_;  // the music time goes on
-  last_compute_ms_ = old.last_compute_ms_;
-  allocs_ = old.allocs_;
-  alloc_base_ = old.alloc_base_;
-  swap_allocs_ = old.swap_allocs_;
-  present_allocs_ = old.present_allocs_;
-  dropped_events_ = old.dropped_events_;
-  dropped_records_ = old.dropped_records_;
-  sim_waits_ = old.sim_waits_;
-  sim_timeouts_ = old.sim_timeouts_;
-  sim_max_wait_ms_ = old.sim_max_wait_ms_;
-  started_ = old.started_;
-  reloads_ = old.reloads_ + 1;
-  refused_ = old.refused_;
-  prepare_frames_ = old.prepare_frames_;
-  watch_ = std::move(old.watch_);
+  // The run goes on, as one object (LiveRun): the options (open_output may have turned a window
+  // without a display headless), the devices as connected and the simulators where their
+  // scripts are, the clock and the music time, the stats and counts, the file watch, the window,
+  // the outputs and the recording.
+  const bool drawn = old.stats_frames_drawn();
+  static_cast<LiveRun&>(*this) = std::move(static_cast<LiveRun&>(old));
+  ++reloads_;
   if (watch_) watch_->watch(watched_files());  // (an edit may name new files)
-  service_ = old.service_;
   // where the controls and the handles were
   mapping_.carry_from(old.mapping_);
   // Each character that was in the old cast (by name) goes on from where it was: its chains
@@ -168,15 +145,10 @@ void LiveShow::adopt(LiveShow& old) {
     for (const auto& o : old.actors_)
       if (o->name() == a->name()) {
         a->carry_from(*o);
-        if (old.stats_frames_drawn()) a->carry_shapes_from(*o);
+        if (drawn) a->carry_shapes_from(*o);
       }
   grabbed_ = -1;  // (the new solvers hold nothing)
-  // the window and the outputs (the HUD's lines follow the new show's devices and bindings)
-  canvas_ = std::move(old.canvas_);
-  list_ = std::move(old.list_);  // (its buffers' capacity: the new drawing's frames allocate nothing)
-  recorder_ = std::move(old.recorder_);
-  outputs_ = std::move(old.outputs_);
-  hud_ = old.hud_;
+  // the HUD's lines follow the new show's devices and bindings
   if (canvas_->is_window()) {
     hud_panel_ = std::make_unique<Hud>(show_);
     if (const std::string e = hud_panel_->load_font(canvas_->window_renderer()); !e.empty() && !opt_.quiet)
