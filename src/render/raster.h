@@ -45,7 +45,7 @@ class Rasterizer {
   /// of kChunk rows that both threads take in turn; each band is drawn whole (every item, in
   /// order) by one thread, so the pixels do not depend on which thread drew them.
   void set_threads(int n) { threads_ = n < 2 ? 1 : 2; }
-  static constexpr int kChunk = 32;
+  static constexpr int kChunk = 64;
 
  private:
   /// One thread's working state for the band it is drawing.
