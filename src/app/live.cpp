@@ -369,17 +369,13 @@ void LiveShow::present() {
       // keeps off it where it can.
       const SDL_Rect shown = canvas_->canvas_rect();
       const double sx = double(shown.w) / std::max(1, canvas_->width()), sy = double(shown.h) / std::max(1, canvas_->height());
-      // A cast: the box round them all, kept off whole.
-      Vec2 lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
-      for (const auto& a : actors_)
-        for (const Vec2& c : {a->rest_bounds.lo, a->rest_bounds.hi, Vec2(a->rest_bounds.lo.x(), a->rest_bounds.hi.y()),
-                              Vec2(a->rest_bounds.hi.x(), a->rest_bounds.lo.y())}) {
-          const Vec2 v = a->view.apply(c);
-          lo = lo.cwiseMin(v);
-          hi = hi.cwiseMax(v);
-        }
-      const HudAvoid avoid{shown.x + int(lo.x() * sx), shown.y + int(lo.y() * sy), int((hi.x() - lo.x()) * sx), int((hi.y() - lo.y()) * sy),
-                           actors_.size() == 1 ? Actor::kCoverCells : 0, actors_.size() == 1 ? lead().rest_cover.data() : nullptr};
+      // (a cast: the box round them all and where their drawings cover it, place_cast)
+      const bool one = actors_.size() == 1;
+      const Vec2 lo = one ? lead().view.apply(lead().rest_bounds.lo) : cast_box_.lo;
+      const Vec2 hi = one ? lead().view.apply(lead().rest_bounds.hi) : cast_box_.hi;
+      const HudAvoid avoid{shown.x + int(std::min(lo.x(), hi.x()) * sx), shown.y + int(std::min(lo.y(), hi.y()) * sy),
+                           int(std::abs(hi.x() - lo.x()) * sx), int(std::abs(hi.y() - lo.y()) * sy), Actor::kCoverCells,
+                           one ? lead().rest_cover.data() : cast_cover_.data()};
       hud_panel_->draw(canvas_->window_renderer(), canvas_->window_width(), canvas_->window_height(), f, mapping_, &avoid);
     }
   }

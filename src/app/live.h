@@ -240,6 +240,8 @@ class LiveShow : private LiveRun {
   void reserve_layers();                           ///< the canvas's room for the cast's layers
   void osc_names(OutputsSpec& out) const;          ///< OSC out's names: the rig's, or the cast's
   void cast_state();                               ///< a cast's handles and keys for the outputs
+  Bounds cast_box_;                                ///< a cast's rest boxes together on the canvas (the HUD keeps off it)
+  std::vector<uint8_t> cast_cover_;                ///< where their drawings cover it (kCoverCells^2)
   std::vector<Vec2> cast_handles_;                 ///< (sized at load)
   std::vector<double> cast_keys_;
   std::span<Vec2> slice(const Actor& a) { return std::span<Vec2>(targets_).subspan(a.ranges().handle0, a.ranges().handles); }

@@ -253,6 +253,30 @@ void LiveShow::place_cast(int w, int h, int ss) {
                : e == "slide-up" ? Vec2(0, -at.y() - 0.5 * k * ch.height) : e == "slide-down" ? Vec2(0, h - at.y() + 0.5 * k * ch.height)
                                  : Vec2(0, 0);
   }
+  if (actors_.size() < 2) return;
+  // Where the cast's drawings cover the canvas at rest (the HUD keeps off them): the box round
+  // them all, in cells, each covered when a filled shape of a character holds its centre.
+  Vec2 lo(INFINITY, INFINITY), hi(-INFINITY, -INFINITY);
+  for (const auto& a : actors_) {
+    const Bounds& b = a->rest_bounds;
+    for (const Vec2& c : {b.lo, b.hi, Vec2(b.lo.x(), b.hi.y()), Vec2(b.hi.x(), b.lo.y())}) {
+      lo = lo.cwiseMin(a->view.apply(c));
+      hi = hi.cwiseMax(a->view.apply(c));
+    }
+  }
+  cast_box_ = Bounds{lo.cwiseMax(Vec2(0, 0)), hi.cwiseMin(Vec2(w, h))};
+  const int n = Actor::kCoverCells;
+  cast_cover_.assign(size_t(n) * size_t(n), 0);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const Vec2 q(cast_box_.lo.x() + (i + 0.5) * (cast_box_.hi.x() - cast_box_.lo.x()) / n,
+                   cast_box_.lo.y() + (j + 0.5) * (cast_box_.hi.y() - cast_box_.lo.y()) / n);
+      for (const auto& a : actors_) {
+        const Vec2 p = a->view.inverse().apply(q);
+        for (const SubShape& s : a->puppet().character.shapes)
+          if (s.fill.enabled && !s.hidden && s.contains(p)) cast_cover_[size_t(j * n + i)] = 1;
+      }
+    }
 }
 
 void LiveShow::osc_names(OutputsSpec& out) const {

@@ -278,5 +278,28 @@ button = "toggle"
   EXPECT_LT(a.drawn_view().apply(a.rest_bounds.hi).x(), 0.0) << "a ends beyond the canvas's left edge";
 }
 
+// The family kiosk: a visitor calls the cat; left alone, the family plays by itself (the
+// attract loop drives the cast's targets through the one mapping: the figure's hand, the
+// robot's arm, the cat's entrance).
+TEST(Cast, TheFamilyKioskPlaysByItselfWhenLeftAlone) {
+  auto s = load((test::source_dir() / "config/shows/family.toml").string());
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->actors().size(), 3u);
+  const Actor& cat = *s->actors()[2];
+  double cat_in = 0, figure_moved_by_attract = 0;
+  bool attract = false;
+  for (int f = 0; f < 900; ++f) {
+    s->frame(int64_t(f * 1e9 / 60));
+    if (f == 360) cat_in = cat.presence();  // 6 s: the visitor called it at 4 s (a 1.2 s entrance)
+    if (s->attract() && s->attract()->shown()) {
+      attract = true;
+      figure_moved_by_attract = std::max(figure_moved_by_attract, moved(s->actors()[1]->puppet()));
+    }
+  }
+  EXPECT_EQ(cat_in, 1.0);
+  EXPECT_TRUE(attract) << "6 s after the visitor's last touch the attract loop plays";
+  EXPECT_GT(figure_moved_by_attract, 20.0) << "the attract raised the figure's hand";
+}
+
 }  // namespace
 }  // namespace mar
