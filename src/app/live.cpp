@@ -409,7 +409,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   if (!show_.cast.empty()) cast_state();
   compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, lead().puppet(), *canvas_,
                                {show_.cast.empty() ? lead().key_weights() : std::span<const double>(cast_keys_),
-                                std::span<const Vec2>(cast_handles_), swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
+                                std::span<const Vec2>(cast_handles_), cast_shapes_, cast_shown_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});
   if (canvas_->is_window()) {
     const uint64_t n = allocations() - before_outputs;
     if (stats_.frames >= opt_.warmup) present_allocs_ += n;
@@ -509,7 +509,7 @@ std::string LiveShow::begin() {
   out.height = canvas_->height();
   out.rate = int(std::lround(1.0 / period));
   osc_names(out);
-  if (std::string e = outputs_->open(out, lead().puppet().character); !e.empty()) return e;
+  if (std::string e = outputs_->open(out, outputs_drawing()); !e.empty()) return e;
   if (!opt_.record_path.empty() && !recorder_) {  // (an output: a take that cannot be written is exit 1)
     auto r = Recorder::open(opt_.record_path, show_identity(show_));
     if (!r.ok()) return r.error;

@@ -244,6 +244,10 @@ class LiveShow : private LiveRun {
   std::vector<uint8_t> cast_cover_;                ///< where their drawings cover it (kCoverCells^2)
   std::vector<Vec2> cast_handles_;                 ///< (sized at load)
   std::vector<double> cast_keys_;
+  std::vector<Points> cast_shapes_;                ///< (a pose dump's)
+  std::vector<char> cast_shown_;
+  Character cast_drawing_;                         ///< a cast's shapes' ids, for the outputs
+  const Character& outputs_drawing();              ///< the lead's drawing, or the cast's
   std::span<Vec2> slice(const Actor& a) { return std::span<Vec2>(targets_).subspan(a.ranges().handle0, a.ranges().handles); }
   Actor& lead() { return *actors_.front(); }
   const Actor& lead() const { return *actors_.front(); }

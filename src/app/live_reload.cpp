@@ -107,7 +107,12 @@ std::string LiveShow::keeps(const LiveShow& old) const {
                                             b.screen_name, b.kiosk.enabled, b.kiosk.display))
     return "[display] or [output]";
   if ((background_.a < 1) != (old.background_.a < 1)) return "the background's transparency";
-  if (!opt_.dump_poses.empty() && lead().puppet().shapes.size() != old.lead().puppet().shapes.size()) return "the pose dump's shapes";
+  auto shapes = [](const LiveShow& s) {
+    size_t n = 0;
+    for (const auto& actor : s.actors_) n += actor->puppet().shapes.size();
+    return n;
+  };
+  if (!opt_.dump_poses.empty() && shapes(*this) != shapes(old)) return "the pose dump's shapes";
   if (a.rate_hz != b.rate_hz) return "the rate";
   return {};
 }
@@ -162,7 +167,7 @@ void LiveShow::adopt(LiveShow& old) {
   if (started_) {  // the OSC address space follows the rig
     OutputsSpec out;
     osc_names(out);
-    if (const std::string e = outputs_->relayout(out, lead().puppet().character); !e.empty() && !opt_.quiet)
+    if (const std::string e = outputs_->relayout(out, outputs_drawing()); !e.empty() && !opt_.quiet)
       std::cerr << "warning: " << e << " (OSC out stays off)\n";
   }
 }

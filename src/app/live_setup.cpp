@@ -135,6 +135,9 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     }
     s->cast_handles_.assign(nh, Vec2::Zero());
     s->cast_keys_.assign(nk, 0.0);
+    for (const auto& a : s->actors_)
+      for (const Points& p : a->puppet().shapes) s->cast_shapes_.push_back(p);
+    s->cast_shown_.assign(s->cast_shapes_.size(), 1);
   }
   if (s->actors_.size() > 1) {
     // The cast's solves in parallel: one thread a character, up to the cores, from 4 characters
@@ -295,14 +298,33 @@ void LiveShow::osc_names(OutputsSpec& out) const {
 
 void LiveShow::cast_state() {
   // A cast's handles and key weights for the outputs, every character's in the cast's order (a
-  // character with no key stage: its keys at 0).
-  size_t h = 0, k = 0;
+  // character with no key stage: its keys at 0); and its shapes for a pose dump.
+  size_t h = 0, k = 0, s = 0;
   for (const auto& a : actors_) {
     const Puppet& p = a->puppet();
     for (size_t i = 0; i < p.rig.handles.size(); ++i) cast_handles_[h++] = p.solver->handle_point(i);
     const auto w = a->key_weights();
     for (size_t i = 0; i < p.rig.keys.size(); ++i) cast_keys_[k++] = i < w.size() ? w[i] : 0.0;
+    if (opt_.dump_poses.empty()) continue;
+    for (size_t i = 0; i < p.shapes.size(); ++i, ++s) {
+      std::copy(p.shapes[i].begin(), p.shapes[i].end(), cast_shapes_[s].begin());
+      cast_shown_[s] = i < p.shown.size() ? p.shown[i] : 1;
+    }
   }
+}
+
+const Character& LiveShow::outputs_drawing() {
+  // A cast's pose dump lists every character's shapes, each id with its character's name.
+  if (show_.cast.empty()) return lead().puppet().character;
+  cast_drawing_ = Character{};
+  for (const auto& a : actors_)
+    for (const SubShape& sub : a->puppet().character.shapes) {
+      SubShape c;
+      c.id = a->name() + "." + sub.id;
+      c.points = sub.points;
+      cast_drawing_.shapes.push_back(std::move(c));
+    }
+  return cast_drawing_;
 }
 
 void LiveShow::reserve_layers() {

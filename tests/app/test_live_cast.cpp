@@ -278,6 +278,39 @@ button = "toggle"
   EXPECT_LT(a.drawn_view().apply(a.rest_bounds.hi).x(), 0.0) << "a ends beyond the canvas's left edge";
 }
 
+// A cast's pose dump: every character's shapes each frame, each id with its character's name.
+TEST(Cast, ThePoseDumpListsEveryCharactersShapes) {
+  const std::string out = (std::filesystem::temp_directory_path() / "marionette_cast_poses.jsonl").string();
+  RunOptions o;
+  o.frames = 120;
+  o.dump_poses = out;
+  auto s = load((test::source_dir() / "config/shows/duet.toml").string(), o);
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->run(), 0);
+  std::ifstream in(out);
+  std::string line, last;
+  int lines = 0;
+  while (std::getline(in, line)) {
+    last = line;
+    ++lines;
+  }
+  EXPECT_EQ(lines, 120);
+  const auto j = nlohmann::json::parse(last);
+  size_t total = 0;
+  for (const auto& a : s->actors()) total += a->puppet().shapes.size();
+  ASSERT_EQ(j["subshapes"].size(), total);
+  // The robot's first shape, as the last frame left it.
+  const Puppet& robot = s->actors()[1]->puppet();
+  const size_t at = s->actors()[0]->puppet().shapes.size();
+  const auto& sub = j["subshapes"][at];
+  EXPECT_EQ(sub["id"].get<std::string>(), "robot." + robot.character.shapes[0].id);
+  ASSERT_EQ(sub["points"].size(), robot.shapes[0].size());
+  for (size_t i = 0; i < robot.shapes[0].size(); ++i) {
+    EXPECT_NEAR(sub["points"][i][0].get<double>(), robot.shapes[0][i].x(), 1e-3);
+    EXPECT_NEAR(sub["points"][i][1].get<double>(), robot.shapes[0][i].y(), 1e-3);
+  }
+}
+
 // The family kiosk: a visitor calls the cat; left alone, the family plays by itself (the
 // attract loop drives the cast's targets through the one mapping: the figure's hand, the
 // robot's arm, the cat's entrance).

@@ -152,7 +152,10 @@ double FrameOutputs::waited_us() const {
 }
 
 double FrameOutputs::frame(uint64_t n, int64_t t_ns, const Puppet& p, Canvas& canvas, const FrameState& state) {
-  if (poses_) poses_->push(double(t_ns) * 1e-9, p.shapes, p.shown);  // the writer's thread formats it
+  if (poses_) {  // the writer's thread formats it
+    if (state.shapes.empty()) poses_->push(double(t_ns) * 1e-9, p.shapes, p.shown);
+    else poses_->push(double(t_ns) * 1e-9, state.shapes, state.shown);
+  }
   if (osc_) {  // the newest state to the sender's thread (a triple buffer)
     ShowState& s = osc_->state();
     s.frame = n;

@@ -52,6 +52,8 @@ struct OutputsSpec {
 struct FrameState {
   std::span<const double> keys;
   std::span<const Vec2> handles;  ///< a cast's handles (empty: the puppet's solver's)
+  std::span<const Points> shapes; ///< a cast's shapes for the pose dump (empty: the puppet's)
+  std::span<const char> shown;
   std::span<const int> swaps;
   std::span<const char> triggers;
   std::span<const DeviceState> devices;
