@@ -45,6 +45,10 @@ inline const std::filesystem::path& temp_root() {
   return *root;
 }
 
+/// `xvfb-run -a` from a display number of this process's own: two xvfb-run -a started at once
+/// by parallel tests both try 99 first, and one of them fails to start its server.
+inline std::string xvfb_run() { return "xvfb-run -n " + std::to_string(200 + ::getpid() % 700) + " -a"; }
+
 inline std::filesystem::path temp_dir(const std::string& name) {
   auto p = temp_root() / name;
   std::filesystem::create_directories(p);

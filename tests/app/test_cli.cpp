@@ -202,7 +202,7 @@ TEST(cli_view, WindowPixelsEqualOffscreenPixels) {
     // allocations LeakSanitizer cannot attribute (unloaded modules). Our code's leaks are
     // checked by every other test, offscreen rendering included.
     const std::string shot = (dir / (driver + ".png")).string();
-    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 640x480x24' '" +
+    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 640x480x24' '" +
                             std::string(MARIONETTE_BINARY) + "' view " + ch + " --size 160x120" + (driver == "software" ? " --software" : "") +
                             " --seconds 0.3 --screenshot " + q(shot) + " >/dev/null 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << driver;
@@ -522,7 +522,7 @@ TEST(cli_rig, TheStudioOpensOneCharacterOfACast) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   const auto dir = test::temp_dir("cast_studio");
   const std::string shot = (dir / "robot.png").string(), out = (dir / "out.txt").string();
-  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" + std::string(MARIONETTE_BINARY) +
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 1024x768x24' '" + std::string(MARIONETTE_BINARY) +
                           "' rig --show " + duet + " --character robot --software --seconds 0.3 --screenshot " + q(shot) + " > " + q(out) +
                           " 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);

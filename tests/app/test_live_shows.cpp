@@ -528,7 +528,7 @@ TEST(Live, KioskRunsFullscreenInAWindow) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   const auto dir = test::temp_dir("kiosk_run");
   const std::string show = (test::source_dir() / "config/shows/nanokontrol2.toml").string();
-  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
                           "' run '" + show + "' --kiosk --frames 20 > '" + (dir / "out.txt").string() + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   std::ifstream out(dir / "out.txt");

@@ -36,7 +36,7 @@ TEST(Live, WindowRunReplaysHeadlessToTheSameHash) {
   const auto dir = test::temp_dir("window_run");
   const std::string show = (test::source_dir() / "config/shows/nanokontrol2.toml").string();
   // Leak checking off for this child only: SDL's X11/dbus modules (see test_cli).
-  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" +
                           std::string(MARIONETTE_BINARY) + "' run '" + show + "' --frames 40 --record '" +
                           (dir / "w.rec").string() + "' --stats '" + (dir / "w.json").string() + "' > '" +
                           (dir / "out.txt").string() + "' 2>&1";
@@ -74,7 +74,7 @@ TEST(Live, WithVsyncTheStatsEstimateInputToPhoton) {
     const auto show = dir / (vsync ? "vsync.toml" : "free.toml");
     std::ofstream(show) << t;
     const auto stats = dir / (vsync ? "vsync.json" : "free.json");
-    const std::string cmd = "SDL_RENDER_DRIVER=software ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+    const std::string cmd = "SDL_RENDER_DRIVER=software ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" +
                             std::string(MARIONETTE_BINARY) + "' run '" + show.string() + "' --frames 120 --stats '" +
                             stats.string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0);
@@ -102,7 +102,7 @@ TEST(Live, TheHudIsInTheWindowNeverInTheCanvas) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   for (const std::string driver : {"software", "opengl"}) {
     const auto dir = test::temp_dir("hud_" + driver);
-    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" +
+    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 1024x768x24' '" +
                             std::string(MARIONETTE_BINARY) + "' run '" + (test::source_dir() / "config/shows/demo.toml").string() +
                             "' --frames 60 --screenshot '" + (dir / "window.png").string() + "' --dump-frames '" + dir.string() +
                             "' --every 59 --stats '" + (dir / "s.json").string() + "' > '" + (dir / "out.txt").string() + "' 2>&1";
@@ -166,7 +166,7 @@ TEST(Live, TheGpuDrawsTheCanvasAsTheRasterizerDoes) {
   for (const char* show : {"demo", "nanokontrol2", "pen_tablet", "singer", "raster", "grid"}) {
     const auto dir = test::temp_dir(std::string("gpu_") + show);
     const std::string file = (test::source_dir() / "config/shows" / (std::string(show) + ".toml")).string();
-    const std::string cmd = "SDL_RENDER_DRIVER=opengl ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" +
+    const std::string cmd = "SDL_RENDER_DRIVER=opengl ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 1024x768x24' '" +
                             std::string(MARIONETTE_BINARY) + "' run '" + file + "' --frames 121 --dump-frames '" + (dir / "gpu").string() +
                             "' --every 60 --record '" + (dir / "w.rec").string() + "' --stats '" + (dir / "s.json").string() + "' > '" +
                             (dir / "out.txt").string() + "' 2>&1";
@@ -251,7 +251,7 @@ TEST(Live, ATransparentStageHasAlphaInDumpsAndInAWindowThatCan) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   for (const std::string driver : {"opengl", "software"}) {
     const auto shot = dir / (driver + ".png"), err = dir / (driver + ".txt");
-    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+    const std::string cmd = "SDL_RENDER_DRIVER=" + driver + " ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" +
                             std::string(MARIONETTE_BINARY) + "' run '" + file + "' --frames 3 --screenshot '" + shot.string() +
                             "' > '" + err.string() + "' 2>&1";
     ASSERT_EQ(std::system(cmd.c_str()), 0) << driver;
@@ -300,7 +300,7 @@ target = "handle.chest.x"
   EXPECT_EQ(img.value->width, 480);  // [display] is 160x200: the canvas is [output]'s
   EXPECT_EQ(img.value->height, 270);
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
-  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" + std::string(MARIONETTE_BINARY) +
                           "' run '" + path + "' --frames 3 --screenshot '" + (dir / "w.png").string() + "' >/dev/null 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   auto win = read_png_image((dir / "w.png").string());
@@ -324,7 +324,7 @@ TEST(Live, ScenerysUnderlayIsTheSameOnTheGpu) {
   if (std::system("command -v xvfb-run >/dev/null 2>&1") != 0) GTEST_SKIP() << "xvfb-run not installed";
   const std::string show = (test::source_dir() / "tests/data/shows/scenery.toml").string();
   const auto gl = test::temp_dir("underlay_gl"), sw = test::temp_dir("underlay_headless");
-  const std::string cmd = "SDL_RENDER_DRIVER=opengl ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 800x600x24' '" +
+  const std::string cmd = "SDL_RENDER_DRIVER=opengl ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 800x600x24' '" +
                           std::string(MARIONETTE_BINARY) + "' run '" + show + "' --frames 61 --dump-frames '" + gl.string() +
                           "' --every 60 --stats '" + (gl / "s.json").string() + "' > '" + (gl / "out.txt").string() + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0);

@@ -278,7 +278,7 @@ TEST(Reload, ASavedEditReloadsTheShowInItsWindowAndABadOneIsRefused) {
   const std::string inner = "echo \"$DISPLAY $XAUTHORITY\" > '" + env + "'; ASAN_OPTIONS=detect_leaks=0 '" + MARIONETTE_BINARY +
                             "' run '" + show + "' --frames 100000 --stats '" + stats + "' > '" + out + "' 2> '" + err +
                             "' & echo $! > '" + pidf + "'; wait";
-  const std::string cmd = "xvfb-run -a -s '-screen 0 640x480x24' sh -c \"" + [&] {
+  const std::string cmd = test::xvfb_run() + " -s '-screen 0 640x480x24' sh -c \"" + [&] {
     std::string q;
     for (char c : inner) q += c == '"' || c == '$' ? std::string("\\") + c : std::string(1, c);
     return q;

@@ -317,7 +317,7 @@ bool have_display_or_rerun() {
     return false;
   }
   const std::string self = fs::read_symlink("/proc/self/exe").string();
-  const std::string cmd = "MARIONETTE_STUDIO_CHILD=1 ASAN_OPTIONS=detect_leaks=0 xvfb-run -a -s '-screen 0 1024x768x24' '" + self +
+  const std::string cmd = "MARIONETTE_STUDIO_CHILD=1 ASAN_OPTIONS=detect_leaks=0 " + test::xvfb_run() + " -s '-screen 0 1024x768x24' '" + self +
                           "' --gtest_filter=" + info->test_suite_name() + "." + info->name() + " 2>&1";
   FILE* p = ::popen(cmd.c_str(), "r");
   std::string out;
@@ -581,7 +581,7 @@ TEST(StudioCli, RealInputEditsAndSavesTheRig) {
                              px((model->handle_point(tail) + to) / 2) + " mousemove --window $wid " + px(to) + " mouseup 1\n" +
                              "xdotool key k\nxdotool type wave\nxdotool key Return s Escape\n" + "timeout 60 tail --pid=$pid -f /dev/null\nwait $pid\n";
   const std::string sh = test::write_temp("studio_cli.sh", script);
-  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 timeout 120 xvfb-run -a -s '-screen 0 1280x800x24' bash '" + sh + "' 2>&1";
+  const std::string cmd = "ASAN_OPTIONS=detect_leaks=0 timeout 120 " + test::xvfb_run() + " -s '-screen 0 1280x800x24' bash '" + sh + "' 2>&1";
   ASSERT_EQ(std::system(cmd.c_str()), 0) << read_all(dir / "out.txt");
   const std::string saved = read_all(rig);
   EXPECT_TRUE(lines_kept(original, saved)) << saved;
