@@ -406,7 +406,7 @@ void LiveShow::finish(int64_t t_ns, double compute_us) {
   // window's canvas back is SDL's and the driver's (SDL_RenderReadPixels allocates): counted with
   // what presenting allocates, apart from the frame's own.
   const uint64_t before_outputs = allocations();
-  if (!show_.cast.empty()) cast_state();
+  if (!show_.cast.empty() && (show_.osc_out.port > 0 || !opt_.dump_poses.empty())) cast_state();  // (what OSC out and a pose dump read)
   compute_us += outputs_->frame(uint64_t(stats_.frames), t_ns, lead().puppet(), *canvas_,
                                {show_.cast.empty() ? lead().key_weights() : std::span<const double>(cast_keys_),
                                 std::span<const Vec2>(cast_handles_), cast_shapes_, cast_shown_, swap_members_, triggers_on_, device_states_, compute_us * 1e-3, newest_ns < 0 ? -1 : double(t_ns - newest_ns) * 1e-6 + compute_us * 1e-3});

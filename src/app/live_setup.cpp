@@ -268,18 +268,11 @@ void LiveShow::place_cast(int w, int h, int ss) {
     }
   }
   cast_box_ = Bounds{lo.cwiseMax(Vec2(0, 0)), hi.cwiseMin(Vec2(w, h))};
-  const int n = Actor::kCoverCells;
-  cast_cover_.assign(size_t(n) * size_t(n), 0);
-  for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) {
-      const Vec2 q(cast_box_.lo.x() + (i + 0.5) * (cast_box_.hi.x() - cast_box_.lo.x()) / n,
-                   cast_box_.lo.y() + (j + 0.5) * (cast_box_.hi.y() - cast_box_.lo.y()) / n);
-      for (const auto& a : actors_) {
-        const Vec2 p = a->view.inverse().apply(q);
-        for (const SubShape& s : a->puppet().character.shapes)
-          if (s.fill.enabled && !s.hidden && s.contains(p)) cast_cover_[size_t(j * n + i)] = 1;
-      }
-    }
+  cast_cover_.assign(size_t(Actor::kCoverCells) * Actor::kCoverCells, 0);
+  for (const auto& a : actors_) {
+    const auto cells = cover_cells(a->puppet().character, cast_box_, Actor::kCoverCells, a->view.inverse());
+    for (size_t i = 0; i < cells.size(); ++i) cast_cover_[i] |= cells[i];
+  }
 }
 
 void LiveShow::osc_names(OutputsSpec& out) const {

@@ -291,8 +291,9 @@ bool Mapping::apply(const Event& e) {
           button(b, e.value != 0);
         }
         break;
-      case ControlSpec::Pointer:
+      case ControlSpec::Pointer: {
         if (e.kind != ControlKind::HidValue) break;
+        bool pressed = false;  // this event put the tip down
         if (e.number == c.px) {
           b.px = normalized(e);
         } else if (e.number == c.py) {
@@ -300,6 +301,7 @@ bool Mapping::apply(const Event& e) {
         } else if (e.number == c.ptip) {
           const bool was = b.tip;
           b.tip = e.value != 0;
+          pressed = b.tip && !was;
           if (was && !b.tip && b.target == TargetKind::HandlePoint && b.tf.ret >= 0)  // released: back to rest
             ease_handle(b.index, rest_[size_t(b.index)], b.tf.ret, b.tf.ease);
         } else {
@@ -309,10 +311,14 @@ bool Mapping::apply(const Event& e) {
         {
           const double* a = b.tf.area;
           const Vec2 p(a[0] + b.px * (a[2] - a[0]), a[1] + b.py * (a[3] - a[1]));
-          if (b.target == TargetKind::Grab && (b.tip || b.index == grab_who_)) {  // (one pen grabs at a time)
+          // One pen grabs at a time: the one holding, or any while none does, or one whose tip
+          // just went down (it takes over).
+          const int bi = int(&b - bindings_.data());
+          if (b.target == TargetKind::Grab && (grab_by_ == bi || grab_by_ < 0 || pressed)) {
             grab_active_ = b.tip;
             grab_point_ = p;
             grab_who_ = b.index;
+            grab_by_ = b.tip ? bi : -1;
           } else if (b.target == TargetKind::HandlePoint && b.tip) {
             goal_[size_t(b.index)] = p;
             written_by(&b, TargetKind::HandleX, b.index);
@@ -320,6 +326,7 @@ bool Mapping::apply(const Event& e) {
           }
         }
         break;
+      }
     }
     if (hit) {
       used = true;

@@ -187,7 +187,8 @@ class Mapping {
   bool take_settings_changed() { bool c = settings_changed_; settings_changed_ = false; return c; }
   /// Grab-and-drag: a pointer with its tip down (position in character units).
   bool grab_active() const { return grab_active_; }
-  /// The cast's character the pen grabs (a grab binding's index; 0: a show's single rig).
+  /// The cast's character the pen grabs (a grab binding's index; 0: a show's single rig). One
+  /// pen holds at a time: another's tip going down takes over; the holder's coming up lets go.
   int grab_who() const { return grab_who_; }
   Vec2 grab_point() const { return grab_point_; }
   const MappingStats& stats() const { return stats_; }
@@ -257,6 +258,7 @@ class Mapping {
   bool grab_active_ = false;
   Vec2 grab_point_ = Vec2::Zero();
   int grab_who_ = 0;
+  int grab_by_ = -1;  ///< the grab binding whose pen holds (-1: none)
   MappingStats stats_;
 };
 

@@ -29,6 +29,14 @@ std::string show_text(const std::string& range, const std::string& knob = "knob1
          range + "\n";
 }
 
+// The largest distance a point moved between two poses of a figure.
+double max_step(const std::vector<Points>& x, const std::vector<Points>& y) {
+  double d = 0;
+  for (size_t s = 0; s < x.size() && s < y.size(); ++s)
+    for (size_t i = 0; i < x[s].size() && i < y[s].size(); ++i) d = std::max(d, (x[s][i] - y[s][i]).norm());
+  return d;
+}
+
 // Saves as an editor does: a new file renamed over the old.
 void save(const std::string& path, const std::string& text) {
   std::ofstream(path + ".tmp") << text;
@@ -95,12 +103,6 @@ TEST(Reload, TheFigureDoesNotJumpAtAReload) {
   auto ref = load(path);
   auto a = load(path);
   ASSERT_TRUE(ref && a);
-  auto step = [](const std::vector<Points>& x, const std::vector<Points>& y) {
-    double d = 0;
-    for (size_t s = 0; s < x.size() && s < y.size(); ++s)
-      for (size_t i = 0; i < x[s].size() && i < y[s].size(); ++i) d = std::max(d, (x[s][i] - y[s][i]).norm());
-    return d;
-  };
   std::vector<Points> last, last_ref;
   for (long k = 0; k < 90; ++k) {
     a->frame(int64_t(double(k) * 1e9 / 60));
@@ -117,8 +119,8 @@ TEST(Reload, TheFigureDoesNotJumpAtAReload) {
   for (long k = 90; k < 150; ++k) {
     b->frame(int64_t(double(k) * 1e9 / 60));
     ref->frame(int64_t(double(k) * 1e9 / 60));
-    across = std::max(across, step(last, b->puppet().shapes));
-    without = std::max(without, step(last_ref, ref->puppet().shapes));
+    across = std::max(across, max_step(last, b->puppet().shapes));
+    without = std::max(without, max_step(last_ref, ref->puppet().shapes));
     last = b->puppet().shapes;
     last_ref = ref->puppet().shapes;
   }
@@ -151,12 +153,6 @@ TEST(Reload, AnEditToOneCharacterOfACastLeavesTheOthersWhereTheyAre) {
   auto ref = load(path);
   auto a = load(path);
   ASSERT_TRUE(ref && a);
-  auto step = [](const std::vector<Points>& x, const std::vector<Points>& y) {
-    double d = 0;
-    for (size_t s = 0; s < x.size() && s < y.size(); ++s)
-      for (size_t i = 0; i < x[s].size() && i < y[s].size(); ++i) d = std::max(d, (x[s][i] - y[s][i]).norm());
-    return d;
-  };
   for (long k = 0; k < 90; ++k) {
     a->frame(int64_t(double(k) * 1e9 / 60));
     ref->frame(int64_t(double(k) * 1e9 / 60));
@@ -175,10 +171,10 @@ TEST(Reload, AnEditToOneCharacterOfACastLeavesTheOthersWhereTheyAre) {
   for (long k = 90; k < 150; ++k) {
     b->frame(int64_t(double(k) * 1e9 / 60));
     ref->frame(int64_t(double(k) * 1e9 / 60));
-    if (k == 90) first_robot = step(last[1], b->actors()[1]->puppet().shapes);
+    if (k == 90) first_robot = max_step(last[1], b->actors()[1]->puppet().shapes);
     for (size_t c = 0; c < 2; ++c) {
-      across[c] = std::max(across[c], step(last[c], b->actors()[c]->puppet().shapes));
-      without[c] = std::max(without[c], step(last_ref[c], ref->actors()[c]->puppet().shapes));
+      across[c] = std::max(across[c], max_step(last[c], b->actors()[c]->puppet().shapes));
+      without[c] = std::max(without[c], max_step(last_ref[c], ref->actors()[c]->puppet().shapes));
       last[c] = b->actors()[c]->puppet().shapes;
       last_ref[c] = ref->actors()[c]->puppet().shapes;
     }

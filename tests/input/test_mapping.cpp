@@ -474,5 +474,45 @@ TEST(Poses, APoseEasesThereInItsTransitionAndAPenReturnsToRest) {
   EXPECT_FALSE(m.easing(1));
 }
 
+// Two pens, each grabbing a character of a cast (a grab binding's index): one holds at a time.
+// Another pen hovering changes nothing; its tip going down takes over; lifting lets go.
+TEST(Mapping, OnePenHoldsTheGrabAndAnotherPenDownTakesItOver) {
+  Mapping m;
+  m.set_handles({"a"}, {Vec2(0, 0)});
+  for (int pen = 0; pen < 2; ++pen) {
+    Binding g = bind(ControlSpec::Pointer, 0, TargetKind::Grab);
+    g.control.device = uint16_t(pen);
+    g.index = pen;  // the character it grabs
+    g.control.px = 1, g.control.py = 2, g.control.ptip = 3;
+    g.tf.area[0] = 0, g.tf.area[1] = 0, g.tf.area[2] = 100, g.tf.area[3] = 100;
+    m.add_binding(g);
+  }
+  auto ev = [](uint16_t pen, uint32_t usage, int v, int hi) {
+    Event e = hid_value(usage, v, 0, hi);
+    e.source = pen;
+    return e;
+  };
+  m.apply(ev(0, 1, 20, 100));
+  m.apply(ev(0, 3, 1, 1));  // pen 0 down at (20, 50) (y: the middle until it moves)
+  EXPECT_TRUE(m.grab_active());
+  EXPECT_EQ(m.grab_who(), 0);
+  m.apply(ev(1, 1, 80, 100));  // pen 1 hovers
+  EXPECT_TRUE(m.grab_active());
+  EXPECT_EQ(m.grab_who(), 0);
+  EXPECT_EQ(m.grab_point(), Vec2(20, 50));
+  m.apply(ev(1, 3, 1, 1));  // pen 1 down: it takes over
+  EXPECT_EQ(m.grab_who(), 1);
+  EXPECT_EQ(m.grab_point(), Vec2(80, 50));
+  m.apply(ev(0, 1, 30, 100));  // pen 0, still down, moves: pen 1 keeps it
+  EXPECT_EQ(m.grab_who(), 1);
+  EXPECT_EQ(m.grab_point(), Vec2(80, 50));
+  m.apply(ev(1, 3, 0, 1));  // pen 1 up: let go
+  EXPECT_FALSE(m.grab_active());
+  m.apply(ev(0, 1, 40, 100));  // pen 0, still down, holds again
+  EXPECT_TRUE(m.grab_active());
+  EXPECT_EQ(m.grab_who(), 0);
+  EXPECT_EQ(m.grab_point(), Vec2(40, 50));
+}
+
 }  // namespace
 }  // namespace mar

@@ -37,11 +37,12 @@ void format_event(const Event& e, char* out, size_t n) {
   }
 }
 
-std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n) {
+std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n, const Affine2& to_character) {
   std::vector<uint8_t> cells(size_t(n) * size_t(n), 0);
   for (int j = 0; j < n && !box.empty(); ++j)
     for (int i = 0; i < n; ++i) {
-      const Vec2 q(box.lo.x() + (i + 0.5) * (box.hi.x() - box.lo.x()) / n, box.lo.y() + (j + 0.5) * (box.hi.y() - box.lo.y()) / n);
+      const Vec2 q = to_character.apply(
+          Vec2(box.lo.x() + (i + 0.5) * (box.hi.x() - box.lo.x()) / n, box.lo.y() + (j + 0.5) * (box.hi.y() - box.lo.y()) / n));
       for (const SubShape& s : ch.shapes)
         if (s.fill.enabled && !s.hidden && s.contains(q)) {
           cells[size_t(j * n + i)] = 1;

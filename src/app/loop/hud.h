@@ -38,8 +38,9 @@ struct HudAvoid {
 };
 
 /// Which of the n x n cells of `box` the character's filled shapes cover at rest (their centres
-/// inside a shown, filled shape), row by row: HudAvoid's cells. At load, not in a frame.
-std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n);
+/// inside a shown, filled shape), row by row: HudAvoid's cells. `to_character`: box space to
+/// the character's units (a cast's box is on the canvas). At load, not in a frame.
+std::vector<uint8_t> cover_cells(const Character& ch, const Bounds& box, int n, const Affine2& to_character = Affine2::identity());
 
 /// What one frame's HUD reports.
 struct HudFrame {
