@@ -59,14 +59,19 @@ std::string LiveShow::validate(const std::string& path) {
 
 
 Result<std::unique_ptr<LiveShow>> LiveShow::load(const std::string& path, const RunOptions& o, LiveShow* previous) {
-  auto s = prepare(path, o);
+  auto s = prepare(path, o, previous ? previous->keepable() : std::vector<KeptPuppet>{});
   if (!s.ok()) return s;
   return take_over(std::move(*s.value), previous);
 }
 
 Result<std::unique_ptr<LiveShow>> LiveShow::take_over(std::unique_ptr<LiveShow> s, LiveShow* previous) {
   using R = Result<std::unique_ptr<LiveShow>>;
-  if (previous) s->restarted_ = s->keeps(*previous);  // a reload: what it cannot keep (empty: all)
+  if (previous) {
+    s->restarted_ = s->keeps(*previous);  // a reload: what it cannot keep (empty: all)
+    for (auto& a : s->actors_)  // the puppets it kept (unchanged files) go on as they are posed
+      for (auto& old : previous->actors_)
+        if (a->shares_puppet_with(*old)) a->take_puppet_from(*old);
+  }
   const bool keep = previous && s->restarted_.empty();
   if (keep) {  // everything that could fail has: take over the running show's clock and devices
     s->adopt(*previous);
@@ -254,6 +259,12 @@ void LiveShow::map(int64_t t_ns) {
     for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
   }
   for (auto& a : actors_) a->apply_grab(mapping_.grab_point(), slice(*a));
+  if (!show_.brushes.empty()) {  // the brush: the pen, to the actor it sculpts (it steps in the solve)
+    const Mapping::Pen& pen = mapping_.brush();
+    for (auto& a : actors_)
+      if (a->has_brush())
+        a->set_pen(pen, pen.who == a->ranges().who ? &show_.brushes[size_t(pen.brush)] : nullptr, dt_);
+  }
   if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
 }
 

@@ -80,6 +80,15 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header);
 /// The canvas a show draws on: [output]'s size, else the window's (a run's --size before either).
 std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh);
 
+/// A running show's puppet a reload may keep: a character (by name; "" for a single rig) whose
+/// files are unchanged (Puppet::stamp), loaded the same way, is not loaded again.
+struct KeptPuppet {
+  std::string name, character, rig;
+  std::array<int, 2> canvas{0, 0};
+  bool images_anywhere = false;
+  std::shared_ptr<Puppet> puppet;
+};
+
 /// What a reload that keeps the running show's devices carries into the edited show, as one
 /// object (LiveShow::adopt moves it whole): the run's options, the devices and their
 /// simulators, the clock, the run's stats and counts, the file watch, the window and its draw
@@ -136,7 +145,13 @@ class LiveShow : private LiveRun {
   /// prepares everything a show needs (the show file, the rig, the character, the solver, the
   /// key poses, the simulators' scripts) and may run on any thread; take_over() opens the
   /// window, the devices and the outputs, or takes them over from `previous` (on its thread).
-  static Result<std::unique_ptr<LiveShow>> prepare(const std::string& show_path, const RunOptions& o);
+  /// `keep`: the running show's puppets (keepable()), each used instead of loading its
+  /// character again when its files are unchanged (kept() names those).
+  static Result<std::unique_ptr<LiveShow>> prepare(const std::string& show_path, const RunOptions& o,
+                                                   std::vector<KeptPuppet> keep = {});
+  std::vector<KeptPuppet> keepable() const;
+  /// The characters a reload kept as they were loaded (their files unchanged): not prepared again.
+  const std::vector<std::string>& kept() const { return kept_; }
   static Result<std::unique_ptr<LiveShow>> take_over(std::unique_ptr<LiveShow> s, LiveShow* previous);
   /// run() returned because SIGHUP or a saved edit asked for the show file again, and the
   /// edited show has been prepared (take_prepared()).
@@ -292,6 +307,7 @@ class LiveShow : private LiveRun {
   std::atomic<bool> stop_{false};
   bool quit_ = false, learned_ = false, reload_asked_ = false, released_ = false;
   std::string reload_cause_, restarted_, last_reload_;
+  std::vector<std::string> kept_;
   std::shared_ptr<ReloadJob> reload_job_;        ///< an edit being prepared (live_reload.cpp)
   bool reload_again_ = false;                      ///< a newer edit came while it was
 };

@@ -57,8 +57,8 @@ void LiveShow::start_reload(const std::string& cause) {
   job->started_frame = stats_.frames;
   RunOptions o = opt_;
   o.quiet = true;  // (its warnings were said when the show was loaded; a bad edit is said here)
-  std::thread([job, path = show_.path, o] {
-    job->result = prepare(path, o);
+  std::thread([job, path = show_.path, o, keep = keepable()]() mutable {
+    job->result = prepare(path, o, std::move(keep));
     job->done.store(true, std::memory_order_release);
   }).detach();
   reload_job_ = std::move(job);

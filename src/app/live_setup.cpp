@@ -20,7 +20,7 @@ ShowRig show_rig(const Puppet& p, const ShowConfig& header) {
   rig.rest = p.rest_targets();
   rig.diag = p.diagonal;
   rig.settings.push_back({"iterations", std::pair<double, double>(header.min_iterations, header.iterations)});
-  for (const SolverParameter& sp : p.solver->parameters()) rig.settings.push_back({sp.name, std::nullopt});
+  for (const SolverParameter& sp : p.loaded_parameters) rig.settings.push_back({sp.name, std::nullopt});
   // Key poses: morph.FROM.TO for every ordered pair of rest and the keys, blend.KEY per key.
   if (p.feature_frame() && !p.rig.keys.empty()) {
     std::vector<std::string> names{"rest"};
@@ -47,33 +47,55 @@ std::array<int, 2> canvas_size(const RunOptions& o, const ShowConfig& sh) {
 }
 
 
-Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, const RunOptions& o) {
+Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, const RunOptions& o, std::vector<KeptPuppet> keep) {
   using R = Result<std::unique_ptr<LiveShow>>;
   std::unique_ptr<LiveShow> s(new LiveShow());
   s->opt_ = o;
   // The show file is parsed once; its [show] table names the rig (or its [[character]] tables
   // the cast's), and the rest is resolved against the loaded puppets: their handles and the
   // settings a binding may drive.
-  std::vector<std::unique_ptr<Puppet>> puppets;
+  std::vector<std::shared_ptr<Puppet>> puppets;
   auto show = load_show(path, [&](const ShowConfig& header) -> Result<ShowRig> {
     using RR = Result<ShowRig>;
-    auto load_one = [&](const std::string& character, const std::string& rig) -> std::string {
+    auto load_one = [&](const std::string& name, const std::string& character, const std::string& rig) -> std::string {
+      const std::array<int, 2> canvas = canvas_size(o, header);
+      const bool brushed = std::find(header.brushed.begin(), header.brushed.end(), name) != header.brushed.end();
+      const double spacing = brushed ? kBrushSpacing : 0.0;  // (a brush's outline: a finer frame)
+      // A reload: a character loaded the same way from the same bytes is the running show's
+      // puppet (its key poses solved, if it has keys: solving them would pose it here).
+      for (KeptPuppet& k : keep) {
+        if (!k.puppet || k.name != name || k.character != character || k.rig != rig || k.canvas != canvas ||
+            k.images_anywhere != header.images_anywhere)
+          continue;
+        const Puppet& p = *k.puppet;
+        if (p.stamp.empty() || (!p.rig.keys.empty() && !p.solved_keys) || p.rig.max_spacing != spacing ||
+            puppet_stamp(p) != p.stamp)
+          break;
+        puppets.push_back(std::move(k.puppet));
+        s->kept_.push_back(name);
+        return {};
+      }
       // (on the canvas begin() makes, curves are flattened to within 0.1 px)
-      auto puppet = load_puppet(character, rig, "", true, header.images_anywhere, canvas_size(o, header));
+      Result<Rig> loaded_rig = load_rig(rig);
+      if (!loaded_rig.ok()) return loaded_rig.error;
+      loaded_rig.value->max_spacing = spacing;
+      auto puppet = load_puppet(character, std::move(*loaded_rig.value), "", true, header.images_anywhere, canvas);
       if (!puppet.ok()) return puppet.error;
+      // (room for a brush's targets in every feature frame: a reload may add a [[brush]] and keep it)
+      if (FeatureFrameMethod* ff = (*puppet.value)->feature_frame()) ff->core().reserve_soft(BrushStage::kMaxPoints);
       if (!s->opt_.quiet)
         for (const std::string& w : (*puppet.value)->character.warnings) std::cerr << "warning: " << w << "\n";
       puppets.push_back(std::move(*puppet.value));
       return {};
     };
     if (header.cast.empty()) {
-      if (std::string e = load_one(header.character, header.rig); !e.empty()) return RR::failure(e);
+      if (std::string e = load_one("", header.character, header.rig); !e.empty()) return RR::failure(e);
       return RR::success(show_rig(*puppets.front(), header));
     }
     std::vector<ShowRig> rigs;
     std::vector<std::string> names;
     for (const ShowCharacter& c : header.cast) {
-      if (std::string e = load_one(c.character, c.rig); !e.empty())
+      if (std::string e = load_one(c.name, c.character, c.rig); !e.empty())
         return RR::failure(header.path + ":" + std::to_string(c.line) + ": character '" + c.name + "': " + e);
       rigs.push_back(show_rig(*puppets.back(), header));
       names.push_back(c.name);
@@ -136,7 +158,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     s->cast_handles_.assign(nh, Vec2::Zero());
     s->cast_keys_.assign(nk, 0.0);
     for (const auto& a : s->actors_)
-      for (const Points& p : a->puppet().shapes) s->cast_shapes_.push_back(p);
+      for (const SubShape& p : a->puppet().character.shapes) s->cast_shapes_.push_back(p.points);  // (the rest: a kept puppet is posed meanwhile)
     s->cast_shown_.assign(s->cast_shapes_.size(), 1);
   }
   if (s->actors_.size() > 1) {
@@ -166,15 +188,25 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
   auto actor_of = [&](const Binding& b) -> const Actor& {  // (a pointer's character: its handle's, or its grab's)
-    if (b.target == TargetKind::Grab) return *s->actors_[size_t(b.index)];
+    if (b.target == TargetKind::Grab || b.target == TargetKind::Brush) return *s->actors_[size_t(b.index)];
     for (const auto& a : s->actors_)
       if (b.target == TargetKind::HandlePoint && size_t(b.index) >= a->ranges().handle0 &&
           size_t(b.index) < a->ranges().handle0 + a->ranges().handles)
         return *a;
     return *s->actors_.front();
   };
+  const auto [canvas_w, canvas_h] = canvas_size(o, sh);
+  const double ss_px = std::clamp(o.supersample, 1, 8);
   for (Binding b : sh.bindings) {
-    if (b.control.kind == ControlSpec::Pointer && b.tf.area[0] == 0 && b.tf.area[2] == 1) {
+    const bool default_area = b.tf.area[0] == 0 && b.tf.area[1] == 0 && b.tf.area[2] == 1 && b.tf.area[3] == 1;
+    if (b.control.kind == ControlSpec::Pointer && (b.tf.area_canvas || (!sh.cast.empty() && default_area))) {
+      // Over the canvas: the point under the pen (or the mouse over the window) is the
+      // character's point under it, wherever it stands and however it is scaled and turned.
+      const Affine2 to = actor_of(b).view.inverse() * Affine2::scale(canvas_w * ss_px, canvas_h * ss_px);
+      b.tf.area_canvas = true;
+      const double c[6] = {to.a, to.b, to.c, to.d, to.e, to.f};
+      std::copy(c, c + 6, b.tf.canvas_map);
+    } else if (b.control.kind == ControlSpec::Pointer && default_area) {
       // Default pointer area: the tablet covers the character's bounding box.
       const Bounds bb = actor_of(b).rest_bounds;
       b.tf.area[0] = bb.lo.x();
@@ -243,6 +275,7 @@ void LiveShow::place_cast(int w, int h, int ss) {
     const Character& ch = a.puppet().character;
     if (show_.cast.empty()) {
       a.view = fit_view(ch.width, ch.height, w, h, kShowMargin * ss);
+      a.px_per_unit = a.view.a / ss;
       continue;
     }
     const ShowCharacter& sc = show_.cast[c];
@@ -250,6 +283,7 @@ void LiveShow::place_cast(int w, int h, int ss) {
     const Vec2 at = sc.has_position ? Vec2(sc.position * ss) : Vec2(share * (double(next++) + 0.5), 0.5 * h);
     a.view = Affine2::translate(at.x(), at.y()) * Affine2::rotate(sc.rotation) * Affine2::scale(k, k) *
              Affine2::translate(-0.5 * ch.width, -0.5 * ch.height);
+    a.px_per_unit = k / ss;
     // A slide comes from (and goes to) just beyond the canvas's edge on its side.
     const std::string& e = sc.entrance;
     a.offstage = e == "slide-left" ? Vec2(-at.x() - 0.5 * k * ch.width, 0) : e == "slide-right" ? Vec2(w - at.x() + 0.5 * k * ch.width, 0)
@@ -329,6 +363,16 @@ void LiveShow::reserve_layers() {
   }
   if (depth > 0) canvas_->reserve_layers(depth);
   list_.layers.reserve(count);
+}
+
+std::vector<KeptPuppet> LiveShow::keepable() const {
+  std::vector<KeptPuppet> keep;
+  for (size_t c = 0; c < actors_.size(); ++c) {
+    const bool cast = !show_.cast.empty();
+    keep.push_back({actors_[c]->name(), cast ? show_.cast[c].character : show_.character, cast ? show_.cast[c].rig : show_.rig,
+                    canvas_size(opt_, show_), show_.images_anywhere, actors_[c]->shared_puppet()});
+  }
+  return keep;
 }
 
 std::vector<std::string> LiveShow::watched_files() const {

@@ -1,6 +1,7 @@
 #include "app/puppet.h"
 #include "rig/auto_rig.h"
 
+#include "base/read_file.h"
 #include "character/load.h"
 #include "render/canvas.h"
 #include "render/overlay.h"
@@ -41,6 +42,23 @@ void append_solver_overlay(const Puppet& p, std::span<const Vec2> handle_points,
     append_mesh_overlay(arap->vertices(), arap->triangles(), handle_points, view, list);
   if (const auto* grid = dynamic_cast<const RigidGrid*>(p.solver.get()))
     append_grid_overlay(grid->nodes(), grid->grid_nodes(), grid->grid_edges(), grid->junction_triangles(), handle_points, view, list);
+}
+
+std::string puppet_stamp(const Puppet& p) {
+  std::vector<std::string> files{p.rig.path, p.character.source};
+  if (!p.rig.mask.empty()) files.push_back(p.rig.mask_path());
+  for (const RigKey& k : p.rig.keys)
+    if (!k.frame.empty()) files.push_back(p.rig.beside(k.frame));
+  std::string stamp;
+  for (const std::string& f : files) {
+    if (f.empty()) continue;
+    const Result<std::string> bytes = read_file(f, kMaxPngBytes, "a character's file");
+    if (!bytes.ok()) return {};
+    uint64_t h = 1469598103934665603ull;  // FNV-1a
+    for (const char c : *bytes.value) h = (h ^ uint8_t(c)) * 1099511628211ull;
+    stamp += f + " " + std::to_string(bytes.value->size()) + " " + std::to_string(h) + "\n";
+  }
+  return stamp;
 }
 
 Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, const std::string& rig_path,
@@ -163,6 +181,8 @@ Result<std::unique_ptr<Puppet>> load_puppet(const std::string& character_path, R
   }
   p->mesh = prepare_mesh(p->character);
   for (const SubShape& s : p->character.shapes) p->shapes.push_back(s.points);
+  p->loaded_parameters = p->solver->parameters();
+  p->stamp = puppet_stamp(*p);
   return R::success(std::move(p));
 }
 

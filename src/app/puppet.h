@@ -45,6 +45,13 @@ struct Puppet {
   /// and trigger). No allocation.
   void show(std::span<const int> members, std::span<const char> triggers_on);
   double prefactor_ms = 0;           ///< time of Solver::prepare
+  // What a reload that keeps this puppet (its files unchanged) reads of it while a running show
+  // poses it on another thread: only what posing never writes (app/live_reload.cpp).
+  std::vector<SolverParameter> loaded_parameters;  ///< the solver's, as the rig set them
+  /// Its key poses, solved once (app/keys.h) by the first show that drove them; null until then.
+  std::shared_ptr<const std::vector<Points>> solved_keys;
+  /// The files it was made from with a hash of each one's bytes (puppet_stamp()).
+  std::string stamp;
   double diagonal = 1;               ///< of the character's bounds
   std::vector<Vec2> rest_targets() const;
   SolverWeights weights() const;     ///< the rig's
@@ -54,6 +61,10 @@ struct Puppet {
   const FeatureFrameMethod* feature_frame() const { return dynamic_cast<const FeatureFrameMethod*>(solver.get()); }
   FeatureFrameMethod* feature_frame() { return dynamic_cast<FeatureFrameMethod*>(solver.get()); }
 };
+
+/// Each file `p` was made from (its rig, its drawing, its mask, its keys' frames) with a hash of
+/// its bytes as they are now; empty when one cannot be read. Equal stamps: the same puppet.
+std::string puppet_stamp(const Puppet& p);
 
 /// Appends the solver's structure over the character (the feature frame, the ARAP mesh or the
 /// rigid grid) with handles at `handle_points`, mapped by `view`.

@@ -249,6 +249,11 @@ int cmd_run(const RunArgs& a) {
     else
       std::cerr << "reloaded " << a.show << " (" << cause << "): " << live->restarted()
                 << " changed, so the devices, the window and the outputs start over" << std::endl;
+    if (!live->kept().empty() && live->kept().size() < live->actors().size()) {  // (a cast: who was prepared again)
+      std::string kept;
+      for (const std::string& n : live->kept()) kept += (kept.empty() ? "" : ", ") + n;
+      std::cerr << "  unchanged, kept as loaded: " << kept << std::endl;
+    }
     live->reloaded(cause);  // (last: what the swap allocated, saying so included, is counted apart up to here)
   }
 }

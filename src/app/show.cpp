@@ -28,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
   check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out",
-                          "scenery", "prop", "character"}, "the show file");
+                          "scenery", "prop", "character", "brush"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -308,7 +308,12 @@ Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& 
   }
   if (auto* n = t.get("area")) {
     const toml::array* a = n->as_array();
-    if (!a || a->size() != 4) throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1]"};
+    if (n->is_string() && *n->value<std::string>() == "canvas") {
+      tf.area_canvas = true;
+    } else if (!a || a->size() != 4) {
+      throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1] (character units) or \"canvas\""};
+    }
+    for (size_t i = 0; i < 4 && a; ++i) tf.area[i] = number(path, *a->get(i), "area");
     for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
   }
   read_priority(path, t, s.devices[size_t(di)], b);
@@ -440,8 +445,8 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
     return -1;
   };
   if (!rig.cast.empty()) return parse_cast_target(t, s, rig, kind, index, member);  // show_cast.cpp
-  if (t == "grab") {
-    kind = TargetKind::Grab;
+  if (t == "grab" || t == "brush") {
+    kind = t == "grab" ? TargetKind::Grab : TargetKind::Brush;
     index = 0;
     return R::success(true);
   }
@@ -614,6 +619,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
     const toml::table root = parse_file(path);  // the one parse of the file
     read_header(path, root, s);
     read_cast(path, root, s);  // show_cast.cpp
+    read_brushed(path, root, s);  // show_pen.cpp
     auto loaded = load_rig(s);
     if (!loaded.ok()) return Result<ShowConfig>::failure(loaded.error);
     const ShowRig& rig = *loaded.value;
@@ -624,6 +630,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
     read_groups_and_poses(path, root, s, rig);
     if (const toml::array* bs = array_of_tables(path, root, "binding"))
       for (const toml::node& bn : *bs) s.bindings.push_back(read_binding(path, bn, s, rig));
+    read_brushes(path, root, s, rig);  // show_pen.cpp
     read_behaviors(path, root, s, rig);  // loop/idle.cpp
     return Result<ShowConfig>::success(std::move(s));
   } catch (const ShowError& e) {

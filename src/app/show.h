@@ -82,6 +82,18 @@ struct ShowProp {
   int line = 0;
 };
 
+/// [[brush]]: a pen that sculpts the character's outline (the brush of seed 004,
+/// app/loop/brush.h). It becomes a pointer binding on the target `brush` (`NAME.brush` in a cast).
+struct ShowBrush {
+  int device = 0;
+  int who = 0;                    ///< the cast's character (0: a show's single rig)
+  double radius_lo = 20, radius_hi = 60;  ///< canvas px, light to full pressure
+  double strength = 1;            ///< 0..1: how firmly the brushed outline takes the drag
+  enum Release : uint8_t { Spring, Hold } release = Spring;
+  double release_seconds = 0.5;   ///< spring: back over this
+  int line = 0;
+};
+
 /// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).
 struct AttractConfig {
   double after = 0;              ///< seconds without input before it plays (0: no attract)
@@ -186,6 +198,10 @@ struct ShowConfig {
   std::vector<ShowDevice> devices;
   std::vector<ShowScenery> scenery;      ///< [[scenery]]: drawings that stay still, behind or in front
   std::vector<ShowProp> props;           ///< [[prop]]: drawings a part of the character holds
+  std::vector<ShowBrush> brushes;        ///< [[brush]]: pens that sculpt an outline
+  /// The characters a [[brush]] names ("" for a single rig), known before the rigs load: their
+  /// feature frames are made finer (kBrushSpacing).
+  std::vector<std::string> brushed;
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;
   std::vector<Pose> poses;

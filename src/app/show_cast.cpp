@@ -13,7 +13,7 @@ using namespace showtoml;
 namespace {
 
 bool reserved(const std::string& n) {
-  static const char* const words[] = {"handle", "rotate", "pose", "grab", "solver", "morph", "blend", "swap", "trigger", "physics"};
+  static const char* const words[] = {"handle", "rotate", "pose", "grab", "brush", "solver", "morph", "blend", "swap", "trigger", "physics"};
   return std::any_of(std::begin(words), std::end(words), [&](const char* w) { return n == w; });
 }
 
@@ -164,7 +164,8 @@ Result<bool> parse_cast_target(const std::string& t, const ShowConfig& s, const 
     case TargetKind::Setting: index = int(m.setting0) + index - 1; break;  // (its 0 is iterations, refused above)
     case TargetKind::Swap: index += int(m.swap0); break;
     case TargetKind::Trigger: index += int(m.trigger0); break;
-    case TargetKind::Grab: index = c; break;
+    case TargetKind::Grab:
+    case TargetKind::Brush: index = c; break;
     default: return R::failure("'" + t + "': " + rest + " is the show's, with no character in front");
   }
   return R::success(true);

@@ -125,6 +125,9 @@ struct Rig {
   double w_rigidity = 1, w_coupling = 1, w_position = 100;
   bool uniform_sampling = false;
   double interval = 0;  ///< uniform sampling interval, character units (0 = automatic)
+  /// > 0: frame points at most this far apart along an outline (a fraction of the diagonal;
+  /// FrameOptions::max_spacing): set by a show whose [[brush]] sculpts the character.
+  double max_spacing = 0;
   std::vector<RigHandle> handles;
   std::vector<RigSewing> sewing;
   int anderson = 5;           ///< Anderson acceleration history (0: off)

@@ -19,6 +19,7 @@ FrameOptions frame_options_from_rig(const Rig& rig) {
   FrameOptions o = default_frame_options();
   o.mode = rig.uniform_sampling ? SamplingMode::Uniform : SamplingMode::Features;
   o.interval = rig.interval;
+  o.max_spacing = rig.max_spacing;
   for (const RigSewing& e : rig.sewing) {
     SewingEdit s;
     s.kind = e.action == RigSewing::Add ? SewingEdit::Add : e.action == RigSewing::Delete ? SewingEdit::Delete : SewingEdit::Move;

@@ -16,6 +16,24 @@ namespace mar {
 /// are far from 1e±150.
 inline double portable_hypot(double a, double b) { return std::sqrt(a * a + b * b); }
 
+/// e^x for x <= 0, with the same bits on every architecture (glibc's exp is not correctly
+/// rounded, and its x86-64 build picks an FMA variant): x = n ln 2 + r, e^r by its Taylor series
+/// (|r| <= ln 2 / 2, 18 terms), scaled by 2^n exactly. 0 below -700.
+inline double portable_exp_neg(double x) {
+  if (!(x <= 0)) return x > 0 ? 1.0 : 0.0;  // (not used above 0; NaN: 0)
+  if (x < -700) return 0.0;
+  constexpr double kLn2 = 0.6931471805599453094;
+  constexpr double kLn2Hi = 6.93147180369123816490e-01, kLn2Lo = 1.90821492927058770002e-10;  // (n * hi is exact)
+  const double n = std::floor(x / kLn2 + 0.5);
+  const double r = (x - n * kLn2Hi) - n * kLn2Lo;
+  double term = 1, sum = 1;
+  for (int k = 1; k <= 18; ++k) {
+    term = term * r / k;
+    sum += term;
+  }
+  return std::ldexp(sum, int(n));
+}
+
 using Vec2 = Eigen::Vector2d;
 using Points = std::vector<Vec2>;
 

@@ -59,7 +59,8 @@ void Mapping::carry_from(const Mapping& old) {
       b.px = o.px;
       b.py = o.py;
       b.tip = o.tip;
-      const bool continuous = !button_target(b.target) && b.target != TargetKind::Grab && b.target != TargetKind::HandlePoint;
+      const bool continuous = !button_target(b.target) && b.target != TargetKind::Grab && b.target != TargetKind::Brush &&
+                              b.target != TargetKind::HandlePoint;
       if (continuous && o.engaged && o.last_norm >= 0) {
         b.engaged = true;
         set_target(b, b.tf.lo + o.last_norm * (b.tf.hi - b.tf.lo));
@@ -298,6 +299,8 @@ bool Mapping::apply(const Event& e) {
           b.px = normalized(e);
         } else if (e.number == c.py) {
           b.py = normalized(e);
+        } else if (e.number == c.ppressure) {
+          b.pressure = normalized(e);
         } else if (e.number == c.ptip) {
           const bool was = b.tip;
           b.tip = e.value != 0;
@@ -310,7 +313,9 @@ bool Mapping::apply(const Event& e) {
         hit = true;
         {
           const double* a = b.tf.area;
-          const Vec2 p(a[0] + b.px * (a[2] - a[0]), a[1] + b.py * (a[3] - a[1]));
+          const double* m = b.tf.canvas_map;
+          const Vec2 p = b.tf.area_canvas ? Vec2(m[0] * b.px + m[2] * b.py + m[4], m[1] * b.px + m[3] * b.py + m[5])
+                                          : Vec2(a[0] + b.px * (a[2] - a[0]), a[1] + b.py * (a[3] - a[1]));
           // One pen grabs at a time: the one holding, or any while none does, or one whose tip
           // just went down (it takes over).
           const int bi = int(&b - bindings_.data());
@@ -319,6 +324,13 @@ bool Mapping::apply(const Event& e) {
             grab_point_ = p;
             grab_who_ = b.index;
             grab_by_ = b.tip ? bi : -1;
+          } else if (b.target == TargetKind::Brush && (brush_by_ == bi || brush_by_ < 0 || pressed)) {
+            brush_.down = b.tip;
+            brush_.point = p;
+            brush_.pressure = b.pressure;
+            brush_.who = b.index;
+            brush_.brush = b.member;
+            brush_by_ = b.tip ? bi : -1;
           } else if (b.target == TargetKind::HandlePoint && b.tip) {
             goal_[size_t(b.index)] = p;
             written_by(&b, TargetKind::HandleX, b.index);

@@ -39,11 +39,11 @@ struct ControlSpec {
   int channel = -1;     ///< MIDI channel 0-15, -1 = any
   uint32_t number = 0;  ///< CC / note / NRPN parameter / HID usage / encoder or button index
   /// HID usages of a pointer: x, y, tip (defaults: Generic Desktop X/Y, Digitizer Tip Switch)
-  uint32_t px = usage::kX, py = usage::kY, ptip = usage::kTipSwitch;
+  uint32_t px = usage::kX, py = usage::kY, ptip = usage::kTipSwitch, ppressure = usage::kTipPressure;
   std::string text;     ///< as written (for messages and learn)
 };
 
-enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab, Swap, Trigger, Recall };
+enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab, Swap, Trigger, Recall, Brush };
 
 /// Targets a control presses rather than sets (a CC or HID value presses past the threshold).
 inline bool button_target(TargetKind k) {
@@ -77,6 +77,10 @@ struct Transform {
   Ease ease = Ease::InOut;
   double ret = -1;             ///< pointer on a handle: seconds back to rest on release (< 0: hold)
   double area[4] = {0, 0, 1, 1};  ///< pointer: target rectangle x0 y0 x1 y1
+  /// Pointer over the canvas (`area = "canvas"`, a cast's default): `canvas_map` takes its
+  /// normalised position to target units (a b c d e f, as Affine2: through the character's view).
+  bool area_canvas = false;
+  double canvas_map[6] = {1, 0, 0, 1, 0, 0};
   /// Priority among the bindings on its target (input/arbitration.h): stated (here or by its
   /// device) puts every binding on that handle axis, rotation or setting under arbitration,
   /// which replaces soft takeover there.
@@ -103,6 +107,7 @@ struct Binding {
   int msb = 0, lsb = 0;      ///< 14-bit parts
   int nrpn_hi = 0, nrpn_param = -1;  ///< NRPN parameter selected by CC 99/98
   double px = 0.5, py = 0.5; ///< pointer position (normalised)
+  double pressure = 1;       ///< pointer pressure (normalised; 1 until the pen reports one)
   bool tip = false;
   uint64_t hits = 0;         ///< events it has used (an idle behaviour on its target pauses)
   int arb = -1, arb_source = -1;  ///< its target's arbiter and its source there (-1: none)
@@ -191,6 +196,15 @@ class Mapping {
   /// pen holds at a time: another's tip going down takes over; the holder's coming up lets go.
   int grab_who() const { return grab_who_; }
   Vec2 grab_point() const { return grab_point_; }
+  /// The brush (a [[brush]]'s pointer, app/loop/brush.h): one pen brushes at a time, as one grabs.
+  struct Pen {
+    bool down = false;
+    Vec2 point = Vec2::Zero();  ///< character units
+    double pressure = 1;
+    int who = 0;                ///< the cast's character
+    int brush = 0;              ///< which [[brush]] (ShowConfig::brushes)
+  };
+  const Pen& brush() const { return brush_; }
   const MappingStats& stats() const { return stats_; }
   // For the HUD: each binding, the value its target has now (NaN for targets without one:
   // grabs, poses, swaps, triggers, recalls), and where an absolute control waiting for soft
@@ -257,6 +271,8 @@ class Mapping {
   bool recall_pending_ = false;
   bool grab_active_ = false;
   Vec2 grab_point_ = Vec2::Zero();
+  Pen brush_;
+  int brush_by_ = -1;  ///< the binding holding the brush (-1: none)
   int grab_who_ = 0;
   int grab_by_ = -1;  ///< the grab binding whose pen holds (-1: none)
   MappingStats stats_;

@@ -186,6 +186,8 @@ bool FeatureFrameSolver::prepare(const FeatureFrame& frame, std::span<const Shap
   extra_active_ = false;
   extra_z0_.setZero(n2);
   extra_z1_.setZero(n2);
+  soft_n_ = 0;  // (a new factor: the brush sets its terms again)
+  if (soft_cap_ > 0) soft_z_.setZero(n2, 2 * soft_cap_);
   build_bodies();
   reset_to_rest();
   return true;
@@ -258,6 +260,8 @@ double FeatureFrameSolver::energy_with_rotations(std::span<const Vec2> v, std::s
     e_pos += w_.handle_weight(h) * (eval_param(handles_[h], v) - targets[h]).squaredNorm();
   }
   if (extra_active_ && targets.size() > handles_.size()) e_pos += (eval_param(extra_, v) - targets[handles_.size()]).squaredNorm();
+  if (!extra_active_)
+    for (int i = 0; i < soft_n_; ++i) e_pos += soft_w_[size_t(i)] * (v[size_t(soft_v_[size_t(i)])] - soft_t_[size_t(i)]).squaredNorm();
   for (size_t i = 0; i < v.size(); ++i) {
     if (free_[i]) e_reg += (v[i] - anchor_[i]).squaredNorm();
   }
@@ -371,7 +375,42 @@ void FeatureFrameSolver::global_step(std::span<const Vec2> targets) {
     y[perm[2 * k.b]] += w_.position * (k.br * t.x() + k.bi * t.y());
     y[perm[2 * k.b + 1]] += w_.position * (k.br * t.y() - k.bi * t.x());
   }
+  const bool soft = soft_n_ > 0 && !extra_active_;
+  if (soft)
+    for (int i = 0; i < soft_n_; ++i) {
+      const size_t j = size_t(soft_v_[size_t(i)]);
+      const double w = w_.position * soft_w_[size_t(i)];
+      y[perm[2 * j]] += w * soft_t_[size_t(i)].x();
+      y[perm[2 * j + 1]] += w * soft_t_[size_t(i)].y();
+    }
   factor_solve(y);
+  if (soft) {
+    // Woodbury: x = y - Z K^-1 (U^T y), K = L L^T.
+    const int n = 2 * soft_n_, st = 2 * soft_cap_;
+    double* r = soft_r_.data();
+    for (int i = 0; i < soft_n_; ++i) {
+      const size_t j = size_t(soft_v_[size_t(i)]);
+      r[2 * i] = y[perm[2 * j]];
+      r[2 * i + 1] = y[perm[2 * j + 1]];
+    }
+    const double* l = soft_l_.data();
+    for (int a = 0; a < n; ++a) {  // L c' = r
+      double t = r[a];
+      for (int b = 0; b < a; ++b) t -= l[a * st + b] * r[b];
+      r[a] = t / l[a * st + a];
+    }
+    for (int a = n - 1; a >= 0; --a) {  // L^T c = c'
+      double t = r[a];
+      for (int b = a + 1; b < n; ++b) t -= l[b * st + a] * r[b];
+      r[a] = t / l[a * st + a];
+    }
+    const Eigen::Index rows = work_.size();
+    for (int a = 0; a < n; ++a) {
+      const double* z = soft_z_.data() + Eigen::Index(a) * rows;
+      const double c = r[a];
+      for (Eigen::Index k = 0; k < rows; ++k) y[k] -= z[k] * c;
+    }
+  }
   if (extra_active_) {
     // Woodbury: x = y - Z K^-1 (M y).
     const Vec2 my = extra_eval(y);
@@ -393,6 +432,69 @@ Vec2 FeatureFrameSolver::extra_eval(const double* y) const {
   const int* perm = perm_.data();
   const Vec2 a(y[perm[2 * k.a]], y[perm[2 * k.a + 1]]), b(y[perm[2 * k.b]], y[perm[2 * k.b + 1]]);
   return rot(k.ar, k.ai, a) + rot(k.br, k.bi, b);
+}
+
+void FeatureFrameSolver::reserve_soft(int k) {
+  soft_cap_ = std::max(0, k);
+  soft_v_.assign(size_t(soft_cap_), 0);
+  soft_w_.assign(size_t(soft_cap_), 0.0);
+  soft_t_.assign(size_t(soft_cap_), Vec2::Zero());
+  soft_l_.assign(size_t(4 * soft_cap_ * soft_cap_), 0.0);
+  soft_r_.assign(size_t(2 * soft_cap_), 0.0);
+  soft_z_.setZero(Eigen::Index(2 * v_.size()), 2 * soft_cap_);
+  soft_n_ = 0;
+}
+
+bool FeatureFrameSolver::set_soft(std::span<const int> vertices, std::span<const double> weights) {
+  soft_n_ = 0;
+  const size_t q = v_.size();
+  const int n = int(vertices.size());
+  if (!frame_ || n == 0 || n > soft_cap_ || weights.size() != vertices.size() || soft_z_.rows() != Eigen::Index(2 * q)) return false;
+  for (int i = 0; i < n; ++i) {
+    if (vertices[size_t(i)] < 0 || size_t(vertices[size_t(i)]) >= q || !(weights[size_t(i)] > 0)) return false;
+    soft_v_[size_t(i)] = vertices[size_t(i)];
+    soft_w_[size_t(i)] = weights[size_t(i)];
+    soft_t_[size_t(i)] = v_[size_t(vertices[size_t(i)])];  // (held where it is until told)
+  }
+  const int* perm = perm_.data();
+  const Eigen::Index rows = soft_z_.rows();
+  // Z's columns: A^-1 of each unit vector of U (a soft vertex's x or y, permuted order).
+  for (int a = 0; a < 2 * n; ++a) {
+    double* z = soft_z_.data() + Eigen::Index(a) * rows;
+    std::fill(z, z + rows, 0.0);
+    z[perm[2 * soft_v_[size_t(a / 2)] + (a % 2)]] = 1.0;
+    factor_solve(z);
+  }
+  // K = C^-1 + U^T Z, then its lower Cholesky factor in place.
+  const int st = 2 * soft_cap_;
+  double* l = soft_l_.data();
+  for (int a = 0; a < 2 * n; ++a)
+    for (int b = 0; b <= a; ++b) {
+      const double* zb = soft_z_.data() + Eigen::Index(b) * rows;
+      l[a * st + b] = zb[perm[2 * soft_v_[size_t(a / 2)] + (a % 2)]] +
+                      (a == b ? 1.0 / std::max(1e-300, w_.position * soft_w_[size_t(a / 2)]) : 0.0);
+    }
+  for (int a = 0; a < 2 * n; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      double t = l[a * st + b];
+      for (int c = 0; c < b; ++c) t -= l[a * st + c] * l[b * st + c];
+      if (a == b) {
+        if (!(t > 0) || !std::isfinite(t)) return false;
+        l[a * st + a] = std::sqrt(t);
+      } else {
+        l[a * st + b] = t / l[b * st + b];
+      }
+    }
+  }
+  soft_n_ = n;
+  return true;
+}
+
+double FeatureFrameSolver::soft_energy() const {
+  double e = 0;
+  if (!extra_active_)
+    for (int i = 0; i < soft_n_; ++i) e += soft_w_[size_t(i)] * (v_[size_t(soft_v_[size_t(i)])] - soft_t_[size_t(i)]).squaredNorm();
+  return e;
 }
 
 void FeatureFrameSolver::set_extra_handle(const ShapeParam& h) {
@@ -508,6 +610,7 @@ double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
   if (extra_active_ && targets.size() > handles_.size()) {
     e += w_.position * (eval_param(extra_, v_) - targets[handles_.size()]).squaredNorm();
   }
+  e += w_.position * soft_energy();
   if (any_free_) {
     for (size_t i = 0; i < v_.size(); ++i) {
       if (free_[i]) e += eps_ * (v_[i] - anchor_[i]).squaredNorm();

@@ -70,6 +70,19 @@ class FeatureFrameSolver {
   void clear_extra_handle() { extra_active_ = false; }
   bool has_extra_handle() const { return extra_active_; }
 
+  /// Soft targets at frame vertices (the brush of seed 004, app/loop/brush.h): vertex
+  /// `vertices[i]` is pulled toward soft_targets()[i] with weight w_p * weights[i]. Added to the
+  /// factorised system by the Woodbury identity, rank 2k: set_soft() makes 2k triangular solves
+  /// and a 2k x 2k Cholesky factor; each iteration adds a gather, a small triangular solve and a
+  /// 2q x 2k product. At most reserve_soft()'s count, and not with an extra handle at once (the
+  /// extra handle wins). Allocates nothing; false when over the count or not positive definite.
+  void reserve_soft(int k);  ///< allocates (at load)
+  bool set_soft(std::span<const int> vertices, std::span<const double> weights);
+  std::span<Vec2> soft_targets() { return {soft_t_.data(), size_t(soft_n_)}; }
+  void clear_soft() { soft_n_ = 0; }
+  int soft_count() const { return soft_n_; }
+  int soft_capacity() const { return soft_cap_; }
+
   /// Moves the whole pose by the rigid motion (rotation + translation, least squares,
   /// 2D Procrustes) that best takes the handles' current positions to `targets`. The
   /// initial guess for a solve from rest: exact when the targets are a rigid motion of the
@@ -162,6 +175,15 @@ class FeatureFrameSolver {
   // K^-1 = (I / w_p + M Z)^-1.
   bool extra_active_ = false;
   ShapeParam extra_;
+  // Soft vertex targets (Woodbury, rank 2k): Z = A^-1 U (2q x 2k, permuted order), the lower
+  // Cholesky factor of K = C^-1 + U^T Z (row stride 2 soft_cap_), a 2k work vector.
+  int soft_n_ = 0, soft_cap_ = 0;
+  std::vector<int> soft_v_;
+  std::vector<double> soft_w_;
+  std::vector<Vec2> soft_t_;
+  Eigen::MatrixXd soft_z_;
+  std::vector<double> soft_l_, soft_r_;
+  double soft_energy() const;
   Eigen::VectorXd extra_z0_, extra_z1_;
   double extra_k_[4] = {0, 0, 0, 0};
   SolverWeights w_;

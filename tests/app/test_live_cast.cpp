@@ -216,6 +216,37 @@ TEST(Cast, TheDuetsRecallAndPenGoToTheirCharactersAndAllocateNothing) {
   EXPECT_FALSE(s->actors()[1]->has_keys());  // (the robot's rig has none: its recall would be refused)
 }
 
+// In a cast a pen (or the mouse over the window) covers the canvas: where it touches, it takes
+// the point of the character drawn under it — a character placed, scaled and turned included.
+TEST(Cast, APenTakesThePointOfTheCharacterDrawnUnderIt) {
+  const std::string place = "position = [210, 110]\nscale = 0.6\nrotation = 30\n";
+  auto pen = [&](const std::string& script) {
+    return cast_show("cast_pen.toml", character("figure", "figure") + character("robot", "robot", place) +
+                                          "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n" + script +
+                                          "\"\"\"\n[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"robot.grab\"\n");
+  };
+  auto probe = load(pen("0.1 leave\n"));
+  ASSERT_TRUE(probe);
+  const Actor& robot = *probe->actors()[1];
+  const Vec2 chest(150, 206);  // the robot's chest, in its own units
+  const Vec2 at = robot.view.apply(chest);
+  ASSERT_GT(at.x(), 0);
+  ASSERT_LT(at.x(), 320);
+  char xy[64];
+  std::snprintf(xy, sizeof xy, "%.5f,%.5f", at.x() / 320, at.y() / 200);
+  auto s = load(pen(std::string("0.1 hover ") + xy + "\n0.2 stroke " + xy + " " + xy + " over 0.3 pressure 0.7\n"));
+  ASSERT_TRUE(s);
+  bool held = false;
+  for (int f = 0; f < 24 && !held; ++f) {
+    s->frame(int64_t(f * 1e9 / 60));
+    held = s->mapping().grab_active();
+  }
+  ASSERT_TRUE(held) << "the pen's tip went down";
+  const double diag = (robot.rest_bounds.hi - robot.rest_bounds.lo).norm();
+  EXPECT_LT((s->mapping().grab_point() - chest).norm(), 0.01 * diag)
+      << "took " << s->mapping().grab_point().transpose() << ", under the pen: " << chest.transpose();
+}
+
 // A character off stage enters when its NAME.on-stage trigger comes on: a fade over its
 // entrance's seconds (drawn as one layer: its parts do not show through each other), or a
 // slide from beyond the canvas's edge; entering after warm-up allocates nothing.

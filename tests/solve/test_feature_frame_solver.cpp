@@ -371,6 +371,57 @@ TEST(FeatureFrameSolver, ExtraHandleEqualsRefactorisingWithIt) {
   for (size_t i = 0; i < a.vertices().size(); ++i) EXPECT_NEAR((a.vertices()[i] - c.vertices()[i]).norm(), 0.0, 1e-9 * r.frame.diagonal);
 }
 
+// Soft vertex targets (the brush: a rank-2k Woodbury update) give the same solve as
+// factorising with a handle of that weight at each of those vertices, and cleared leave the
+// system without them (their frames allocate nothing: Brush.*).
+TEST(FeatureFrameSolver, SoftVertexTargetsEqualRefactorisingWithWeightedHandles) {
+  Rig r = make_rig("figure", {{150, 60}, {110, 395}, {190, 395}, {50, 250}});
+  SolverWeights w;
+  w.reach_stretch = -1;
+  w.jump = 0;
+  w.anderson = 0;
+  const std::vector<int> verts{3, 4, 5, 6, 7, 20};
+  const std::vector<double> weights{1.0, 0.8, 0.5, 0.25, 0.1, 0.03};
+  SolverWeights wb = w;
+  std::vector<ShapeParam> with = r.handles;
+  wb.handle_weights.assign(r.handles.size(), 1.0);
+  for (size_t i = 0; i < verts.size(); ++i) {
+    ShapeParam p;
+    p.a = p.b = verts[i];
+    p.offset_only = true;  // the vertex itself
+    with.push_back(p);
+    wb.handle_weights.push_back(weights[i]);
+  }
+  FeatureFrameSolver a, b;
+  ASSERT_TRUE(a.prepare(r.frame, r.handles, w));
+  ASSERT_TRUE(b.prepare(r.frame, with, wb));
+  a.reserve_soft(8);
+  ASSERT_TRUE(a.set_soft(verts, weights));
+  EXPECT_FALSE(a.set_soft(std::vector<int>(9, 1), std::vector<double>(9, 1.0))) << "over the reserved count";
+  ASSERT_TRUE(a.set_soft(verts, weights));
+  std::vector<Vec2> targets = r.rest, more = r.rest;
+  for (size_t i = 0; i < verts.size(); ++i) {
+    a.soft_targets()[i] = r.frame.rest[size_t(verts[i])] + Vec2(12.0 + double(i), -20.0);
+    more.push_back(a.soft_targets()[i]);
+  }
+  for (int f = 0; f < 5; ++f) a.solve(targets, 6);
+  for (int f = 0; f < 5; ++f) b.solve(more, 6);
+  double moved = 0;
+  for (size_t i = 0; i < a.vertices().size(); ++i) {
+    EXPECT_NEAR((a.vertices()[i] - b.vertices()[i]).norm(), 0.0, 1e-9 * r.frame.diagonal) << i;
+    moved = std::max(moved, (a.vertices()[i] - r.frame.rest[i]).norm());
+  }
+  EXPECT_GT(moved, 5.0) << "(the soft targets pulled)";
+  EXPECT_NEAR(a.energy(targets), b.energy(more), 1e-9 * std::max(1.0, b.energy(more)));
+  a.clear_soft();
+  FeatureFrameSolver c;
+  ASSERT_TRUE(c.prepare(r.frame, r.handles, w));
+  c.set_vertices(a.vertices());
+  a.solve(targets, 4);
+  c.solve(targets, 4);
+  for (size_t i = 0; i < a.vertices().size(); ++i) EXPECT_NEAR((a.vertices()[i] - c.vertices()[i]).norm(), 0.0, 1e-9 * r.frame.diagonal);
+}
+
 // Anderson acceleration: accepted energies never increase, and in the same iteration count
 // it gets lower than the plain alternation after a large move.
 TEST(FeatureFrameSolver, AndersonLowersTheEnergyFasterAndNeverRaisesIt) {

@@ -8,7 +8,7 @@
 
 namespace mar {
 
-std::string Actor::prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
+std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
                            size_t trigger0, int who) {
   puppet_ = std::move(p);
   Puppet& pp = *puppet_;
@@ -18,7 +18,7 @@ std::string Actor::prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapp
   // Its settings, in the order its ShowRig names them (live_setup.cpp show_rig): the solver's
   // parameters (a change re-factorises), its key poses' (0..1), its chains'.
   r_.solver0 = int(m.setting_count());
-  for (const SolverParameter& sp : pp.solver->parameters()) {
+  for (const SolverParameter& sp : pp.loaded_parameters) {
     m.add_setting({sp.value, sp.lo, sp.hi, false});
     solver_params_.push_back(sp.value);
   }
@@ -26,13 +26,27 @@ std::string Actor::prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapp
   physics_.prepare(pp, sh.physics);
   r_.physics0 = int(m.setting_count());
   for (const PhysicsStage::SettingInfo& si : physics_.settings()) m.add_setting({si.value, si.lo, si.hi, false});
-  // Only the key settings a binding drives count; solve the keys once and prepare their interpolation.
-  if (keys_.keep_driven(sh, who)) {
+  // The keys are solved once, whether a binding drives them or not: a reload that keeps this
+  // puppet reads them instead of posing it (Puppet::solved_keys). Only the key settings a
+  // binding drives count; their interpolation is prepared when one does.
+  const bool driven = keys_.keep_driven(sh, who);
+  if (!pp.solved_keys && pp.feature_frame() && !pp.rig.keys.empty()) {
     auto keys = solve_keys(pp);
-    if (!keys.ok()) return keys.error;
-    if (std::string err = keys_.prepare(pp, *keys.value); !err.empty()) return err;
+    if (!keys.ok() && driven) return keys.error;
+    if (keys.ok()) pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
+  }
+  if (driven) {
+    if (!pp.solved_keys) {
+      auto keys = solve_keys(pp);  // (the key poses need the feature frame: says so)
+      if (!keys.ok()) return keys.error;
+      pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
+    }
+    if (std::string err = keys_.prepare(pp, *pp.solved_keys); !err.empty()) return err;
     key_values_.assign(keys_.settings().size(), 0.0);
   }
+  for (const ShowBrush& br : sh.brushes)  // a [[brush]] sculpts it (loop/brush.h)
+    if (br.who == who && !brush_.prepared())
+      if (std::string e = brush_.prepare(pp); !e.empty()) return sh.path + ":" + std::to_string(br.line) + ": [[brush]]: " + e;
   r_.swap0 = swap0;
   r_.swaps = pp.rig.swaps.size();
   r_.trigger0 = trigger0;
@@ -56,6 +70,7 @@ bool Actor::apply_settings(const Mapping& m) {
   if (!changed) return false;
   puppet_->solver->set_parameters(solver_params_, nullptr);
   grab_.restore(m.grab_point(), *puppet_);
+  brush_.restore(*puppet_);
   return true;
 }
 
@@ -64,6 +79,7 @@ void Actor::apply_grab(const Vec2& point, std::span<Vec2> targets) {
 }
 
 void Actor::solve(std::span<const Vec2> targets, int iterations) {
+  if (brush_.prepared()) brush_.step(pen_, pen_spec_, px_per_unit, pen_dt_, grab_.active(), targets, *puppet_);
   std::copy(targets.begin(), targets.end(), solve_targets_.begin());
   puppet_->solver->solve(std::span<const Vec2>(solve_targets_.data(), n_solve_), iterations);
 }
@@ -124,7 +140,18 @@ void Actor::carry_from(const Actor& old) {
   physics_.carry_from(old.physics_);  // the chains go on swinging
 }
 
+void Actor::take_puppet_from(Actor& old) {
+  if (puppet_ != old.puppet_) return;
+  // The reload kept the running show's puppet (its files unchanged): its solver goes on from
+  // where it is, with the parameters it has and no grab of the old actor's left in it.
+  old.set_grab(false, Vec2::Zero());
+  solver_params_ = old.solver_params_;
+  if (brush_.prepared() && old.brush_.prepared()) brush_ = old.brush_;  // (what it brushed stays)
+  else if (FeatureFrameMethod* ff = puppet_->feature_frame()) ff->core().clear_soft();
+}
+
 void Actor::carry_shapes_from(const Actor& old) {
+  if (puppet_ == old.puppet_) return;  // (the same shapes, going on)
   Puppet& p = *puppet_;
   const Puppet& o = *old.puppet_;
   bool same = o.shapes.size() == p.shapes.size();

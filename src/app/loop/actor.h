@@ -10,6 +10,7 @@
 // what the show computed before there was a cast.
 #pragma once
 
+#include "app/loop/brush.h"
 #include "app/loop/grab.h"
 #include "app/loop/key_poses.h"
 #include "app/loop/physics.h"
@@ -42,7 +43,10 @@ class Actor {
   /// Adds the actor's settings to `m` (its solver's parameters, its key poses', its chains') and
   /// prepares its key poses and motion. `sh`'s bindings are resolved; `swap0` and `trigger0`:
   /// where its swap sets and triggers start among the cast's. Empty, or the error.
-  std::string prepare(std::unique_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
+  /// `p` may be a running show's (a reload that keeps it, its files unchanged): then only what
+  /// posing never writes is read of it (Puppet::loaded_parameters, solved_keys, the drawing and
+  /// the rig), and take_puppet_from() takes it over at the swap.
+  std::string prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapping& m, size_t handle0, size_t swap0,
                       size_t trigger0, int who);
 
   const std::string& name() const { return name_; }
@@ -50,6 +54,7 @@ class Actor {
   const Ranges& ranges() const { return r_; }
   Puppet& puppet() { return *puppet_; }
   const Puppet& puppet() const { return *puppet_; }
+  std::shared_ptr<Puppet> shared_puppet() const { return puppet_; }
 
   /// New solver parameters from the mapping: re-factorises when they changed (allocates).
   /// Returns whether it did.
@@ -60,6 +65,16 @@ class Actor {
   /// over), or into its own slot (a temporary handle).
   void apply_grab(const Vec2& point, std::span<Vec2> targets);
   const Grab& grab() const { return grab_; }
+
+  /// This frame's pen for the brush (`spec`: its [[brush]] when the pen is this actor's, else
+  /// nullptr) and the frame's seconds; the brush steps in solve(). No allocation.
+  void set_pen(const Mapping::Pen& pen, const ShowBrush* spec, double dt) {
+    pen_ = pen;
+    pen_spec_ = spec;
+    pen_dt_ = dt;
+  }
+  bool has_brush() const { return brush_.prepared(); }
+  const BrushStage& brush() const { return brush_; }
 
   // The stages of a frame, on the actor's slice of the stage's targets (mapping order).
   /// Key poses: the weights from this frame's settings (`setting_value`: the mapping's,
@@ -93,8 +108,9 @@ class Actor {
   std::span<const double> key_weights() const { return keys_.weights(); }
   const PhysicsStage& physics() const { return physics_; }
 
-  /// Where it stands: character units -> canvas px.
+  /// Where it stands: character units -> canvas px; canvas px (at the show's size) per unit.
   Affine2 view;
+  double px_per_unit = 1;
   bool shown = true;
   int z = 0;
   /// Entering and leaving (its NAME.on-stage trigger): a fade, or a slide from `offstage` (canvas
@@ -121,17 +137,25 @@ class Actor {
   /// its shapes blend from where `old` drew them over kReloadBlendFrames.
   static constexpr int kReloadBlendFrames = 20;
   void carry_from(const Actor& old);
+  /// When this actor was prepared with `old`'s puppet: takes over its solver's state (any grab
+  /// of `old`'s let go). On the frame thread, at the swap.
+  void take_puppet_from(Actor& old);
+  bool shares_puppet_with(const Actor& o) const { return puppet_ == o.puppet_; }
   void carry_shapes_from(const Actor& old);
 
  private:
   std::string name_;
-  std::unique_ptr<Puppet> puppet_;
+  std::shared_ptr<Puppet> puppet_;  ///< (shared only between a reload's prepare and its swap)
   Ranges r_;
   std::vector<double> solver_params_;   ///< as last given to the solver
   KeyPoseStage keys_;
   std::vector<double> key_values_;      ///< this frame's value of each of keys_.settings()
   PhysicsStage physics_;
   Grab grab_;
+  BrushStage brush_;
+  Mapping::Pen pen_;
+  const ShowBrush* pen_spec_ = nullptr;
+  double pen_dt_ = 0;
   std::vector<Vec2> solve_targets_;     ///< its handles', then the grab's temporary handle's
   size_t n_solve_ = 0;
   double presence_ = 1;
