@@ -259,11 +259,14 @@ void LiveShow::map(int64_t t_ns) {
     for (size_t i = 0; i < mt.size(); ++i) targets_[i] += w * (at[i] - mt[i]);
   }
   for (auto& a : actors_) a->apply_grab(mapping_.grab_point(), slice(*a));
-  if (!show_.brushes.empty()) {  // the brush: the pen, to the actor it sculpts (it steps in the solve)
+  if (!show_.brushes.empty() || !show_.curves.empty()) {  // the brush and the curve: the pen, to its actor (they step in the solve)
     const Mapping::Pen& pen = mapping_.brush();
     for (auto& a : actors_)
-      if (a->has_brush())
-        a->set_pen(pen, pen.who == a->ranges().who ? &show_.brushes[size_t(pen.brush)] : nullptr, dt_);
+      if (a->has_brush() || a->has_curve()) {
+        const bool mine = pen.who == a->ranges().who;
+        a->set_pen(pen, mine && !pen.curve ? &show_.brushes[size_t(pen.brush)] : nullptr,
+                   mine && pen.curve ? &show_.curves[size_t(pen.brush)] : nullptr, dt_);
+      }
   }
   if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
 }

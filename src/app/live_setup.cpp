@@ -82,7 +82,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
       auto puppet = load_puppet(character, std::move(*loaded_rig.value), "", true, header.images_anywhere, canvas);
       if (!puppet.ok()) return puppet.error;
       // (room for a brush's targets in every feature frame: a reload may add a [[brush]] and keep it)
-      if (FeatureFrameMethod* ff = (*puppet.value)->feature_frame()) ff->core().reserve_soft(BrushStage::kMaxPoints);
+      if (FeatureFrameMethod* ff = (*puppet.value)->feature_frame()) ff->core().reserve_soft(kSoftTargets);
       if (!s->opt_.quiet)
         for (const std::string& w : (*puppet.value)->character.warnings) std::cerr << "warning: " << w << "\n";
       puppets.push_back(std::move(*puppet.value));
@@ -188,7 +188,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
   for (auto& g : sh.groups) m.add_group(g);
   for (auto& po : sh.poses) m.add_pose(po);
   auto actor_of = [&](const Binding& b) -> const Actor& {  // (a pointer's character: its handle's, or its grab's)
-    if (b.target == TargetKind::Grab || b.target == TargetKind::Brush) return *s->actors_[size_t(b.index)];
+    if (b.target == TargetKind::Grab || b.target == TargetKind::Brush || b.target == TargetKind::Curve) return *s->actors_[size_t(b.index)];
     for (const auto& a : s->actors_)
       if (b.target == TargetKind::HandlePoint && size_t(b.index) >= a->ranges().handle0 &&
           size_t(b.index) < a->ranges().handle0 + a->ranges().handles)

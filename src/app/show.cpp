@@ -28,7 +28,7 @@ toml::table parse_file(const std::string& path) {
 
 void read_header(const std::string& path, const toml::table& root, ShowConfig& s) {
   check_keys(path, root, {"show", "display", "output", "kiosk", "attract", "device", "binding", "group", "pose", "physics", "behavior", "osc_out",
-                          "scenery", "prop", "character", "brush"}, "the show file");
+                          "scenery", "prop", "character", "brush", "curve"}, "the show file");
   const toml::node* sn = root.get("show");
   if (!sn || !sn->is_table()) throw ShowError{path + ":1: missing [show] table (character, rig, rate)"};
   const toml::table& t = *sn->as_table();
@@ -445,8 +445,8 @@ Result<bool> parse_target(const std::string& t, const ShowConfig& s, const ShowR
     return -1;
   };
   if (!rig.cast.empty()) return parse_cast_target(t, s, rig, kind, index, member);  // show_cast.cpp
-  if (t == "grab" || t == "brush") {
-    kind = t == "grab" ? TargetKind::Grab : TargetKind::Brush;
+  if (t == "grab" || t == "brush" || t == "curve") {
+    kind = t == "grab" ? TargetKind::Grab : t == "brush" ? TargetKind::Brush : TargetKind::Curve;
     index = 0;
     return R::success(true);
   }
@@ -631,6 +631,7 @@ Result<ShowConfig> load_show(const std::string& path, const RigLoader& load_rig)
     if (const toml::array* bs = array_of_tables(path, root, "binding"))
       for (const toml::node& bn : *bs) s.bindings.push_back(read_binding(path, bn, s, rig));
     read_brushes(path, root, s, rig);  // show_pen.cpp
+    read_curves(path, root, s, rig);
     read_behaviors(path, root, s, rig);  // loop/idle.cpp
     return Result<ShowConfig>::success(std::move(s));
   } catch (const ShowError& e) {

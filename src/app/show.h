@@ -94,6 +94,19 @@ struct ShowBrush {
   int line = 0;
 };
 
+/// [[curve]]: a pen whose stroke a chain of the character's parts takes (the drawn curve of
+/// seed 001, app/loop/curve.h). A pointer binding on the target `curve` (`NAME.curve`).
+struct ShowCurve {
+  int device = 0;
+  int who = 0;
+  std::vector<std::string> parts;  ///< the chain, the part nearest `from` first
+  std::string from;                ///< the part (or handle) it hangs from
+  double strength = 1;
+  ShowBrush::Release release = ShowBrush::Hold;
+  double release_seconds = 1.0;  ///< (a bent chain springing back faster whips its secondary motion)
+  int line = 0;
+};
+
 /// [attract]: what an unattended show plays when nobody touches it (app/loop/attract.h).
 struct AttractConfig {
   double after = 0;              ///< seconds without input before it plays (0: no attract)
@@ -199,6 +212,7 @@ struct ShowConfig {
   std::vector<ShowScenery> scenery;      ///< [[scenery]]: drawings that stay still, behind or in front
   std::vector<ShowProp> props;           ///< [[prop]]: drawings a part of the character holds
   std::vector<ShowBrush> brushes;        ///< [[brush]]: pens that sculpt an outline
+  std::vector<ShowCurve> curves;         ///< [[curve]]: pens whose stroke a chain takes
   /// The characters a [[brush]] names ("" for a single rig), known before the rigs load: their
   /// feature frames are made finer (kBrushSpacing).
   std::vector<std::string> brushed;

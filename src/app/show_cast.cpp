@@ -13,7 +13,7 @@ using namespace showtoml;
 namespace {
 
 bool reserved(const std::string& n) {
-  static const char* const words[] = {"handle", "rotate", "pose", "grab", "brush", "solver", "morph", "blend", "swap", "trigger", "physics"};
+  static const char* const words[] = {"handle", "rotate", "pose", "grab", "brush", "curve", "solver", "morph", "blend", "swap", "trigger", "physics"};
   return std::any_of(std::begin(words), std::end(words), [&](const char* w) { return n == w; });
 }
 
@@ -165,7 +165,8 @@ Result<bool> parse_cast_target(const std::string& t, const ShowConfig& s, const 
     case TargetKind::Swap: index += int(m.swap0); break;
     case TargetKind::Trigger: index += int(m.trigger0); break;
     case TargetKind::Grab:
-    case TargetKind::Brush: index = c; break;
+    case TargetKind::Brush:
+    case TargetKind::Curve: index = c; break;
     default: return R::failure("'" + t + "': " + rest + " is the show's, with no character in front");
   }
   return R::success(true);

@@ -1,6 +1,7 @@
-// [[brush]] tables of a show file (app/show.h): a pen that sculpts a character's outline, the
-// brush of seed 004 (app/loop/brush.h). Each becomes a pointer binding on its character's
-// `brush` target, so it is read, recorded and replayed as every control is.
+// [[brush]] and [[curve]] tables of a show file (app/show.h): a pen that sculpts a character's
+// outline, the brush of seed 004 (app/loop/brush.h), and one whose stroke a chain of parts
+// takes, the drawn curve of seed 001 (app/loop/curve.h). Each becomes a pointer binding on its
+// character's `brush` or `curve` target, so it is read, recorded and replayed as every control is.
 #include "app/show.h"
 #include "app/show_toml.h"
 
@@ -9,12 +10,83 @@ namespace mar {
 using namespace showtoml;
 
 void read_brushed(const std::string& path, const toml::table& root, ShowConfig& s) {
-  if (const toml::array* bs = array_of_tables(path, root, "brush"))
-    for (const toml::node& n : *bs) {
-      const toml::node* c = n.as_table()->get("character");
-      s.brushed.push_back(c ? text(path, *c, "character") : "");
-    }
+  // (a curve's chain bends along the stroke: its parts need the finer frame a brush does)
+  for (const char* word : {"brush", "curve"})
+    if (const toml::array* bs = array_of_tables(path, root, word))
+      for (const toml::node& n : *bs) {
+        const toml::node* c = n.as_table()->get("character");
+        s.brushed.push_back(c ? text(path, *c, "character") : "");
+      }
 }
+
+namespace {
+
+// The pointer binding of a [[brush]] or a [[curve]] (`word`): its device's pointer on the
+// target `word` (`NAME.word` in a cast), over the canvas unless `area` says otherwise.
+Binding pen_binding(const std::string& path, const toml::node& n, ShowConfig& s, const ShowRig& rig, const std::string& word,
+                    int member) {
+  const toml::table& t = *n.as_table();
+  const std::string table = "[[" + word + "]]";
+  Binding b;
+  b.line = int(n.source().begin.line);
+  const toml::node* dev = t.get("device");
+  if (!dev) throw ShowError{at(path, n) + ": " + table + " needs a device (a pen, a tablet or the mouse)"};
+  const std::string dname = text(path, *dev, "device");
+  int di = -1;
+  for (size_t i = 0; i < s.devices.size(); ++i)
+    if (s.devices[i].name == dname) di = int(i);
+  if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
+  b.control.device = uint16_t(di);
+  if (auto r = parse_control(device_control(s.devices[size_t(di)], "pointer"), b.control); !r.ok())
+    throw ShowError{at(path, *dev) + ": device '" + dname + "' has no pointer for a " + word + ": " + r.error};
+  b.control.text = "pointer";
+  // The character it shapes: in a cast, by name.
+  std::string who;
+  if (auto* c = t.get("character")) who = text(path, *c, "character");
+  if (!rig.cast.empty() && who.empty())
+    throw ShowError{at(path, n) + ": in a cast a " + table + " names its character (character = \"NAME\")"};
+  if (rig.cast.empty() && !who.empty())
+    throw ShowError{at(path, *t.get("character")) + ": this show has one character (no [[character]] tables): leave character out"};
+  b.target_text = who.empty() ? word : who + "." + word;
+  if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, nullptr); !r.ok())
+    throw ShowError{at(path, *t.get("character")) + ": " + r.error};
+  b.member = member;
+  b.tf.takeover = false;
+  b.tf.area_canvas = true;  // (the pen touches what is drawn under it)
+  if (auto* x = t.get("area")) {
+    const toml::array* a = x->as_array();
+    if (!(x->is_string() && *x->value<std::string>() == "canvas") && (!a || a->size() != 4))
+      throw ShowError{at(path, *x) + ": area must be [x0, y0, x1, y1] (character units) or \"canvas\""};
+    b.tf.area_canvas = !a;
+    for (size_t i = 0; i < 4 && a; ++i) b.tf.area[i] = number(path, *a->get(i), "area");
+  }
+  return b;
+}
+
+// `release` and `release_seconds`, as a brush and a curve read them.
+void read_release(const std::string& path, const toml::table& t, ShowBrush::Release& release, double& seconds) {
+  if (auto* x = t.get("release")) {
+    const std::string r = text(path, *x, "release");
+    if (r == "key")
+      throw ShowError{at(path, *x) + ": release = \"key\" is not built yet: \"spring\" (back over release_seconds) or \"hold\""};
+    if (r != "spring" && r != "hold") throw ShowError{at(path, *x) + ": release must be \"spring\" or \"hold\""};
+    release = r == "hold" ? ShowBrush::Hold : ShowBrush::Spring;
+  }
+  if (auto* x = t.get("release_seconds")) {
+    seconds = number(path, *x, "release_seconds");
+    if (!(seconds >= 0 && seconds <= 60)) throw ShowError{at(path, *x) + ": release_seconds must be 0..60"};
+  }
+}
+
+double read_strength(const std::string& path, const toml::table& t, double fallback) {
+  const toml::node* x = t.get("strength");
+  if (!x) return fallback;
+  const double v = number(path, *x, "strength");
+  if (!(v > 0 && v <= 1)) throw ShowError{at(path, *x) + ": strength must be 0..1 (above 0)"};
+  return v;
+}
+
+}  // namespace
 
 void read_brushes(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig) {
   const toml::array* bs = array_of_tables(path, root, "brush");
@@ -23,35 +95,11 @@ void read_brushes(const std::string& path, const toml::table& root, ShowConfig& 
   for (const toml::node& n : *bs) {
     const toml::table& t = *n.as_table();
     check_keys(path, t, {"device", "character", "radius", "falloff", "strength", "release", "release_seconds", "area"}, "[[brush]]");
+    Binding b = pen_binding(path, n, s, rig, "brush", int(s.brushes.size()));
     ShowBrush br;
-    br.line = int(n.source().begin.line);
-    const toml::node* dev = t.get("device");
-    if (!dev) throw ShowError{at(path, n) + ": [[brush]] needs a device (a pen, a tablet or the mouse)"};
-    const std::string dname = text(path, *dev, "device");
-    int di = -1;
-    for (size_t i = 0; i < s.devices.size(); ++i)
-      if (s.devices[i].name == dname) di = int(i);
-    if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
-    br.device = di;
-    Binding b;
-    b.line = br.line;
-    b.control.device = uint16_t(di);
-    if (auto r = parse_control(device_control(s.devices[size_t(di)], "pointer"), b.control); !r.ok())
-      throw ShowError{at(path, *dev) + ": device '" + dname + "' has no pointer for a brush: " + r.error};
-    b.control.text = "pointer";
-    // The character it sculpts: in a cast, by name.
-    std::string who;
-    if (auto* c = t.get("character")) who = text(path, *c, "character");
-    if (!rig.cast.empty() && who.empty())
-      throw ShowError{at(path, n) + ": in a cast a [[brush]] names its character (character = \"NAME\")"};
-    if (rig.cast.empty() && !who.empty())
-      throw ShowError{at(path, *t.get("character")) + ": this show has one character (no [[character]] tables): leave character out"};
-    b.target_text = who.empty() ? "brush" : who + ".brush";
-    if (auto r = parse_target(b.target_text, s, rig, b.target, b.index, nullptr); !r.ok())
-      throw ShowError{at(path, *t.get("character")) + ": " + r.error};
+    br.line = b.line;
+    br.device = b.control.device;
     br.who = b.index;
-    b.member = int(s.brushes.size());
-    b.tf.takeover = false;
     if (auto* x = t.get("radius")) {
       std::tie(br.radius_lo, br.radius_hi) = pair_of(path, *x, "radius");
       if (!(br.radius_lo > 0 && br.radius_lo <= br.radius_hi && br.radius_hi <= 4000))
@@ -59,30 +107,44 @@ void read_brushes(const std::string& path, const toml::table& root, ShowConfig& 
     }
     if (auto* x = t.get("falloff"); x && text(path, *x, "falloff") != "gaussian")
       throw ShowError{at(path, *x) + ": falloff must be \"gaussian\" (seed 004's kernel)"};
-    if (auto* x = t.get("strength")) {
-      br.strength = number(path, *x, "strength");
-      if (!(br.strength > 0 && br.strength <= 1)) throw ShowError{at(path, *x) + ": strength must be 0..1 (above 0)"};
-    }
-    if (auto* x = t.get("release")) {
-      const std::string r = text(path, *x, "release");
-      if (r == "key")
-        throw ShowError{at(path, *x) + ": release = \"key\" is not built yet: \"spring\" (back over release_seconds) or \"hold\""};
-      if (r != "spring" && r != "hold") throw ShowError{at(path, *x) + ": release must be \"spring\" or \"hold\""};
-      br.release = r == "hold" ? ShowBrush::Hold : ShowBrush::Spring;
-    }
-    if (auto* x = t.get("release_seconds")) {
-      br.release_seconds = number(path, *x, "release_seconds");
-      if (!(br.release_seconds >= 0 && br.release_seconds <= 60)) throw ShowError{at(path, *x) + ": release_seconds must be 0..60"};
-    }
-    b.tf.area_canvas = true;  // (the pen touches the outline drawn under it)
-    if (auto* x = t.get("area")) {
-      const toml::array* a = x->as_array();
-      if (!(x->is_string() && *x->value<std::string>() == "canvas") && (!a || a->size() != 4))
-        throw ShowError{at(path, *x) + ": area must be [x0, y0, x1, y1] (character units) or \"canvas\""};
-      b.tf.area_canvas = !a;
-      for (size_t i = 0; i < 4 && a; ++i) b.tf.area[i] = number(path, *a->get(i), "area");
-    }
+    br.strength = read_strength(path, t, 1.0);
+    read_release(path, t, br.release, br.release_seconds);
     s.brushes.push_back(br);
+    s.bindings.push_back(std::move(b));
+  }
+}
+
+void read_curves(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig) {
+  const toml::array* cs = array_of_tables(path, root, "curve");
+  if (!cs) return;
+  if (cs->size() > 16) throw ShowError{at(path, *cs) + ": at most 16 [[curve]] tables"};
+  for (const toml::node& n : *cs) {
+    const toml::table& t = *n.as_table();
+    check_keys(path, t, {"device", "character", "parts", "from", "fit", "strength", "release", "release_seconds", "area"}, "[[curve]]");
+    Binding b = pen_binding(path, n, s, rig, "curve", int(s.curves.size()));
+    ShowCurve c;
+    c.line = b.line;
+    c.device = b.control.device;
+    c.who = b.index;
+    if (auto* x = t.get("fit")) {
+      const std::string fit = text(path, *x, "fit");
+      if (fit == "contour") throw ShowError{at(path, *x) + ": fit = \"contour\" is not built yet: \"chain\" lays a chain of parts along the stroke"};
+      if (fit != "chain") throw ShowError{at(path, *x) + ": fit must be \"chain\""};
+    }
+    const toml::node* parts = t.get("parts");
+    const toml::node* from = t.get("from");
+    if (!parts || !from)
+      throw ShowError{at(path, n) + ": [[curve]] names its chain: parts = [\"...\"] (shape ids, the one nearest from first) and from (the part it hangs from)"};
+    if (const toml::array* a = parts->as_array()) {
+      for (const toml::node& e : *a) c.parts.push_back(text(path, e, "parts"));
+    } else {
+      c.parts.push_back(text(path, *parts, "parts"));
+    }
+    if (c.parts.empty() || c.parts.size() > 32) throw ShowError{at(path, *parts) + ": parts must name 1..32 shape ids"};
+    c.from = text(path, *from, "from");
+    c.strength = read_strength(path, t, 0.5);
+    read_release(path, t, c.release, c.release_seconds);
+    s.curves.push_back(c);
     s.bindings.push_back(std::move(b));
   }
 }

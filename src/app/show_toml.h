@@ -97,6 +97,8 @@ void read_props(const std::string& path, const toml::table& root, ShowConfig& s)
 /// [[brush]] (show_pen.cpp): each a pointer binding on its character's brush.
 void read_brushed(const std::string& path, const toml::table& root, ShowConfig& s);
 void read_brushes(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
+/// [[curve]] (show_pen.cpp): each a pointer binding on its character's curve.
+void read_curves(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
 /// [[group]] and [[pose]] (show_stage.cpp), named by the rig's handles.
 void read_groups_and_poses(const std::string& path, const toml::table& root, ShowConfig& s, const ShowRig& rig);
 /// [[behavior]] (app/loop/idle.cpp), after the bindings: targets resolve the same way.

@@ -59,7 +59,7 @@ void Mapping::carry_from(const Mapping& old) {
       b.px = o.px;
       b.py = o.py;
       b.tip = o.tip;
-      const bool continuous = !button_target(b.target) && b.target != TargetKind::Grab && b.target != TargetKind::Brush &&
+      const bool continuous = !button_target(b.target) && b.target != TargetKind::Grab && b.target != TargetKind::Brush && b.target != TargetKind::Curve &&
                               b.target != TargetKind::HandlePoint;
       if (continuous && o.engaged && o.last_norm >= 0) {
         b.engaged = true;
@@ -324,8 +324,10 @@ bool Mapping::apply(const Event& e) {
             grab_point_ = p;
             grab_who_ = b.index;
             grab_by_ = b.tip ? bi : -1;
-          } else if (b.target == TargetKind::Brush && (brush_by_ == bi || brush_by_ < 0 || pressed)) {
+          } else if ((b.target == TargetKind::Brush || b.target == TargetKind::Curve) &&
+                     (brush_by_ == bi || brush_by_ < 0 || pressed)) {
             brush_.down = b.tip;
+            brush_.curve = b.target == TargetKind::Curve;
             brush_.point = p;
             brush_.pressure = b.pressure;
             brush_.who = b.index;

@@ -43,7 +43,7 @@ struct ControlSpec {
   std::string text;     ///< as written (for messages and learn)
 };
 
-enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab, Swap, Trigger, Recall, Brush };
+enum class TargetKind : uint8_t { HandleX, HandleY, HandlePoint, Rotate, Setting, Pose, Grab, Swap, Trigger, Recall, Brush, Curve };
 
 /// Targets a control presses rather than sets (a CC or HID value presses past the threshold).
 inline bool button_target(TargetKind k) {
@@ -196,13 +196,15 @@ class Mapping {
   /// pen holds at a time: another's tip going down takes over; the holder's coming up lets go.
   int grab_who() const { return grab_who_; }
   Vec2 grab_point() const { return grab_point_; }
-  /// The brush (a [[brush]]'s pointer, app/loop/brush.h): one pen brushes at a time, as one grabs.
+  /// The brush or the drawn curve (a [[brush]]'s or a [[curve]]'s pointer, app/loop/brush.h,
+  /// curve.h): one pen sculpts at a time, as one grabs.
   struct Pen {
     bool down = false;
+    bool curve = false;         ///< a [[curve]]'s (else a [[brush]]'s)
     Vec2 point = Vec2::Zero();  ///< character units
     double pressure = 1;
     int who = 0;                ///< the cast's character
-    int brush = 0;              ///< which [[brush]] (ShowConfig::brushes)
+    int brush = 0;              ///< which [[brush]] or [[curve]] (ShowConfig::brushes, curves)
   };
   const Pen& brush() const { return brush_; }
   const MappingStats& stats() const { return stats_; }

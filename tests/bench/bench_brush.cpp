@@ -1,4 +1,4 @@
-// The brush of seed 004 (app/loop/brush.h) on the figure, 60 Hz, headless on the virtual clock,
+// The pen's tools on the figure. The brush of seed 004 (app/loop/brush.h), 60 Hz, headless on the virtual clock,
 // side by side in one run: the figure with no brush, with a [[brush]] whose pen never touches
 // (its finer feature frame: kBrushSpacing), and brushed — a stroke pushing the cheek out by 25
 // units at full pressure, held — then a knob swaying the figure with the stroke held. Reports
@@ -105,6 +105,62 @@ void BM_Brush(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Brush)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+// The drawn curve of seed 001 (app/loop/curve.h) on the figure's neck, face and hair cap (a
+// line of action bending right, drawn over 0.6 s and held): the chain's axis from the drawn
+// curve and each part's RMS distance from its rest shape laid along the curve (its distortion
+// apart from its bend), % of the height, at 1.5 s; the solve's p50 (µs) over 3 s.
+void BM_Curve(benchmark::State& state) {
+  const std::string text =
+      "[show]\nrig = \"" MARIONETTE_SOURCE_DIR "/config/rigs/figure.toml\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+      "[display]\nwidth = 400\nheight = 560\nhud = false\n[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n"
+      "0.1 hover 0.5,0.5\n0.2 stroke 0.5,0.5 0.515,0.43 0.54,0.37 0.575,0.32 0.615,0.285 over 0.6 pressure 0.8\n\"\"\"\n"
+      "[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"face\", \"hair-cap\"]\nfrom = \"torso\"\nrelease = \"hold\"\n";
+  const auto path = std::filesystem::temp_directory_path() / "marionette_bench_curve.toml";
+  std::ofstream(path) << text;
+  for (auto _ : state) {
+    mar::RunOptions o;
+    o.headless = true;
+    o.quiet = true;
+    o.frames = 180;
+    auto s = mar::LiveShow::load(path.string(), o);
+    if (!s.ok()) {
+      state.SkipWithError(s.error.c_str());
+      return;
+    }
+    mar::LiveShow& live = **s.value;
+    for (long f = 0; f < 90; ++f) live.frame(int64_t(double(f) * 1e9 / 60));
+    const mar::Actor& a = *live.actors()[0];
+    const mar::Puppet& p = a.puppet();
+    const mar::CurveStage& c = a.curve();
+    const auto& ff = *p.feature_frame();
+    const mar::Bounds b = p.character.bounds();
+    const double h = b.hi.y() - b.lo.y();
+    double axis = 0, own = 0, bent = 0, at = 0;
+    const mar::ChainGeometry& g = c.chain();
+    for (size_t i = 0; i < g.rest.size(); ++i) {
+      if (i > 0) at += (g.rest[i] - g.rest[i - 1]).norm();
+      const mar::Vec2 q = mar::eval_param(mar::bind_point(ff.frame(), p.character, g.rest[i]), ff.core().vertices());
+      axis = std::max(axis, (q - c.curve_at(at)).norm());
+    }
+    for (int k : g.shapes) {
+      const mar::Points& rest = p.character.shapes[size_t(k)].points;
+      double sum = 0;
+      for (size_t i = 0; i < rest.size(); ++i) sum += (p.shapes[size_t(k)][i] - c.lay(rest[i])).squaredNorm();
+      own = std::max(own, std::sqrt(sum / double(std::max<size_t>(1, rest.size()))));
+      bent = std::max(bent, mar::rigid_fit_rms(rest, p.shapes[size_t(k)]));
+    }
+    live.run();
+    const auto j = nlohmann::json::parse(live.stats_json());
+    state.counters["axis_off_curve_pct"] = 100 * axis / h;
+    state.counters["parts_off_laid_pct"] = 100 * own / h;
+    state.counters["parts_rigid_rms_pct"] = 100 * bent / h;
+    state.counters["soft_targets"] = double(c.vertices().size());
+    state.counters["solve_p50_us"] = j["stages_us"]["solve"]["p50"].get<double>();
+    state.counters["allocs_after_warmup"] = double(live.allocations_after_warmup());
+  }
+}
+BENCHMARK(BM_Curve)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -47,6 +47,13 @@ std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapp
   for (const ShowBrush& br : sh.brushes)  // a [[brush]] sculpts it (loop/brush.h)
     if (br.who == who && !brush_.prepared())
       if (std::string e = brush_.prepare(pp); !e.empty()) return sh.path + ":" + std::to_string(br.line) + ": [[brush]]: " + e;
+  for (const ShowCurve& c : sh.curves)  // a [[curve]] lays a chain along a stroke (loop/curve.h)
+    if (c.who == who) {
+      const std::string where = sh.path + ":" + std::to_string(c.line) + ": [[curve]]: ";
+      if (brush_.prepared() || curve_.prepared())
+        return where + "a character takes one pen tool, a [[brush]] or a [[curve]] (they share its solver's soft targets)";
+      if (std::string e = curve_.prepare(pp, c, where); !e.empty()) return e;
+    }
   r_.swap0 = swap0;
   r_.swaps = pp.rig.swaps.size();
   r_.trigger0 = trigger0;
@@ -71,6 +78,7 @@ bool Actor::apply_settings(const Mapping& m) {
   puppet_->solver->set_parameters(solver_params_, nullptr);
   grab_.restore(m.grab_point(), *puppet_);
   brush_.restore(*puppet_);
+  curve_.restore(*puppet_);
   return true;
 }
 
@@ -80,7 +88,9 @@ void Actor::apply_grab(const Vec2& point, std::span<Vec2> targets) {
 
 void Actor::solve(std::span<const Vec2> targets, int iterations) {
   if (brush_.prepared()) brush_.step(pen_, pen_spec_, px_per_unit, pen_dt_, grab_.active(), targets, *puppet_);
+  if (curve_.prepared()) curve_.step(pen_, curve_spec_, pen_dt_, grab_.active(), targets, *puppet_);
   std::copy(targets.begin(), targets.end(), solve_targets_.begin());
+  if (curve_.prepared()) curve_.drive_handles(std::span<Vec2>(solve_targets_.data(), targets.size()));
   puppet_->solver->solve(std::span<const Vec2>(solve_targets_.data(), n_solve_), iterations);
 }
 
@@ -147,6 +157,7 @@ void Actor::take_puppet_from(Actor& old) {
   old.set_grab(false, Vec2::Zero());
   solver_params_ = old.solver_params_;
   if (brush_.prepared() && old.brush_.prepared()) brush_ = old.brush_;  // (what it brushed stays)
+  else if (curve_.prepared() && old.curve_.prepared()) curve_ = old.curve_;  // (and the curve it took)
   else if (FeatureFrameMethod* ff = puppet_->feature_frame()) ff->core().clear_soft();
 }
 

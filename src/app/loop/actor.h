@@ -11,6 +11,7 @@
 #pragma once
 
 #include "app/loop/brush.h"
+#include "app/loop/curve.h"
 #include "app/loop/grab.h"
 #include "app/loop/key_poses.h"
 #include "app/loop/physics.h"
@@ -66,15 +67,19 @@ class Actor {
   void apply_grab(const Vec2& point, std::span<Vec2> targets);
   const Grab& grab() const { return grab_; }
 
-  /// This frame's pen for the brush (`spec`: its [[brush]] when the pen is this actor's, else
-  /// nullptr) and the frame's seconds; the brush steps in solve(). No allocation.
-  void set_pen(const Mapping::Pen& pen, const ShowBrush* spec, double dt) {
+  /// This frame's pen for the brush or the curve (`brush`, `curve`: its [[brush]] or [[curve]]
+  /// when the pen is this actor's, else nullptr) and the frame's seconds; they step in
+  /// solve(). No allocation.
+  void set_pen(const Mapping::Pen& pen, const ShowBrush* brush, const ShowCurve* curve, double dt) {
     pen_ = pen;
-    pen_spec_ = spec;
+    pen_spec_ = brush;
+    curve_spec_ = curve;
     pen_dt_ = dt;
   }
   bool has_brush() const { return brush_.prepared(); }
+  bool has_curve() const { return curve_.prepared(); }
   const BrushStage& brush() const { return brush_; }
+  const CurveStage& curve() const { return curve_; }
 
   // The stages of a frame, on the actor's slice of the stage's targets (mapping order).
   /// Key poses: the weights from this frame's settings (`setting_value`: the mapping's,
@@ -153,8 +158,10 @@ class Actor {
   PhysicsStage physics_;
   Grab grab_;
   BrushStage brush_;
+  CurveStage curve_;
   Mapping::Pen pen_;
   const ShowBrush* pen_spec_ = nullptr;
+  const ShowCurve* curve_spec_ = nullptr;
   double pen_dt_ = 0;
   std::vector<Vec2> solve_targets_;     ///< its handles', then the grab's temporary handle's
   size_t n_solve_ = 0;

@@ -1,0 +1,148 @@
+// The drawn curve of seed 001 in a show ([[curve]], app/loop/curve.h): a simulated pen draws a
+// line of action, and the figure's neck, face and hair take its curve — the chain's axis on the
+// drawn curve, each part keeping its shape, the rest of the figure still, nothing allocated; a
+// spring brings the chain back; a bad [[curve]] is refused with file:line.
+#include "alloc_counter.h"
+#include "app/alloc_count.h"
+#include "app/live.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+namespace mar {
+namespace {
+
+std::string curve_show(const std::string& name, const std::string& release, const std::string& script) {
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  return test::write_temp(name, "[show]\nrig = \"" + rig + "\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+                                "[display]\nwidth = 400\nheight = 560\n"
+                                "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n" + script + "\"\"\"\n"
+                                "[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"face\", \"hair-cap\"]\nfrom = \"torso\"\nstrength = 1.0\n" +
+                                    release + "\n");
+}
+
+std::unique_ptr<LiveShow> load(const std::string& path, int warmup = 0) {
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.warmup = warmup;
+  auto s = LiveShow::load(path, o);
+  EXPECT_TRUE(s.ok()) << s.error;
+  return s.ok() ? std::move(*s.value) : nullptr;
+}
+
+// A line of action bending to the right, drawn up from the middle of the tablet over 0.6 s.
+const char* kStroke =
+    "0.1 hover 0.5,0.5\n0.2 stroke 0.5,0.5 0.515,0.43 0.54,0.37 0.575,0.32 0.615,0.285 over 0.6 pressure 0.8\n";
+
+double off_rest(const Puppet& p, const std::string& id) {
+  double d = 0;
+  for (size_t k = 0; k < p.shapes.size(); ++k)
+    if (p.character.shapes[k].id == id)
+      for (size_t i = 0; i < p.shapes[k].size(); ++i) d = std::max(d, (p.shapes[k][i] - p.character.shapes[k].points[i]).norm());
+  return d;
+}
+
+double height(const Puppet& p) { return p.character.bounds().hi.y() - p.character.bounds().lo.y(); }
+
+// Where a rest point of the drawing is now (bound to the frame as a handle is).
+Vec2 now(const Puppet& p, const Vec2& rest) {
+  const FeatureFrameMethod& ff = *p.feature_frame();
+  return eval_param(bind_point(ff.frame(), p.character, rest), ff.core().vertices());
+}
+
+TEST(Curve, TheChainTakesTheDrawnCurveAndTheRestStays) {
+  set_allocation_counter(&heap_allocation_count);
+  auto s = load(curve_show("curve_hold.toml", "release = \"hold\"", kStroke), 6);
+  ASSERT_TRUE(s);
+  const Actor& a = *s->actors()[0];
+  ASSERT_TRUE(a.has_curve());
+  for (int f = 0; f < 6; ++f) s->frame(int64_t(f * 1e9 / 60));
+  const long before = test::allocation_count();
+  for (int f = 6; f < 90; ++f) s->frame(int64_t(f * 1e9 / 60));  // drawn 0.2 - 0.8 s, then held
+  EXPECT_EQ(test::allocation_count() - before, 0) << "drawing and holding the curve allocate nothing";
+  const CurveStage& c = a.curve();
+  EXPECT_EQ(c.strokes(), 1);
+  EXPECT_TRUE(c.active());
+  EXPECT_GT(c.stroke_length(), 0.8 * c.axis_length()) << "(the stroke spans the chain)";
+  const Puppet& p = a.puppet();
+  const double h = height(p);
+  // The chain's axis — where each part hangs and the last one's far end — on the drawn curve.
+  const ChainGeometry& g = c.chain();
+  double axis_off = 0, s_at = 0;
+  for (size_t i = 0; i < g.rest.size(); ++i) {
+    if (i > 0) s_at += (g.rest[i] - g.rest[i - 1]).norm();
+    axis_off = std::max(axis_off, (now(p, g.rest[i]) - c.curve_at(s_at)).norm());
+  }
+  // Each part's own shape apart from its bend: the RMS distance of its points from its rest
+  // points laid along the curve (bent by it and nothing else); and, bend and all, the RMS of
+  // its best rigid fit to its rest shape.
+  double own = 0, bent = 0;
+  for (int k : g.shapes) {
+    const Points& rest = p.character.shapes[size_t(k)].points;
+    double sum = 0;
+    for (size_t i = 0; i < rest.size(); ++i) sum += (p.shapes[size_t(k)][i] - c.lay(rest[i])).squaredNorm();
+    own = std::max(own, std::sqrt(sum / double(std::max<size_t>(1, rest.size()))));
+    bent = std::max(bent, rigid_fit_rms(rest, p.shapes[size_t(k)]));
+  }
+  std::cout << "axis off the drawn curve: " << 100 * axis_off / h << " % of the height; the parts' distortion apart from their bend "
+            << 100 * own / h << " %, bend and all " << 100 * bent / h << " %; the face moved " << off_rest(p, "face") << " units\n";
+  EXPECT_LT(axis_off, 0.01 * h);
+  EXPECT_LT(own, 0.005 * h);
+  EXPECT_GT(off_rest(p, "face"), 0.05 * h) << "the head leaned along the curve";
+  for (const char* id : {"leg-left", "leg-right", "arm-left", "arm-right"}) EXPECT_LT(off_rest(p, id), 0.005 * h) << id;
+  EXPECT_EQ(s->allocations_after_warmup(), 0u);
+}
+
+TEST(Curve, ASpringBringsTheChainBackAndANewStrokeReplacesTheCurve) {
+  // Bent right at 0.2 - 0.8 s, springing back over 1 s; then a stroke bending left at 2.5 s.
+  const std::string two = std::string(kStroke) + "2.4 hover 0.5,0.5\n2.5 stroke 0.5,0.5 0.485,0.43 0.46,0.37 0.425,0.32 over 0.4\n";
+  auto s = load(curve_show("curve_spring.toml", "release = \"spring\"", two));
+  ASSERT_TRUE(s);
+  const Puppet& p = s->actors()[0]->puppet();
+  const CurveStage& c = s->actors()[0]->curve();
+  const Vec2 rest_tip = c.chain().rest.back();
+  double held = 0, back = 0;
+  Vec2 right(0, 0), left(0, 0);
+  for (int f = 0; f < 190; ++f) {
+    s->frame(int64_t(f * 1e9 / 60));
+    if (f == 48) {  // drawn: the head leans right
+      held = off_rest(p, "face");
+      right = now(p, rest_tip);
+    }
+    if (f == 140) back = off_rest(p, "face");  // 2.33 s: sprung back
+    if (f == 178) left = now(p, rest_tip);     // 2.97 s: the second stroke drawn
+  }
+  EXPECT_GT(held, 10.0);
+  EXPECT_LT(back, 0.005 * height(p)) << "sprung back to rest";
+  EXPECT_EQ(c.strokes(), 2);
+  EXPECT_GT(right.x(), rest_tip.x() + 10) << "the first stroke bent right";
+  EXPECT_LT(left.x(), rest_tip.x() - 10) << "the second stroke replaced it, bending left";
+}
+
+TEST(Curve, ABadCurveIsRefusedWithItsLine) {
+  auto refused = [](const std::string& body) {
+    const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+    const std::string path = test::write_temp("curve_bad.toml", "[show]\nrig = \"" + rig +
+                                                                "\"\n[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\n" + body);
+    RunOptions o;
+    o.headless = true;
+    o.quiet = true;
+    auto s = LiveShow::load(path, o);
+    return s.ok() ? std::string("loaded") : s.error;
+  };
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"tail\"]\nfrom = \"torso\"\n").find(":6: [[curve]]: part 'tail'"),
+            std::string::npos);
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\n").find(":6: [[curve]] names its chain"), std::string::npos);
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nfit = \"contour\"\n").find(":10: fit = \"contour\" is not built yet"),
+            std::string::npos);
+  EXPECT_NE(refused("[[brush]]\ndevice = \"pen\"\n[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\n")
+                .find(":8: [[curve]]: a character takes one pen tool"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace mar
