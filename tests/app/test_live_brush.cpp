@@ -149,6 +149,33 @@ TEST(Brush, ASpringBringsTheOutlineBackAndTheRunIsTheSameEachTime) {
   EXPECT_EQ(again.s->run_hash(), s.run_hash());
 }
 
+// The example show (a cast: the figure brushed, the cat's tail drawn) recorded and replayed:
+// the same run_hash, the pens' strokes coming back from the take as any input does.
+TEST(Brush, TheSculptShowReplaysFromItsTakeToTheSameRunHash) {
+  const std::string show = (test::source_dir() / "config/shows/sculpt.toml").string();
+  const std::string take = (test::temp_dir("sculpt-take") / "sculpt.take").string();
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.record_path = take;
+  auto live = LiveShow::load(show, o);
+  ASSERT_TRUE(live.ok()) << live.error;
+  EXPECT_EQ((*live.value)->run(), 0);
+  const uint64_t played = (*live.value)->run_hash();
+  EXPECT_EQ((*live.value)->actors()[0]->brush().strokes(), 3);
+  EXPECT_EQ((*live.value)->actors()[1]->curve().strokes(), 2);
+  live.value->reset();
+  RunOptions r;
+  r.headless = true;
+  r.quiet = true;
+  r.replay_path = take;
+  auto again = LiveShow::load(show, r);
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ((*again.value)->run(), 0);
+  EXPECT_EQ((*again.value)->run_hash(), played);
+  EXPECT_EQ((*again.value)->actors()[0]->brush().strokes(), 3);
+}
+
 TEST(Brush, ABrushNeedsAFeatureFrameRigAndAPointer) {
   const std::string grid = (test::source_dir() / "config/rigs/boy_grid.toml").string();
   const std::string path = test::write_temp("brush_grid.toml", "[show]\nrig = \"" + grid + "\"\n"
