@@ -137,6 +137,9 @@ TEST(Curve, ABadCurveIsRefusedWithItsLine) {
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"tail\"]\nfrom = \"torso\"\n").find(":6: [[curve]]: part 'tail'"),
             std::string::npos);
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\n").find(":6: [[curve]] names its chain"), std::string::npos);
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"neck\"]\nfrom = \"torso\"\n")
+                .find(":6: [[curve]]: the chain names part 'neck' twice"),
+            std::string::npos);
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nfit = \"contour\"\n").find(":10: fit = \"contour\" is not built yet"),
             std::string::npos);
   EXPECT_NE(refused("[[brush]]\ndevice = \"pen\"\n[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\n")

@@ -19,7 +19,12 @@ std::string CurveStage::prepare(const Puppet& p, const ShowCurve& spec, const st
     if (!found) return where + "part '" + id + "' is not a sub-shape of " + p.character.source + " (inspect lists them)";
   }
   auto geo = chain_geometry(p.character, p.rig, chain);
-  if (!geo.ok()) return where + geo.error;
+  if (!geo.ok()) {  // (said of the show's [[curve]], not of a rig's physics chain)
+    const std::string rig_words = p.rig.path + ":0: physics chain 'curve'";
+    std::string e = geo.error;
+    if (e.rfind(rig_words, 0) == 0) e = "the chain" + e.substr(rig_words.size());
+    return where + e;
+  }
   geo_ = std::move(*geo.value);
   // The far end of a chain of two or more: the last part's point farthest on along the chain's
   // way (through where its last two parts hang), not merely the farthest from where the last
