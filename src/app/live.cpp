@@ -263,9 +263,11 @@ void LiveShow::map(int64_t t_ns) {
     const Mapping::Pen& pen = mapping_.brush();
     for (auto& a : actors_)
       if (a->has_brush() || a->has_curve()) {
-        const bool mine = pen.who == a->ranges().who;
-        a->set_pen(pen, mine && !pen.curve ? &show_.brushes[size_t(pen.brush)] : nullptr,
-                   mine && pen.curve ? &show_.curves[size_t(pen.brush)] : nullptr, dt_);
+        // (before the pen's first event it names no tool: a show of curves alone has no brush 0)
+        const bool mine = pen.who == a->ranges().who, tool = pen.brush >= 0;
+        const bool brush = mine && tool && !pen.curve && size_t(pen.brush) < show_.brushes.size();
+        const bool curve = mine && tool && pen.curve && size_t(pen.brush) < show_.curves.size();
+        a->set_pen(pen, brush ? &show_.brushes[size_t(pen.brush)] : nullptr, curve ? &show_.curves[size_t(pen.brush)] : nullptr, dt_);
       }
   }
   if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
