@@ -191,11 +191,7 @@ Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& 
   const toml::node* ctl = t.get("control");
   const toml::node* tgt = t.get("target");
   if (!dev || !ctl || !tgt) throw ShowError{at(path, bn) + ": [[binding]] needs device, control and target"};
-  const std::string dname = text(path, *dev, "device");
-  int di = -1;
-  for (size_t i = 0; i < s.devices.size(); ++i)
-    if (s.devices[i].name == dname) di = int(i);
-  if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
+  const int di = device_named(path, *dev, s);
   b.control.device = uint16_t(di);
   const std::string written = text(path, *ctl, "control");
   if (auto r = parse_control(device_control(s.devices[size_t(di)], written), b.control); !r.ok())

@@ -409,10 +409,8 @@ void read_attract(const std::string& path, const toml::table& root, ShowConfig& 
   }
   const toml::node* dn = t->get("device");
   if (!dn) throw ShowError{at(path, *an) + ": an attract script needs device = \"NAME\" (whose simulator speaks it)"};
-  const std::string dname = text(path, *dn, "device");
-  for (size_t i = 0; i < s.devices.size(); ++i)
-    if (s.devices[i].name == dname) a.device = int(i);
-  if (a.device < 0) throw ShowError{at(path, *dn) + ": no [[device]] named '" + dname + "'"};
+  a.device = device_named(path, *dn, s);
+  const std::string& dname = s.devices[size_t(a.device)].name;
   const ShowDevice& d = s.devices[size_t(a.device)];
   if (d.sim.empty()) throw ShowError{at(path, *dn) + ": device '" + dname + "' has no sim = ... to speak the script"};
   // The script is checked here, with the line it is on ("file:line: what").

@@ -31,11 +31,8 @@ Binding pen_binding(const std::string& path, const toml::node& n, ShowConfig& s,
   b.line = int(n.source().begin.line);
   const toml::node* dev = t.get("device");
   if (!dev) throw ShowError{at(path, n) + ": " + table + " needs a device (a pen, a tablet or the mouse)"};
-  const std::string dname = text(path, *dev, "device");
-  int di = -1;
-  for (size_t i = 0; i < s.devices.size(); ++i)
-    if (s.devices[i].name == dname) di = int(i);
-  if (di < 0) throw ShowError{at(path, *dev) + ": no [[device]] named '" + dname + "'"};
+  const int di = device_named(path, *dev, s);
+  const std::string& dname = s.devices[size_t(di)].name;
   b.control.device = uint16_t(di);
   if (auto r = parse_control(device_control(s.devices[size_t(di)], "pointer"), b.control); !r.ok())
     throw ShowError{at(path, *dev) + ": device '" + dname + "' has no pointer for a " + word + ": " + r.error};

@@ -3,6 +3,7 @@
 // file:line and caught at the loader's edge.
 #pragma once
 
+#include "app/show.h"
 #include "base/config_toml.h"
 #include "base/read_file.h"
 
@@ -46,6 +47,14 @@ inline std::string read_script_file(const std::string& show_path, const toml::no
   if (!t.ok()) throw ShowError{at(show_path, n) + ": script file " + t.error};
   if (resolved) *resolved = f;
   return std::move(*t.value);
+}
+
+/// The index of the [[device]] the key `dev` names; refused with its line when there is none.
+inline int device_named(const std::string& path, const toml::node& dev, const ShowConfig& s) {
+  const std::string name = text(path, dev, "device");
+  for (size_t i = 0; i < s.devices.size(); ++i)
+    if (s.devices[i].name == name) return int(i);
+  throw ShowError{at(path, dev) + ": no [[device]] named '" + name + "'"};
 }
 
 /// An array of tables ([[key]]), or nullptr when absent; anything else is refused.

@@ -18,10 +18,10 @@ int winding_number(std::span<const Vec2> ring, const Vec2& p);
 struct RigidMotion {
   Vec2 from_c = Vec2::Zero(), to_c = Vec2::Zero();
   double c = 1, s = 0;  ///< cos and sin of the rotation
-  Vec2 apply(const Vec2& p) const {
-    const Vec2 d = p - from_c;
-    return to_c + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
-  }
+  Vec2 apply(const Vec2& p) const { return to_c + turn(p - from_c); }
+  /// Its rotation alone (of a direction or an offset); back() undoes it.
+  Vec2 turn(const Vec2& v) const { return {c * v.x() - s * v.y(), s * v.x() + c * v.y()}; }
+  Vec2 back(const Vec2& v) const { return {c * v.x() + s * v.y(), -s * v.x() + c * v.y()}; }
 };
 
 /// The rigid motion (rotation + translation, 2D Procrustes) that best takes `from` onto `to`

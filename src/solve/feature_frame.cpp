@@ -260,8 +260,7 @@ double FeatureFrameSolver::energy_with_rotations(std::span<const Vec2> v, std::s
     e_pos += w_.handle_weight(h) * (eval_param(handles_[h], v) - targets[h]).squaredNorm();
   }
   if (extra_active_ && targets.size() > handles_.size()) e_pos += (eval_param(extra_, v) - targets[handles_.size()]).squaredNorm();
-  if (!extra_active_)
-    for (int i = 0; i < soft_n_; ++i) e_pos += soft_w_[size_t(i)] * (v[size_t(soft_v_[size_t(i)])] - soft_t_[size_t(i)]).squaredNorm();
+  e_pos += soft_energy(v);
   for (size_t i = 0; i < v.size(); ++i) {
     if (free_[i]) e_reg += (v[i] - anchor_[i]).squaredNorm();
   }
@@ -465,7 +464,9 @@ bool FeatureFrameSolver::set_soft(std::span<const int> vertices, std::span<const
     z[perm[2 * soft_v_[size_t(a / 2)] + (a % 2)]] = 1.0;
     factor_solve(z);
   }
-  // K = C^-1 + U^T Z, then its lower Cholesky factor in place.
+  // K = C^-1 + U^T Z, then its lower Cholesky factor in place. (Written out, not Eigen's LLT:
+  // its blocked products pick their blocking from the cache sizes, and a show's run_hash must
+  // be the same bits on every machine; these loops run in one order everywhere.)
   const int st = 2 * soft_cap_;
   double* l = soft_l_.data();
   for (int a = 0; a < 2 * n; ++a)
@@ -490,10 +491,10 @@ bool FeatureFrameSolver::set_soft(std::span<const int> vertices, std::span<const
   return true;
 }
 
-double FeatureFrameSolver::soft_energy() const {
+double FeatureFrameSolver::soft_energy(std::span<const Vec2> v) const {
   double e = 0;
-  if (!extra_active_)
-    for (int i = 0; i < soft_n_; ++i) e += soft_w_[size_t(i)] * (v_[size_t(soft_v_[size_t(i)])] - soft_t_[size_t(i)]).squaredNorm();
+  if (!extra_active_)  // (the extra handle wins: the soft terms are left out of the solve then)
+    for (int i = 0; i < soft_n_; ++i) e += soft_w_[size_t(i)] * (v[size_t(soft_v_[size_t(i)])] - soft_t_[size_t(i)]).squaredNorm();
   return e;
 }
 
@@ -610,7 +611,7 @@ double FeatureFrameSolver::current_energy(std::span<const Vec2> targets) const {
   if (extra_active_ && targets.size() > handles_.size()) {
     e += w_.position * (eval_param(extra_, v_) - targets[handles_.size()]).squaredNorm();
   }
-  e += w_.position * soft_energy();
+  e += w_.position * soft_energy(v_);
   if (any_free_) {
     for (size_t i = 0; i < v_.size(); ++i) {
       if (free_[i]) e += eps_ * (v_[i] - anchor_[i]).squaredNorm();

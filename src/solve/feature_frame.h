@@ -183,7 +183,7 @@ class FeatureFrameSolver {
   std::vector<Vec2> soft_t_;
   Eigen::MatrixXd soft_z_;
   std::vector<double> soft_l_, soft_r_;
-  double soft_energy() const;
+  double soft_energy(std::span<const Vec2> v) const;  ///< the soft terms' sum for a pose, w_p left out
   Eigen::VectorXd extra_z0_, extra_z1_;
   double extra_k_[4] = {0, 0, 0, 0};
   SolverWeights w_;

@@ -29,18 +29,14 @@ std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapp
   // The keys are solved once, whether a binding drives them or not: a reload that keeps this
   // puppet reads them instead of posing it (Puppet::solved_keys). Only the key settings a
   // binding drives count; their interpolation is prepared when one does.
+  // (a rig whose keys cannot be solved is refused only when a binding drives them)
   const bool driven = keys_.keep_driven(sh, who);
-  if (!pp.solved_keys && pp.feature_frame() && !pp.rig.keys.empty()) {
+  if (!pp.solved_keys && (driven || (pp.feature_frame() && !pp.rig.keys.empty()))) {
     auto keys = solve_keys(pp);
     if (!keys.ok() && driven) return keys.error;
     if (keys.ok()) pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
   }
   if (driven) {
-    if (!pp.solved_keys) {
-      auto keys = solve_keys(pp);  // (the key poses need the feature frame: says so)
-      if (!keys.ok()) return keys.error;
-      pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
-    }
     if (std::string err = keys_.prepare(pp, *pp.solved_keys); !err.empty()) return err;
     key_values_.assign(keys_.settings().size(), 0.0);
   }

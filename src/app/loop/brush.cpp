@@ -27,48 +27,17 @@ std::string BrushStage::prepare(const Puppet& p) {
       contour_closed_[c] = shape >= 0 && size_t(shape) < p.character.shapes.size() && p.character.shapes[size_t(shape)].closed();
     }
   }
-  // Each part's handles (a handle is bound to a line of the frame: its first vertex's part).
+  // Each part's handles (a handle is bound to a line of the frame: its first vertex's part;
+  // none: the part goes as the whole character's handles ask).
+  motion_.prepare(p);
   part_handles_.assign(p.character.shapes.size(), {});
   const std::span<const ShapeParam> bind = ff->bindings();
-  for (size_t h = 0; h < bind.size(); ++h) {
-    // (a chain's end in secondary motion follows the pose: its target would carry the brush's
-    // own pull back into it)
-    if (h < p.rig.handles.size() && p.rig.handles[h].physics) continue;
-    const int shape = f.origin[size_t(bind[h].a)].shape;
-    if (shape >= 0 && size_t(shape) < part_handles_.size()) part_handles_[size_t(shape)].push_back(int(h));
+  for (int h : motion_.free_handles()) {
+    const int shape = f.origin[size_t(bind[size_t(h)].a)].shape;
+    if (shape >= 0 && size_t(shape) < part_handles_.size()) part_handles_[size_t(shape)].push_back(h);
   }
-  rest_handles_ = p.rest_targets();
-  physics_.assign(rest_handles_.size(), 0);
-  for (size_t h = 0; h < rest_handles_.size() && h < p.rig.handles.size(); ++h) physics_[h] = p.rig.handles[h].physics;
-  targets_ = rest_handles_;
-  fit_from_.assign(rest_handles_.size(), Vec2::Zero());
-  fit_to_.assign(rest_handles_.size(), Vec2::Zero());
   frame_ = &f;
   return {};
-}
-
-RigidMotion BrushStage::part_motion(int part) const {
-  const std::vector<int>& own = part_handles_[size_t(part)];
-  size_t n = 0;
-  if (own.size() == 1) {  // one handle: its move
-    RigidMotion m;
-    m.from_c = rest_handles_[size_t(own[0])];
-    m.to_c = targets_[size_t(own[0])];
-    return m;
-  }
-  if (own.size() >= 2) {
-    for (int h : own) {
-      fit_from_[n] = rest_handles_[size_t(h)];
-      fit_to_[n++] = targets_[size_t(h)];
-    }
-  } else {
-    for (size_t h = 0; h < rest_handles_.size(); ++h) {
-      if (physics_[h]) continue;
-      fit_from_[n] = rest_handles_[h];
-      fit_to_[n++] = targets_[h];
-    }
-  }
-  return rigid_fit(std::span<const Vec2>(fit_from_.data(), n), std::span<const Vec2>(fit_to_.data(), n));
 }
 
 void BrushStage::touch(const Vec2& at, double radius, const ShowBrush& spec, Puppet& p) {
@@ -160,7 +129,7 @@ void BrushStage::touch(const Vec2& at, double radius, const ShowBrush& spec, Pup
 void BrushStage::step(const Mapping::Pen& pen, const ShowBrush* spec, double px_per_unit, double dt, bool grabbing,
                       std::span<const Vec2> targets, Puppet& p) {
   if (!frame_) return;
-  for (size_t h = 0; h < targets_.size() && h < targets.size(); ++h) targets_[h] = targets[h];
+  motion_.set_targets(targets);
   FeatureFrameSolver& solver = p.feature_frame()->core();
   const bool on = spec && pen.down && !grabbing;
   if (on && !down_) {
@@ -180,11 +149,15 @@ void BrushStage::step(const Mapping::Pen& pen, const ShowBrush* spec, double px_
   if (n_ == 0) return;
   if (down_) {  // the drag, in each part's rest frame
     const Vec2 drag = pen.point - pen0_;
+    int part = -1;
+    Vec2 back = drag;
     for (int i = 0; i < n_; ++i) {
       Point& pt = pts_[size_t(i)];
       if (pt.d <= 0) continue;
-      const RigidMotion mo = part_motion(pt.part);
-      const Vec2 back(mo.c * drag.x() + mo.s * drag.y(), -mo.s * drag.x() + mo.c * drag.y());
+      if (pt.part != part) {  // (a stroke's points are one contour's: one part, one fit)
+        part = pt.part;
+        back = motion_.of(part_handles_[size_t(part)]).back(drag);
+      }
       pt.offset = pt.base + pt.d * back;
     }
   } else if (releasing_) {
@@ -209,9 +182,9 @@ void BrushStage::apply(Puppet& p) {
   RigidMotion mo;
   for (int i = 0; i < n_ && size_t(i) < t.size(); ++i) {
     const Point& pt = pts_[size_t(i)];
-    if (pt.part != part) {  // (a stroke's points are one contour's: one part, one fit)
+    if (pt.part != part) {  // (earlier strokes may hold other parts)
       part = pt.part;
-      mo = part_motion(part);
+      mo = motion_.of(part_handles_[size_t(part)]);
     }
     t[size_t(i)] = mo.apply(frame_->rest[size_t(pt.v)] + pt.offset);
   }

@@ -21,6 +21,7 @@
 #pragma once
 
 #include "app/puppet.h"
+#include "app/loop/handle_motion.h"
 #include "app/show.h"
 #include "geom/polygon.h"
 #include "input/mapping.h"
@@ -77,16 +78,12 @@ class BrushStage {
  private:
   void touch(const Vec2& at, double radius, const ShowBrush& spec, Puppet& p);
   void apply(Puppet& p);  ///< the soft targets from the offsets and each part's motion
-  /// The motion the handles ask of `part` this frame (from their targets).
-  RigidMotion part_motion(int part) const;
 
   const FeatureFrame* frame_ = nullptr;
   std::vector<int> contour_of_, at_in_contour_;  ///< per frame vertex
   std::vector<char> contour_closed_;             ///< per contour (FeatureFrame::subframes)
-  std::vector<std::vector<int>> part_handles_;   ///< per shape: the handles bound to it
-  std::vector<Vec2> rest_handles_, targets_;     ///< the handles' rest, this frame's targets
-  std::vector<char> physics_;                    ///< per handle: a chain's end (not a part's motion)
-  mutable std::vector<Vec2> fit_from_, fit_to_;  ///< (room for every handle)
+  std::vector<std::vector<int>> part_handles_;   ///< per shape: the handles bound to it (chains' ends not)
+  HandleMotion motion_;
   std::array<Point, kMaxPoints> pts_{};
   int n_ = 0;
   std::array<int, kMaxPoints> ids_{};

@@ -69,16 +69,17 @@ std::string CurveStage::prepare(const Puppet& p, const ShowCurve& spec, const st
     const Vec2 a = axis_at(s_[i], t);
     defect_[i] = f.rest[size_t(ids_[i])] - (a + n_[i] * Vec2(-t.y(), t.x()));
   }
-  // The parent's handles carry where the chain hangs (a chain's end in secondary motion never).
+  // The parent's handles carry where the chain hangs (none: the whole character's do); the
+  // chain's own follow the curve.
+  motion_.prepare(p);
   const std::span<const ShapeParam> bind = ff->bindings();
   parent_handles_.clear();
-  for (size_t h = 0; h < bind.size() && h < p.rig.handles.size(); ++h)
-    if (!p.rig.handles[h].physics && f.origin[size_t(bind[h].a)].shape == geo_.parent) parent_handles_.push_back(int(h));
   chain_handles_.clear();
-  for (size_t h = 0; h < bind.size() && h < p.rig.handles.size(); ++h)
-    if (!p.rig.handles[h].physics &&
-        std::find(geo_.shapes.begin(), geo_.shapes.end(), f.origin[size_t(bind[h].a)].shape) != geo_.shapes.end())
-      chain_handles_.push_back(int(h));
+  for (int h : motion_.free_handles()) {
+    const int shape = f.origin[size_t(bind[size_t(h)].a)].shape;
+    if (shape == geo_.parent) parent_handles_.push_back(h);
+    if (std::find(geo_.shapes.begin(), geo_.shapes.end(), shape) != geo_.shapes.end()) chain_handles_.push_back(h);
+  }
   hs_.assign(chain_handles_.size(), 0.0);
   hn_.assign(chain_handles_.size(), 0.0);
   hdefect_.assign(chain_handles_.size(), Vec2::Zero());
@@ -89,13 +90,7 @@ std::string CurveStage::prepare(const Puppet& p, const ShowCurve& spec, const st
     const Vec2 a = axis_at(hs_[i], t);
     hdefect_[i] = x - (a + hn_[i] * Vec2(-t.y(), t.x()));
   }
-  if (parent_handles_.empty())
-    for (size_t h = 0; h < p.rig.handles.size(); ++h)
-      if (!p.rig.handles[h].physics) parent_handles_.push_back(int(h));
-  rest_handles_ = p.rest_targets();
-  targets_ = rest_handles_;
-  fit_from_.assign(rest_handles_.size(), Vec2::Zero());
-  fit_to_.assign(rest_handles_.size(), Vec2::Zero());
+  hang_ = geo_.rest[0];
   min_step_ = 0.005 * length;
   min_length_ = 0.05 * length;
   frame_ = &f;
@@ -139,7 +134,7 @@ Vec2 CurveStage::laid(double s, double n, double k) const {
   if (k > 0) {  // toward the rest axis, carried by the handles
     Vec2 ta;
     const Vec2 a = home_.apply(axis_at(s, ta));
-    const Vec2 th(home_.c * ta.x() - home_.s * ta.y(), home_.s * ta.x() + home_.c * ta.y());
+    const Vec2 th = home_.turn(ta);
     c += k * (a - c);
     const Vec2 mix = t + k * (th - t);
     t = mix.norm() > 1e-9 ? Vec2(mix / mix.norm()) : th;
@@ -153,21 +148,11 @@ Vec2 CurveStage::lay(const Vec2& rest) const {
   return laid(s, n);
 }
 
-Vec2 CurveStage::hang_now() const {
-  size_t n = 0;
-  for (int h : parent_handles_) {
-    fit_from_[n] = rest_handles_[size_t(h)];
-    fit_to_[n++] = targets_[size_t(h)];
-  }
-  if (n == 1) return geo_.rest[0] + (fit_to_[0] - fit_from_[0]);
-  return rigid_fit(std::span<const Vec2>(fit_from_.data(), n), std::span<const Vec2>(fit_to_.data(), n)).apply(geo_.rest[0]);
-}
-
 Vec2 CurveStage::curve_at(double s) const {
   // The stroke laid with its start where the chain hangs; before its start and past its end,
   // straight on along its first and last directions.
-  if (n_stroke_ < 2) return hang_now();
-  const Vec2 at = hang_now() - stroke_[0];
+  if (n_stroke_ < 2) return hang_;
+  const Vec2 at = hang_ - stroke_[0];
   const double len = stroke_s_[size_t(n_stroke_ - 1)];
   if (s <= 0) {
     const Vec2 t = (stroke_[1] - stroke_[0]) / std::max(1e-12, stroke_s_[1]);
@@ -188,7 +173,8 @@ void CurveStage::step(const Mapping::Pen& pen, const ShowCurve* spec, double dt,
                       Puppet& p) {
   if (!frame_) return;
   FeatureFrameSolver& solver = p.feature_frame()->core();
-  for (size_t h = 0; h < targets_.size() && h < targets.size(); ++h) targets_[h] = targets[h];
+  motion_.set_targets(targets);
+  hang_ = motion_.of(parent_handles_).apply(geo_.rest[0]);  // (once a frame: every laid point reads it)
   const bool on = spec && pen.down && !grabbing;
   if (on && !down_) {  // a new stroke replaces the curve
     down_ = true;
@@ -242,16 +228,10 @@ void CurveStage::place(Puppet& p) {
   if (releasing_) {
     const double u = std::min(1.0, release_t_ / std::max(1e-9, release_s_));
     k = u * u * (3 - 2 * u);
-    size_t n = 0;
-    for (size_t h = 0; h < rest_handles_.size(); ++h) {
-      fit_from_[n] = rest_handles_[h];
-      fit_to_[n++] = targets_[h];
-    }
-    home_ = rigid_fit(std::span<const Vec2>(fit_from_.data(), n), std::span<const Vec2>(fit_to_.data(), n));
+    home_ = motion_.of({});
   }
   spring_k_ = k;
-  auto turn = [&](const Vec2& v) { return Vec2(home_.c * v.x() - home_.s * v.y(), home_.s * v.x() + home_.c * v.y()); };
-  for (size_t i = 0; i < ids_.size() && i < t.size(); ++i) t[i] = laid(s_[i], n_[i], k) + k * turn(defect_[i]);
+  for (size_t i = 0; i < ids_.size() && i < t.size(); ++i) t[i] = laid(s_[i], n_[i], k) + k * home_.turn(defect_[i]);
 }
 
 void CurveStage::drive_handles(std::span<Vec2> targets) const {
@@ -260,10 +240,9 @@ void CurveStage::drive_handles(std::span<Vec2> targets) const {
   for (size_t i = 0; i < chain_handles_.size(); ++i) {
     const size_t h = size_t(chain_handles_[i]);
     if (h >= targets.size()) continue;
-    const Vec2 d(home_.c * hdefect_[i].x() - home_.s * hdefect_[i].y(), home_.s * hdefect_[i].x() + home_.c * hdefect_[i].y());
-    const Vec2 on = laid(hs_[i], hn_[i], k) + k * d;
+    const Vec2 on = laid(hs_[i], hn_[i], k) + k * home_.turn(hdefect_[i]);
     // (springing, toward where the performer holds it: its own target as the spring ends)
-    targets[h] = on + k * (targets[h] - home_.apply(rest_handles_[h]));
+    targets[h] = on + k * (targets[h] - home_.apply(motion_.rest(h)));
   }
 }
 

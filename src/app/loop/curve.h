@@ -17,6 +17,7 @@
 // `release_seconds`. Everything a frame does is in buffers made at load.
 #pragma once
 
+#include "app/loop/handle_motion.h"
 #include "app/puppet.h"
 #include "app/show.h"
 #include "geom/polygon.h"
@@ -52,7 +53,7 @@ class CurveStage {
 
   const ChainGeometry& chain() const { return geo_; }
   double axis_length() const { return axis_s_.empty() ? 0.0 : axis_s_.back(); }
-  /// The stroke as laid (its start where the chain hangs now) at arc length s, and its length.
+  /// The stroke as laid (its start where the chain hangs this frame) at arc length s, and its length.
   Vec2 curve_at(double s) const;
   double stroke_length() const { return n_stroke_ > 0 ? stroke_s_[size_t(n_stroke_ - 1)] : 0.0; }
   bool active() const { return active_; }
@@ -65,7 +66,6 @@ class CurveStage {
   std::span<const int> vertices() const { return {ids_.data(), ids_.size()}; }
 
  private:
-  Vec2 hang_now() const;  ///< where the chain hangs, carried by its parent's handles
   void project(const Vec2& x, double& s, double& n) const;  ///< its place about the rest axis
   /// That place along the curve; springing back (k > 0 of the way), along the curve eased
   /// toward the rest axis as the handles carry it (a bent chain unbends: it does not fold).
@@ -83,11 +83,11 @@ class CurveStage {
   std::vector<double> hs_, hn_;       ///< per chain handle: its place
   std::vector<Vec2> hdefect_;
   RigidMotion home_;                  ///< springing: the handles' motion from rest
-  std::vector<int> parent_handles_;   ///< the parent part's handles (none: every handle but chains' ends)
+  HandleMotion motion_;
+  std::vector<int> parent_handles_;   ///< the parent part's handles (none: the whole character's)
   std::vector<int> chain_handles_;    ///< the handles on the chain's parts (the curve drives them)
   double spring_k_ = 0;               ///< this frame's share of the way back (springing)
-  std::vector<Vec2> rest_handles_, targets_;
-  mutable std::vector<Vec2> fit_from_, fit_to_;
+  Vec2 hang_ = Vec2::Zero();          ///< where the chain hangs this frame, carried by its parent's handles
   std::array<Vec2, kMaxStroke> stroke_{};
   std::array<double, kMaxStroke> stroke_s_{};
   int n_stroke_ = 0;
