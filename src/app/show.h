@@ -89,8 +89,11 @@ struct ShowBrush {
   int who = 0;                    ///< the cast's character (0: a show's single rig)
   double radius_lo = 20, radius_hi = 60;  ///< canvas px, light to full pressure
   double strength = 1;            ///< 0..1: how firmly the brushed outline takes the drag
-  enum Release : uint8_t { Spring, Hold } release = Spring;
-  double release_seconds = 0.5;   ///< spring: back over this
+  /// On lifting the pen: spring back, hold, or spring back while the character blends into a
+  /// key pose (`key`: a recall of it over the same seconds, as `pose.KEY` asks).
+  enum Release : uint8_t { Spring, Hold, Key } release = Spring;
+  double release_seconds = 0.5;   ///< spring, key: back over this
+  int key = -1;                   ///< key: the rig key it blends into (-1: rest)
   int line = 0;
 };
 
@@ -104,6 +107,7 @@ struct ShowCurve {
   double strength = 1;
   ShowBrush::Release release = ShowBrush::Hold;
   double release_seconds = 1.0;  ///< (a bent chain springing back faster whips its secondary motion)
+  int key = -1;                  ///< release = key: the rig key (-1: rest)
   int line = 0;
 };
 

@@ -5,6 +5,8 @@
 #include "app/show.h"
 #include "app/show_toml.h"
 
+#include <algorithm>
+
 namespace mar {
 
 using namespace showtoml;
@@ -60,14 +62,30 @@ Binding pen_binding(const std::string& path, const toml::node& n, ShowConfig& s,
   return b;
 }
 
-// `release` and `release_seconds`, as a brush and a curve read them.
-void read_release(const std::string& path, const toml::table& t, ShowBrush::Release& release, double& seconds) {
+// `release`, `release_seconds` and `key`, as a brush and a curve read them; `who`: the cast's
+// character the tool shapes (0: a single rig), whose rig's keys `key` names.
+void read_release(const std::string& path, const toml::table& t, const ShowRig& rig, int who, ShowBrush::Release& release,
+                  double& seconds, int& key) {
+  const toml::node* k = t.get("key");
   if (auto* x = t.get("release")) {
     const std::string r = text(path, *x, "release");
-    if (r == "key")
-      throw ShowError{at(path, *x) + ": release = \"key\" is not built yet: \"spring\" (back over release_seconds) or \"hold\""};
-    if (r != "spring" && r != "hold") throw ShowError{at(path, *x) + ": release must be \"spring\" or \"hold\""};
-    release = r == "hold" ? ShowBrush::Hold : ShowBrush::Spring;
+    if (r != "spring" && r != "hold" && r != "key")
+      throw ShowError{at(path, *x) + ": release must be \"spring\", \"hold\" or \"key\" (with key = \"NAME\")"};
+    release = r == "hold" ? ShowBrush::Hold : r == "key" ? ShowBrush::Key : ShowBrush::Spring;
+    if (release == ShowBrush::Key && !k)
+      throw ShowError{at(path, *x) + ": release = \"key\" names the key pose it blends into: key = \"NAME\" (a [[key]] of the rig, or \"rest\")"};
+  }
+  if (k) {
+    if (release != ShowBrush::Key) throw ShowError{at(path, *k) + ": key is for release = \"key\""};
+    const std::vector<std::string>& keys = rig.cast.empty() ? rig.keys : rig.cast_rigs[size_t(who)].keys;
+    const std::string name = text(path, *k, "key");
+    key = name == "rest" ? -1 : int(std::find(keys.begin(), keys.end(), name) - keys.begin());
+    if (keys.empty() || key == int(keys.size())) {
+      std::string names;
+      for (const std::string& n : keys) names += (names.empty() ? "" : ", ") + n;
+      throw ShowError{at(path, *k) + ": the rig has no key pose '" + name + "'" +
+                      (keys.empty() ? std::string(" (it has no [[key]] the feature frame can blend)") : " (" + names + ", rest)")};
+    }
   }
   if (auto* x = t.get("release_seconds")) {
     seconds = number(path, *x, "release_seconds");
@@ -91,7 +109,7 @@ void read_brushes(const std::string& path, const toml::table& root, ShowConfig& 
   if (bs->size() > 16) throw ShowError{at(path, *bs) + ": at most 16 [[brush]] tables"};
   for (const toml::node& n : *bs) {
     const toml::table& t = *n.as_table();
-    check_keys(path, t, {"device", "character", "radius", "falloff", "strength", "release", "release_seconds", "area"}, "[[brush]]");
+    check_keys(path, t, {"device", "character", "radius", "falloff", "strength", "release", "release_seconds", "key", "area"}, "[[brush]]");
     Binding b = pen_binding(path, n, s, rig, "brush", int(s.brushes.size()));
     ShowBrush br;
     br.line = b.line;
@@ -105,7 +123,7 @@ void read_brushes(const std::string& path, const toml::table& root, ShowConfig& 
     if (auto* x = t.get("falloff"); x && text(path, *x, "falloff") != "gaussian")
       throw ShowError{at(path, *x) + ": falloff must be \"gaussian\" (seed 004's kernel)"};
     br.strength = read_strength(path, t, 1.0);
-    read_release(path, t, br.release, br.release_seconds);
+    read_release(path, t, rig, br.who, br.release, br.release_seconds, br.key);
     s.brushes.push_back(br);
     s.bindings.push_back(std::move(b));
   }
@@ -117,7 +135,7 @@ void read_curves(const std::string& path, const toml::table& root, ShowConfig& s
   if (cs->size() > 16) throw ShowError{at(path, *cs) + ": at most 16 [[curve]] tables"};
   for (const toml::node& n : *cs) {
     const toml::table& t = *n.as_table();
-    check_keys(path, t, {"device", "character", "parts", "from", "fit", "strength", "release", "release_seconds", "area"}, "[[curve]]");
+    check_keys(path, t, {"device", "character", "parts", "from", "fit", "strength", "release", "release_seconds", "key", "area"}, "[[curve]]");
     Binding b = pen_binding(path, n, s, rig, "curve", int(s.curves.size()));
     ShowCurve c;
     c.line = b.line;
@@ -140,7 +158,7 @@ void read_curves(const std::string& path, const toml::table& root, ShowConfig& s
     if (c.parts.empty() || c.parts.size() > 32) throw ShowError{at(path, *parts) + ": parts must name 1..32 shape ids"};
     c.from = text(path, *from, "from");
     c.strength = read_strength(path, t, 0.5);
-    read_release(path, t, c.release, c.release_seconds);
+    read_release(path, t, rig, c.who, c.release, c.release_seconds, c.key);
     s.curves.push_back(c);
     s.bindings.push_back(std::move(b));
   }

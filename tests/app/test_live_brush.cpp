@@ -192,7 +192,65 @@ TEST(Brush, ABrushNeedsAFeatureFrameRigAndAPointer) {
                                                              "[[brush]]\ndevice = \"pen\"\nrelease = \"key\"\n");
   auto k = LiveShow::load(key, o);
   ASSERT_FALSE(k.ok());
-  EXPECT_NE(k.error.find(":8: release = \"key\" is not built yet"), std::string::npos) << k.error;
+  EXPECT_NE(k.error.find(":8: release = \"key\" names the key pose it blends into"), std::string::npos) << k.error;
+  auto nope = LiveShow::load(brush_show("brush_nokey.toml", "release = \"key\"\nkey = \"smile\"", "0.1 leave\n"), o);
+  ASSERT_FALSE(nope.ok());
+  EXPECT_NE(nope.error.find(":20: the rig has no key pose 'smile' (wave, kick, rest)"), std::string::npos) << nope.error;
+}
+
+// release = "key": lifting the pen springs the brushed cheek back while the figure blends into
+// its "wave" key over the same seconds, and holds it there.
+TEST(Brush, AKeyReleaseBlendsIntoTheKeyPose) {
+  set_allocation_counter(&heap_allocation_count);
+  Brushing r = brushing("brush_to_key.toml", "release = \"key\"\nkey = \"wave\"\nrelease_seconds = 0.4", 1.0, 6);
+  ASSERT_TRUE(r.s);
+  LiveShow& s = *r.s;
+  const Actor& a = *s.actors()[0];
+  ASSERT_TRUE(a.has_keys());
+  const Puppet& p = a.puppet();
+  const int face = shape_of(p, "face");
+  double held = 0, half = -1;
+  for (int f = 0; f < 6; ++f) s.frame(int64_t(f * 1e9 / 60));  // (warm-up: before the pen touches)
+  const long before = test::allocation_count();
+  for (int f = 6; f < 42; ++f) {  // (lifted at 0.7 s: frame 42)
+    s.frame(int64_t(f * 1e9 / 60));
+    if (f == 40) held = off_rest(p, face);
+    if (f == 6) {
+      EXPECT_EQ(a.key_weights()[0], 0.0) << "no key before the lift";
+    }
+  }
+  for (int f = 42; f < 200; ++f) {
+    s.frame(int64_t(f * 1e9 / 60));
+    if (f == 54) half = a.key_weights()[0];  // 0.2 s after the lift: on its way
+  }
+  EXPECT_EQ(test::allocation_count() - before, 0) << "the release into the key allocates nothing";
+  EXPECT_GT(held, 5.0);
+  EXPECT_GT(half, 0.2);
+  EXPECT_LT(half, 0.8);
+  EXPECT_DOUBLE_EQ(a.key_weights()[0], 1.0) << "the wave, held";
+  EXPECT_EQ(a.brush().points().size(), 0u) << "the brushed cheek let go";
+  // The figure stands as the same show stands when a button recalls its wave at the lift
+  // (pose.wave, transition 0.4 s) and the pen never touches it: within 0.5 % of its height.
+  // (a brush's finer frame solves the keys its own way: the reference has a brush too)
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  auto ref = load(test::write_temp("wave_by_button.toml",
+                                   "[show]\nrig = \"" + rig + "\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+                                   "[display]\nwidth = 400\nheight = 560\n"
+                                   "[[device]]\nname = \"korg\"\nsim = \"nanokontrol2\"\nscript = \"0.7 press solo1 for 0.1\"\n"
+                                   "[[binding]]\ndevice = \"korg\"\ncontrol = \"cc 32\"\ntarget = \"pose.wave\"\ntransition = 0.4\n"
+                                   "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"0.1 leave\"\n"
+                                   "[[brush]]\ndevice = \"pen\"\n"));
+  ASSERT_TRUE(ref);
+  for (int f = 0; f < 200; ++f) ref->frame(int64_t(f * 1e9 / 60));
+  EXPECT_DOUBLE_EQ(ref->actors()[0]->key_weights()[0], 1.0);
+  // (its frame is finer than the brushed one's: the drawn shapes are compared)
+  const Puppet& q = ref->actors()[0]->puppet();
+  ASSERT_EQ(p.shapes.size(), q.shapes.size());
+  double worst = 0;
+  for (size_t k = 0; k < p.shapes.size(); ++k)
+    for (size_t i = 0; i < p.shapes[k].size() && i < q.shapes[k].size(); ++i) worst = std::max(worst, (p.shapes[k][i] - q.shapes[k][i]).norm());
+  std::cout << "off the figure waving by a button: " << 100 * worst / height(p) << " % of the height\n";
+  EXPECT_LT(worst, 0.005 * height(p));
 }
 
 }  // namespace

@@ -123,6 +123,23 @@ TEST(Curve, ASpringBringsTheChainBackAndANewStrokeReplacesTheCurve) {
   EXPECT_LT(left.x(), rest_tip.x() - 10) << "the second stroke replaced it, bending left";
 }
 
+// release = "key": the lifted curve springs back while the figure blends into its kick.
+TEST(Curve, AKeyReleaseSpringsTheChainBackIntoTheKeyPose) {
+  auto s = load(curve_show("curve_key.toml", "release = \"key\"\nkey = \"kick\"\nrelease_seconds = 0.5", kStroke));
+  ASSERT_TRUE(s);
+  const Actor& a = *s->actors()[0];
+  ASSERT_TRUE(a.has_keys());
+  double during = -1;
+  for (int f = 0; f < 120; ++f) {
+    s->frame(int64_t(f * 1e9 / 60));
+    if (f == 47) during = a.key_weights()[1];  // (drawing: no key yet)
+  }
+  EXPECT_EQ(during, 0.0);
+  EXPECT_DOUBLE_EQ(a.key_weights()[1], 1.0) << "the kick, held";
+  EXPECT_DOUBLE_EQ(a.key_weights()[0], 0.0);
+  EXPECT_FALSE(a.curve().active()) << "the curve let go";
+}
+
 TEST(Curve, ABadCurveIsRefusedWithItsLine) {
   auto refused = [](const std::string& body) {
     const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
@@ -141,6 +158,8 @@ TEST(Curve, ABadCurveIsRefusedWithItsLine) {
                 .find(":6: [[curve]]: the chain names part 'neck' twice"),
             std::string::npos);
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nfit = \"contour\"\n").find(":10: fit = \"contour\" is not built yet"),
+            std::string::npos);
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nkey = \"wave\"\n").find(":10: key is for release = \"key\""),
             std::string::npos);
   EXPECT_NE(refused("[[brush]]\ndevice = \"pen\"\n[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\n")
                 .find(":8: [[curve]]: a character takes one pen tool"),

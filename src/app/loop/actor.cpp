@@ -30,7 +30,9 @@ std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapp
   // puppet reads them instead of posing it (Puppet::solved_keys). Only the key settings a
   // binding drives count; their interpolation is prepared when one does.
   // (a rig whose keys cannot be solved is refused only when a binding drives them)
-  const bool driven = keys_.keep_driven(sh, who);
+  bool driven = keys_.keep_driven(sh, who);
+  for (const ShowBrush& br : sh.brushes) driven = driven || (br.who == who && br.release == ShowBrush::Key);
+  for (const ShowCurve& c : sh.curves) driven = driven || (c.who == who && c.release == ShowBrush::Key);
   if (!pp.solved_keys && (driven || (pp.feature_frame() && !pp.rig.keys.empty()))) {
     auto keys = solve_keys(pp);
     if (!keys.ok() && driven) return keys.error;
@@ -83,8 +85,18 @@ void Actor::apply_grab(const Vec2& point, std::span<Vec2> targets) {
 }
 
 void Actor::solve(std::span<const Vec2> targets, int iterations) {
+  const bool was_down = brush_.down() || curve_.drawing();
   if (brush_.prepared()) brush_.step(pen_, pen_spec_, px_per_unit, pen_dt_, grab_.active(), targets, *puppet_);
   if (curve_.prepared()) curve_.step(pen_, curve_spec_, pen_dt_, grab_.active(), targets, *puppet_);
+  // A tool that lets go into a key pose: its shape springs back while the next frames' poses
+  // recall the key over the same seconds (KeyPoseStage's recall, as `pose.KEY` asks).
+  if (!was_down && (brush_.down() || curve_.drawing())) {
+    tool_release_ = pen_spec_ ? pen_spec_->release : curve_spec_ ? curve_spec_->release : ShowBrush::Spring;
+    tool_recall_.key = pen_spec_ ? pen_spec_->key : curve_spec_ ? curve_spec_->key : -1;
+    tool_recall_.seconds = pen_spec_ ? pen_spec_->release_seconds : curve_spec_ ? curve_spec_->release_seconds : 0;
+    tool_recall_.who = r_.who;
+  }
+  if (was_down && !(brush_.down() || curve_.drawing()) && tool_release_ == ShowBrush::Key) tool_recall_on_ = true;
   std::copy(targets.begin(), targets.end(), solve_targets_.begin());
   if (curve_.prepared()) curve_.drive_handles(std::span<Vec2>(solve_targets_.data(), targets.size()));
   puppet_->solver->solve(std::span<const Vec2>(solve_targets_.data(), n_solve_), iterations);

@@ -90,6 +90,8 @@ class Actor {
     if (keys_.empty()) return;
     const auto& ks = keys_.settings();
     for (size_t i = 0; i < ks.size(); ++i) key_values_[i] = setting_value(ks[i].setting);
+    if (!recall && tool_recall_on_) recall = &tool_recall_;  // (a pen tool let go into a key)
+    tool_recall_on_ = false;
     if (keys_.step(dt, key_values_, recall)) physics_.reset();  // a jump: the chains start again at rest
     keys_.offset(targets);
   }
@@ -163,6 +165,10 @@ class Actor {
   const ShowBrush* pen_spec_ = nullptr;
   const ShowCurve* curve_spec_ = nullptr;
   double pen_dt_ = 0;
+  /// The tool the pen last touched with: its release (a key's recall when the pen lifts).
+  ShowBrush::Release tool_release_ = ShowBrush::Spring;
+  Recall tool_recall_;
+  bool tool_recall_on_ = false;         ///< the next frame's poses recall tool_recall_
   std::vector<Vec2> solve_targets_;     ///< its handles', then the grab's temporary handle's
   size_t n_solve_ = 0;
   double presence_ = 1;
