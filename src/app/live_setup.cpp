@@ -60,7 +60,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     auto load_one = [&](const std::string& name, const std::string& character, const std::string& rig) -> std::string {
       const std::array<int, 2> canvas = canvas_size(o, header);
       const bool brushed = std::find(header.brushed.begin(), header.brushed.end(), name) != header.brushed.end();
-      const double spacing = brushed ? kBrushSpacing : 0.0;  // (a brush's outline: a finer frame)
+      const double spacing = brushed ? kSculptSpacing : 0.0;  // (a brush's outline: a finer frame)
       // A reload: a character loaded the same way from the same bytes is the running show's
       // puppet (its key poses solved, if it has keys: solving them would pose it here).
       for (KeptPuppet& k : keep) {
@@ -68,7 +68,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
             k.images_anywhere != header.images_anywhere)
           continue;
         const Puppet& p = *k.puppet;
-        if (p.stamp.empty() || (!p.rig.keys.empty() && !p.solved_keys) || p.rig.max_spacing != spacing ||
+        if (p.stamp.empty() || (!p.rig.keys.empty() && !p.solved_keys) || p.rig.max_spacing != std::max(spacing, sculpt_spacing(p.rig)) ||
             puppet_stamp(p) != p.stamp)
           break;
         puppets.push_back(std::move(k.puppet));
@@ -78,7 +78,7 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
       // (on the canvas begin() makes, curves are flattened to within 0.1 px)
       Result<Rig> loaded_rig = load_rig(rig);
       if (!loaded_rig.ok()) return loaded_rig.error;
-      loaded_rig.value->max_spacing = spacing;
+      loaded_rig.value->max_spacing = std::max(spacing, sculpt_spacing(*loaded_rig.value));  // (or its sculpted keys')
       auto puppet = load_puppet(character, std::move(*loaded_rig.value), "", true, header.images_anywhere, canvas);
       if (!puppet.ok()) return puppet.error;
       // (room for a brush's targets in every feature frame: a reload may add a [[brush]] and keep it)

@@ -50,6 +50,8 @@ struct Puppet {
   std::vector<SolverParameter> loaded_parameters;  ///< the solver's, as the rig set them
   /// Its key poses, solved once (app/keys.h) by the first show that drove them; null until then.
   std::shared_ptr<const std::vector<Points>> solved_keys;
+  /// Per key, its sculpted detail (app/keys.h solve_keys; empty for a key of handle targets).
+  std::shared_ptr<const std::vector<Points>> key_details;
   /// The files it was made from with a hash of each one's bytes (puppet_stamp()).
   std::string stamp;
   double diagonal = 1;               ///< of the character's bounds

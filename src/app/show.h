@@ -218,7 +218,7 @@ struct ShowConfig {
   std::vector<ShowBrush> brushes;        ///< [[brush]]: pens that sculpt an outline
   std::vector<ShowCurve> curves;         ///< [[curve]]: pens whose stroke a chain takes
   /// The characters a [[brush]] names ("" for a single rig), known before the rigs load: their
-  /// feature frames are made finer (kBrushSpacing).
+  /// feature frames are made finer (kSculptSpacing).
   std::vector<std::string> brushed;
   std::vector<Binding> bindings;         ///< resolved against the rig's handles
   std::vector<RotationGroup> groups;

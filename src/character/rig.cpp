@@ -280,7 +280,7 @@ void read_key(const std::string& path, const toml::node* kn, Rig& r) {
   for (const toml::node& node : *a) {
     const toml::table* t = node.as_table();
     if (!t) throw RigError{at(path, node) + ": a key must be a table"};
-    check_keys(path, *t, {"name", "targets", "frame"}, "[[key]]");
+    check_keys(path, *t, {"name", "targets", "frame", "shapes"}, "[[key]]");
     RigKey k;
     k.line = static_cast<int>(node.source().begin.line);
     const toml::node* nm = t->get("name");
@@ -291,8 +291,16 @@ void read_key(const std::string& path, const toml::node* kn, Rig& r) {
       if (o.name == k.name) throw RigError{at(path, node) + ": key '" + k.name + "' defined twice"};
     const toml::node* tg = t->get("targets");
     const toml::node* fr = t->get("frame");
-    if ((tg == nullptr) == (fr == nullptr)) throw RigError{at(path, node) + ": key '" + k.name + "' needs targets = { HANDLE = [x, y], ... } or frame = \"file.json\""};
-    if (fr) {
+    const toml::node* sh = t->get("shapes");
+    if ((tg != nullptr) + (fr != nullptr) + (sh != nullptr) != 1)
+      throw RigError{at(path, node) + ": key '" + k.name +
+                     "' needs one of targets = { HANDLE = [x, y], ... }, frame = \"file.json\" (pose --dump) or shapes = \"file.json\" (the studio's sculpted key)"};
+    if (sh) {
+      if (!sh->is_string() || sh->value<std::string>()->empty())
+        throw RigError{at(path, *sh) + ": shapes must be the path of a sculpted key the studio saved"};
+      k.shapes = *sh->value<std::string>();
+      r.max_spacing = kSculptSpacing;
+    } else if (fr) {
       if (!fr->is_string()) throw RigError{at(path, *fr) + ": frame must be the path of a saved frame (pose --dump)"};
       k.frame = *fr->value<std::string>();
     } else {
@@ -435,6 +443,10 @@ std::string key_toml(const RigKey& k) {
   o << "[[key]]\nname = " << toml::value<std::string>(k.name) << "\n";
   if (!k.frame.empty()) {
     o << "frame = " << toml::value<std::string>(k.frame) << "\n";
+    return o.str();
+  }
+  if (!k.shapes.empty()) {
+    o << "shapes = " << toml::value<std::string>(k.shapes) << "\n";
     return o.str();
   }
   o << "targets = { ";

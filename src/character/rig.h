@@ -67,10 +67,20 @@ struct RigStiffness {
 
 /// A key pose (`[[key]]`): handle targets solved once at load, or a saved frame (the
 /// `frame_vertices` of `pose --dump`, a path relative to the rig).
+/// How far apart a sculpted character's frame points may be along an outline, a fraction of its
+/// diagonal: a brush's (app/loop/brush.h) or a sculpted key's (RigKey::shapes). The features
+/// alone leave an ellipse a handful of points, too few for a brushed profile.
+inline constexpr double kSculptSpacing = 0.01;
+
 struct RigKey {
   std::string name;
   std::vector<std::pair<std::string, Vec2>> targets;  ///< handle name, target (others at rest)
   std::string frame;
+  /// A sculpted key (the studio's brush or curve): a JSON file of every shape's outline as posed,
+  /// by shape id, per contour, each point's rest and where it is ({"shapes": {"ID": [[[rest x,
+  /// rest y, x, y], ...], ...]}}), which fits a frame of any density and a drawing flattened at
+  /// any size. A rig with one has the finer frame (kSculptSpacing), so the sculpted detail plays.
+  std::string shapes;
   int line = 0;
 };
 
@@ -126,7 +136,8 @@ struct Rig {
   bool uniform_sampling = false;
   double interval = 0;  ///< uniform sampling interval, character units (0 = automatic)
   /// > 0: frame points at most this far apart along an outline (a fraction of the diagonal;
-  /// FrameOptions::max_spacing): set by a show whose [[brush]] sculpts the character.
+  /// FrameOptions::max_spacing): kSculptSpacing for a rig with a sculpted key or a show whose
+  /// [[brush]] or [[curve]] sculpts the character.
   double max_spacing = 0;
   std::vector<RigHandle> handles;
   std::vector<RigSewing> sewing;
@@ -163,6 +174,13 @@ struct Rig {
 };
 
 Rig default_rig();
+
+/// The frame spacing a rig's own keys ask for: kSculptSpacing with a sculpted key, else 0.
+inline double sculpt_spacing(const Rig& r) {
+  for (const RigKey& k : r.keys)
+    if (!k.shapes.empty()) return kSculptSpacing;
+  return 0;
+}
 
 /// Loads and validates a rig. Errors: "file:line: what is wrong".
 Result<Rig> load_rig(const std::string& path);

@@ -1,5 +1,8 @@
 #include "render/overlay.h"
 
+#include <cmath>
+#include <vector>
+
 namespace mar {
 
 namespace {
@@ -83,6 +86,29 @@ void append_markers(std::span<const Vec2> handles, std::span<const Vec2> hinges,
     seg[0] = seg[1] = view.apply(handles[i]);
     const bool sel = static_cast<int>(i) == selected;
     stroke_polyline(seg, false, sel ? big : ring, sel ? chosen : handle, out);
+  }
+  close_batch(out, first);
+}
+
+void append_pen_marks(const Vec2& at, double radius, std::span<const Vec2> stroke, const Affine2& view, DrawList& out) {
+  const int first = static_cast<int>(out.indices.size());
+  StrokeStyle line;
+  line.half_width = 1.5;
+  line.cap = LineCap::Round;
+  if (radius > 0) {
+    constexpr int kSides = 64;
+    Vec2 ring[kSides];
+    for (int i = 0; i < kSides; ++i) {
+      const double a = 2 * M_PI * i / kSides;
+      ring[i] = view.apply(at + radius * Vec2(std::cos(a), std::sin(a)));
+    }
+    stroke_polyline(ring, true, line, SDL_Color{200, 60, 40, 220}, out);
+  }
+  if (stroke.size() >= 2) {
+    std::vector<Vec2> mapped(stroke.size());
+    for (size_t i = 0; i < stroke.size(); ++i) mapped[i] = view.apply(stroke[i]);
+    line.half_width = 2.0;
+    stroke_polyline(mapped, false, line, SDL_Color{30, 90, 220, 230}, out);
   }
   close_batch(out, first);
 }

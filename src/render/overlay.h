@@ -18,6 +18,10 @@ void append_frame_overlay(const FeatureFrame& frame, std::span<const Vec2> v, st
 /// (`selected`, when >= 0, larger and darker), mapped by `view`.
 void append_markers(std::span<const Vec2> handles, std::span<const Vec2> hinges, int selected, const Affine2& view, DrawList& out);
 
+/// Appends the rig studio's pen marks, mapped by `view`: a ring of `radius` about `at` (the
+/// brush's reach; radius 0: none) and the polyline `stroke` (a curve being drawn).
+void append_pen_marks(const Vec2& at, double radius, std::span<const Vec2> stroke, const Affine2& view, DrawList& out);
+
 /// Appends a triangle mesh (a solver's: edges grey, vertices black) and handle positions
 /// (green rings), mapped by `view`.
 void append_mesh_overlay(std::span<const Vec2> v, std::span<const std::array<int, 3>> triangles,

@@ -1,6 +1,6 @@
 // The pen's tools on the figure. The brush of seed 004 (app/loop/brush.h), 60 Hz, headless on the virtual clock,
 // side by side in one run: the figure with no brush, with a [[brush]] whose pen never touches
-// (its finer feature frame: kBrushSpacing), and brushed — a stroke pushing the cheek out by 25
+// (its finer feature frame: kSculptSpacing), and brushed — a stroke pushing the cheek out by 25
 // units at full pressure, held — then a knob swaying the figure with the stroke held. Reports
 // the solve's p50/p99 (µs), the brushed outline's worst distance from the Gaussian profile (% of
 // the drag), the largest distance from rest (% of the height) of the parts away from the stroke

@@ -279,6 +279,17 @@ frame = "saved.json"
   auto back = parse_rig(write_rig(*a.value), "k.toml");
   ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(*a.value);
   EXPECT_EQ(write_rig(*back.value), write_rig(*a.value));
+  EXPECT_EQ(a.value->max_spacing, 0.0);
+  // A sculpted key (the studio's): its file, and the finer frame it asks for.
+  auto sculpted = parse_rig(std::string(text) + "\n[[key]]\nname = \"sneer\"\nshapes = \"k.sneer.key.json\"\n", "k.toml");
+  ASSERT_TRUE(sculpted.ok()) << sculpted.error;
+  ASSERT_EQ(sculpted.value->keys.size(), 3u);
+  EXPECT_EQ(sculpted.value->keys[2].shapes, "k.sneer.key.json");
+  EXPECT_EQ(sculpted.value->max_spacing, kSculptSpacing);
+  EXPECT_EQ(sculpt_spacing(*sculpted.value), kSculptSpacing);
+  auto again = parse_rig(write_rig(*sculpted.value), "k.toml");
+  ASSERT_TRUE(again.ok()) << again.error;
+  EXPECT_EQ(again.value->keys[2].shapes, "k.sneer.key.json");
   const char* head = "character = \"c.svg\"\n[[handle]]\nname = \"hand\"\nrest = [1, 2]\n";
   struct Case {
     std::string text;
@@ -286,7 +297,8 @@ frame = "saved.json"
   };
   const Case cases[] = {
       {std::string(head) + "[[key]]\nname = \"k\"\ntargets = { elbow = [1, 2] }\n", "k.toml:7: key 'k' names no handle 'elbow'"},
-      {std::string(head) + "[[key]]\nname = \"k\"\n", "k.toml:5: key 'k' needs targets"},
+      {std::string(head) + "[[key]]\nname = \"k\"\n", "k.toml:5: key 'k' needs one of targets"},
+      {std::string(head) + "[[key]]\nname = \"k\"\nframe = \"f.json\"\nshapes = \"s.json\"\n", "k.toml:5: key 'k' needs one of targets"},
       {std::string(head) + "[[key]]\nname = \"rest\"\nframe = \"f.json\"\n", "k.toml:6: 'rest' is the rest pose"},
       {std::string(head) + "[[key]]\nname = \"k\"\nframe = \"f.json\"\n[[key]]\nname = \"k\"\nframe = \"g.json\"\n",
        "k.toml:8: key 'k' defined twice"},

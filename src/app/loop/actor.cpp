@@ -34,12 +34,17 @@ std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapp
   for (const ShowBrush& br : sh.brushes) driven = driven || (br.who == who && br.release == ShowBrush::Key);
   for (const ShowCurve& c : sh.curves) driven = driven || (c.who == who && c.release == ShowBrush::Key);
   if (!pp.solved_keys && (driven || (pp.feature_frame() && !pp.rig.keys.empty()))) {
-    auto keys = solve_keys(pp);
+    std::vector<Points> details;
+    auto keys = solve_keys(pp, &details);
     if (!keys.ok() && driven) return keys.error;
-    if (keys.ok()) pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
+    if (keys.ok()) {
+      pp.solved_keys = std::make_shared<const std::vector<Points>>(std::move(*keys.value));
+      pp.key_details = std::make_shared<const std::vector<Points>>(std::move(details));
+    }
   }
   if (driven) {
-    if (std::string err = keys_.prepare(pp, *pp.solved_keys); !err.empty()) return err;
+    if (std::string err = keys_.prepare(pp, *pp.solved_keys, pp.key_details.get()); !err.empty()) return err;
+    if (keys_.has_detail()) detailed_v_.assign(pp.feature_frame()->frame().rest.size(), Vec2::Zero());
     key_values_.assign(keys_.settings().size(), 0.0);
   }
   for (const ShowBrush& br : sh.brushes)  // a [[brush]] sculpts it (loop/brush.h)
@@ -104,7 +109,13 @@ void Actor::solve(std::span<const Vec2> targets, int iterations) {
 
 double Actor::reconstruct() {
   Puppet& p = *puppet_;
-  p.reconstruct();
+  if (keys_.detailed()) {  // a sculpted key's detail on the solve (KeyPoseStage::detail_onto)
+    const FeatureFrameMethod& ff = *p.feature_frame();
+    keys_.detail_onto(ff.core().vertices(), detailed_v_);
+    reconstruct_shapes(ff.frame(), detailed_v_, p.shapes);
+  } else {
+    p.reconstruct();
+  }
   // After a reload, the figure moves from where the running show drew it to where this show's
   // solver puts it over kReloadBlendFrames (the new solver starts from its own guess, up to 6 %
   // of the figure away): no jump in one frame (Reload.TheFigureDoesNotJumpAtAReload).

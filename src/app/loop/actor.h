@@ -157,6 +157,7 @@ class Actor {
   std::vector<double> solver_params_;   ///< as last given to the solver
   KeyPoseStage keys_;
   std::vector<double> key_values_;      ///< this frame's value of each of keys_.settings()
+  std::vector<Vec2> detailed_v_;        ///< the solve's frame with a sculpted key's detail on it
   PhysicsStage physics_;
   Grab grab_;
   BrushStage brush_;

@@ -33,9 +33,6 @@
 
 namespace mar {
 
-/// How far apart a brushed character's frame points may be along an outline, a fraction of its
-/// diagonal (the features alone leave an ellipse a handful: too few for a brush's profile).
-inline constexpr double kBrushSpacing = 0.01;
 /// The soft targets a show's character has room for (a brush's kMaxPoints, a curve's chain).
 inline constexpr int kSoftTargets = 64;
 

@@ -1,6 +1,7 @@
 #include "app/loop/key_poses.h"
 
 #include "app/show.h"
+#include "geom/polygon.h"
 #include "solve/solver.h"
 
 #include <algorithm>
@@ -27,7 +28,7 @@ bool KeyPoseStage::keep_driven(const ShowConfig& sh, int who) {
   return !settings_.empty() || recalls;
 }
 
-std::string KeyPoseStage::prepare(const Puppet& p, const std::vector<Points>& keys) {
+std::string KeyPoseStage::prepare(const Puppet& p, const std::vector<Points>& keys, const std::vector<Points>* details) {
   if (!p.feature_frame()) return p.rig.path + ": key poses need the feature frame solver";
   interp_ = std::make_unique<KeyInterpolator>();
   std::string err;
@@ -43,6 +44,25 @@ std::string KeyPoseStage::prepare(const Puppet& p, const std::vector<Points>& ke
   base_frame_.assign(p.feature_frame()->frame().rest.size(), Vec2::Zero());
   base_offset_.assign(p.rig.handles.size(), Vec2::Zero());
   for (auto* v : {&recall_w_, &recall_from_, &recall_to_}) v->assign(n, 0.0);
+  const FeatureFrame& f = p.feature_frame()->frame();
+  details_.assign(n, Points{});
+  bool any = false;
+  for (size_t k = 0; details && k < n && k < details->size(); ++k)
+    if ((*details)[k].size() == f.rest.size()) {
+      details_[k] = (*details)[k];
+      any = true;
+    }
+  detail_.clear();
+  part_vertices_.clear();
+  if (any) {
+    detail_.assign(f.rest.size(), Vec2::Zero());
+    part_vertices_.assign(p.character.shapes.size(), {});
+    size_t most = 0;
+    for (size_t i = 0; i < f.rest.size(); ++i) part_vertices_[size_t(f.origin[i].shape)].push_back(int(i));
+    for (const auto& pv : part_vertices_) most = std::max(most, pv.size());
+    from_.assign(most, Vec2::Zero());
+    to_.assign(most, Vec2::Zero());
+  }
   return {};
 }
 
@@ -84,8 +104,33 @@ bool KeyPoseStage::step(double dt, std::span<const double> values, const Recall*
     const FeatureFrameMethod& ff = *puppet_->feature_frame();
     for (size_t h = 0; h < base_offset_.size() && h < ff.bindings().size(); ++h)
       base_offset_[h] = eval_param(ff.bindings()[h], base_frame_) - puppet_->rig.handles[h].rest;
+    detailed_ = false;
+    if (!detail_.empty()) {
+      std::fill(detail_.begin(), detail_.end(), Vec2::Zero());
+      for (size_t k = 0; k < details_.size(); ++k)
+        if (!details_[k].empty() && weights_[k] != 0) {
+          detailed_ = true;
+          for (size_t i = 0; i < detail_.size(); ++i) detail_[i] += weights_[k] * details_[k][i];
+        }
+    }
   }
   return jump;
+}
+
+void KeyPoseStage::detail_onto(std::span<const Vec2> v, std::span<Vec2> out) const {
+  for (size_t i = 0; i < v.size() && i < out.size(); ++i) out[i] = v[i];
+  if (!detailed_) return;
+  for (const std::vector<int>& part : part_vertices_) {
+    if (part.empty()) continue;
+    size_t n = 0;
+    for (int i : part) {
+      from_[n] = base_frame_[size_t(i)] - detail_[size_t(i)];  // (what the handles make of the base)
+      to_[n++] = v[size_t(i)];
+    }
+    const RigidMotion m = rigid_fit(std::span<const Vec2>(from_.data(), n), std::span<const Vec2>(to_.data(), n));
+    for (int i : part)
+      if (size_t(i) < out.size()) out[size_t(i)] += m.turn(detail_[size_t(i)]);
+  }
 }
 
 void KeyPoseStage::offset(std::span<Vec2> targets) const {

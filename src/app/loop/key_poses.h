@@ -5,7 +5,10 @@
 // those weights from where it is to what makes the sum that key (or rest), and knobs turned
 // afterwards add their change on top. The weights' interpolated frame is the base pose; every
 // handle's target moves by where the base pose has it (the performer's own offsets ride on
-// top). Blending happens only when the weights change.
+// top). Blending happens only when the weights change. A sculpted key (the studio's brush or
+// curve: RigKey::shapes) also has detail its handles alone do not make (app/keys.h): the
+// weights' share of it is laid on the solve's frame (detail_onto), each part's carried by the
+// part's turn from the base pose to the solve.
 //
 // Made at load (its settings, its interpolator); step() and offset() allocate nothing.
 #pragma once
@@ -37,7 +40,8 @@ class KeyPoseStage {
   /// a binding recalls a pose of the cast's character `who` (0: a show's single rig).
   bool keep_driven(const ShowConfig& sh, int who = 0);
   /// Prepares the interpolation over the rig's keys (solved: app/keys.h). Empty, or the error.
-  std::string prepare(const Puppet& p, const std::vector<Points>& keys);
+  /// `details`: per key, its sculpted detail (empty: none; app/keys.h solve_keys).
+  std::string prepare(const Puppet& p, const std::vector<Points>& keys, const std::vector<Points>* details = nullptr);
   bool empty() const { return !interp_; }
   const std::vector<KeySetting>& settings() const { return settings_; }
 
@@ -50,6 +54,12 @@ class KeyPoseStage {
   void offset(std::span<Vec2> targets) const;
   /// This frame's weight of each key.
   std::span<const double> weights() const { return weights_; }
+  /// Whether a key is sculpted (has detail); whether this frame's weights hold some.
+  bool has_detail() const { return !detail_.empty(); }
+  bool detailed() const { return detailed_; }
+  /// The solve's frame vertices `v` with this frame's sculpted detail on them, into `out` (#q).
+  /// No allocation.
+  void detail_onto(std::span<const Vec2> v, std::span<Vec2> out) const;
 
  private:
   std::vector<KeySetting> settings_;
@@ -59,6 +69,11 @@ class KeyPoseStage {
   Points base_frame_;
   std::vector<Vec2> base_offset_;  ///< per handle: base pose minus rest
   std::vector<double> recall_w_, recall_from_, recall_to_;
+  std::vector<Points> details_;             ///< per key (empty: not sculpted)
+  Points detail_;                           ///< this frame's weights' detail (#q)
+  bool detailed_ = false;
+  std::vector<std::vector<int>> part_vertices_;  ///< per shape: its frame vertices
+  mutable std::vector<Vec2> from_, to_;     ///< (room for the largest part)
   double recall_t_ = 0, recall_seconds_ = 0;
   Ease recall_ease_ = Ease::InOut;
   bool recall_on_ = false;

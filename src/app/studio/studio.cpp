@@ -102,9 +102,11 @@ std::string Studio::load(const std::string& text, const std::vector<std::pair<st
   auto rig = parse_rig(text, rig_path_);
   if (!rig.ok()) return rig.error;
   Rig file_rig = *rig.value;
+  rig.value->max_spacing = std::max(spacing_, sculpt_spacing(*rig.value));  // (a sculpting tool's finer frame)
   auto p = load_puppet(character_, std::move(*rig.value), mask_);
   if (!p.ok()) return p.error;
   Puppet& pp = **p.value;
+  if (FeatureFrameMethod* ff = pp.feature_frame()) ff->core().reserve_soft(kSoftTargets);  // (the tools' targets)
   std::vector<Vec2> t = pp.rest_targets();
   bool posed = false;
   for (size_t h = 0; h < t.size(); ++h)
@@ -123,7 +125,7 @@ std::string Studio::load(const std::string& text, const std::vector<std::pair<st
   file_rig_ = std::move(file_rig);
   text_ = RigText(text);
   targets_ = std::move(t);
-  return "";
+  return prepare_tools();
 }
 
 Studio::State Studio::state() const {
@@ -150,7 +152,15 @@ void Studio::set_target(size_t h, const Vec2& p) {
 }
 
 void Studio::step() {
-  puppet_->solver->solve(targets_, puppet_->rig.iterations);
+  // The tools step as a show's do (Actor::solve): the brush, the curve, then the curve's hold
+  // on the handles of its chain.
+  const ShowBrush* b = tool_ == Tool::Brush ? &brush_spec_ : nullptr;
+  const ShowCurve* c = tool_ == Tool::Curve && from_ >= 0 && !chain_.empty() ? &curve_spec_ : nullptr;
+  if (brush_.prepared()) brush_.step(pen_, b, 1.0, 1.0 / 60, false, targets_, *puppet_);
+  if (curve_.prepared()) curve_.step(pen_, c, 1.0 / 60, false, targets_, *puppet_);
+  solve_targets_ = targets_;
+  if (curve_.prepared()) curve_.drive_handles(solve_targets_);
+  puppet_->solver->solve(solve_targets_, puppet_->rig.iterations);
   puppet_->reconstruct();
 }
 
@@ -160,6 +170,7 @@ void Studio::commit_pose() {
 }
 
 void Studio::reset_pose() {
+  clear_sculpt();
   targets_ = puppet_->rest_targets();
   puppet_->solver->reset_to_rest();
   puppet_->reconstruct();
@@ -368,19 +379,29 @@ std::string Studio::save_key(const std::string& raw) {
   if (name == "rest") return "'rest' is every handle at rest already; choose another name";
   for (const RigKey& k : file_rig_.keys)
     if (k.name == name) return "there is a key '" + name + "' already (line " + std::to_string(k.line) + ")";
-  RigKey k;
-  k.name = name;
-  for (size_t h = 0; h < targets_.size(); ++h)
-    if ((targets_[h] - puppet_->rig.handles[h].rest).norm() > 1e-9) k.targets.push_back({puppet_->rig.handles[h].name, targets_[h]});
-  if (k.targets.empty()) return "move a handle first: a key is where the handles are";
-  std::string body = "name = " + toml_string(name) + "\ntargets = { ";
-  for (size_t i = 0; i < k.targets.size(); ++i)
-    body += (i ? ", " : "") + toml_string(k.targets[i].first) + " = [" + toml_number(k.targets[i].second.x()) + ", " +
-            toml_number(k.targets[i].second.y()) + "]";
-  body += " }\n";
   RigText t = text_;
-  t.append("key", body);
-  return edit(t, state().targets);
+  if (sculpted()) {
+    if (std::string err = save_sculpt(text_, name, t); !err.empty()) return err;
+  } else {
+    RigKey k;
+    k.name = name;
+    for (size_t h = 0; h < targets_.size(); ++h)
+      if ((targets_[h] - puppet_->rig.handles[h].rest).norm() > 1e-9) k.targets.push_back({puppet_->rig.handles[h].name, targets_[h]});
+    if (k.targets.empty()) return "move a handle or sculpt first: a key is where the handles are, or a sculpted shape";
+    std::string body = "name = " + toml_string(name) + "\ntargets = { ";
+    for (size_t i = 0; i < k.targets.size(); ++i)
+      body += (i ? ", " : "") + toml_string(k.targets[i].first) + " = [" + toml_number(k.targets[i].second.x()) + ", " +
+              toml_number(k.targets[i].second.y()) + "]";
+    body += " }\n";
+    t.append("key", body);
+  }
+  // (the pose stays as it is, sculpt and all: the puppet is not loaded again for a key)
+  auto parsed = parse_rig(t.text(), rig_path_);
+  if (!parsed.ok()) return parsed.error;
+  file_rig_ = std::move(*parsed.value);
+  text_ = t;
+  push();
+  return "";
 }
 
 std::string Studio::save() {

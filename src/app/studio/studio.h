@@ -9,6 +9,8 @@
 // Points are in character units on the posed character, as the performer sees it.
 #pragma once
 
+#include "app/loop/brush.h"
+#include "app/loop/curve.h"
 #include "app/puppet.h"
 #include "rig/rig_text.h"
 
@@ -75,7 +77,9 @@ class Studio {
   std::string move_hinge(size_t j, const Vec2& p);
   /// Multiplies a part's stiffness by `factor` (a [[part]] table; clamped to [0.05, 50]).
   std::string scale_stiffness(int part, double factor);
-  /// The pose's moved handles as a key pose `name` ([[key]]).
+  /// The pose as a key pose `name` ([[key]]): its moved handles; or, when a brush or a curve
+  /// holds a shape (sculpted()), every shape's points in a file beside the rig
+  /// (RigKey::shapes, written at once) that the key names.
   std::string save_key(const std::string& name);
   bool undo();
   bool redo();
@@ -83,6 +87,34 @@ class Studio {
   bool can_redo() const { return at_ + 1 < history_.size(); }
   /// Writes the text to the rig file atomically; "" or the error.
   std::string save();
+
+  // ---- the pen's sculpting tools: a show's brush and drawn curve (app/loop/brush.h, curve.h)
+  // on the studio's puppet (studio_tools.cpp). A sculpt is held until R, another tool's
+  // stroke, or an edit of the rig (which loads the puppet again): K saves it as a key.
+  enum class Tool { Pose, Brush, Curve };
+  /// Chooses the pen's tool; the first sculpting tool loads the finer frame a brush needs
+  /// (kSculptSpacing), keeping the pose. "" or why not.
+  std::string set_tool(Tool t);
+  Tool tool() const { return tool_; }
+  /// The pen on the posed character (`down`, `pressure` 0..1), for the brush or the curve:
+  /// the brush's radius is brush_radius(pressure); the curve's chain is the parts its stroke
+  /// crosses after the one it starts on (that one it hangs from). Takes effect at step().
+  void pen(const Vec2& p, bool down, double pressure);
+  /// The brush's radius at a pressure, character units ([2 %, 8 %] of the diagonal, by
+  /// brush_scale()).
+  double brush_radius(double pressure) const;
+  void scale_brush(double factor);
+  double brush_scale() const { return brush_scale_; }
+  /// Whether a brush or a curve holds a shape now.
+  bool sculpted() const;
+  /// Lets every sculpt go.
+  void clear_sculpt();
+  const BrushStage& brush() const { return brush_; }
+  const CurveStage& curve() const { return curve_; }
+  /// The curve's chain: the part it hangs from, then its parts (names as part_name gives).
+  std::vector<std::string> curve_chain() const;
+  /// The stroke being drawn (the curve tool), as drawn.
+  const std::vector<Vec2>& stroke() const { return stroke_; }
 
   /// The rest point under p on the posed character (the fill triangle it is in, mapped back;
   /// near an outline, the nearest point's). false when p is on no part.
@@ -111,6 +143,24 @@ class Studio {
   std::vector<Vec2> targets_;
   std::vector<State> history_;
   size_t at_ = 0;
+  // The sculpting tools.
+  std::string prepare_tools();  ///< after a load: the stages on the new puppet (a sculpt is let go)
+  void pen_curve(const Vec2& p);  ///< a stroke's point: the chain grows by the part under it
+  std::string save_sculpt(const RigText& base, const std::string& name, RigText& out);
+  Tool tool_ = Tool::Pose;
+  double spacing_ = 0;  ///< the frame's (kSculptSpacing once a sculpting tool is chosen)
+  double brush_scale_ = 1;
+  BrushStage brush_;
+  CurveStage curve_;
+  ShowBrush brush_spec_;
+  ShowCurve curve_spec_;
+  Mapping::Pen pen_;
+  bool pen_was_down_ = false;
+  int from_ = -1;                 ///< the curve's: the part it hangs from
+  std::vector<int> chain_;        ///< its parts
+  std::vector<Vec2> stroke_;      ///< its stroke as drawn
+  int leaves_ = -1;               ///< its first point off the part it hangs from (-1: none yet)
+  std::vector<Vec2> solve_targets_;
 };
 
 }  // namespace mar

@@ -4,6 +4,7 @@
 
 #include <SDL2/SDL.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 #include <cstdio>
@@ -72,6 +73,13 @@ void StudioWindow::say(const std::string& what, const std::string& error) {
 
 void StudioWindow::press(double x, double y) {
   const Vec2 c = character_point(x, y);
+  if (studio_.tool() != Studio::Tool::Pose) {  // the brush or the curve
+    down_ = Vec2(x, y);
+    pointer_ = c;
+    drag_ = Drag::Sculpt;
+    studio_.pen(c, true, pressure_);
+    return;
+  }
   const double unit = (window_point(c + Vec2(1, 0)) - window_point(c)).norm();
   const double r = kPickPx / std::max(unit, 1e-9);
   down_ = Vec2(x, y);
@@ -93,6 +101,7 @@ void StudioWindow::motion(double x, double y) {
   pointer_ = character_point(x, y);
   if (drag_ == Drag::Handle) studio_.set_target(size_t(dragged_), pointer_ + grab_);
   if (drag_ == Drag::Hinge) hinge_to_ = pointer_;
+  if (drag_ == Drag::Sculpt) studio_.pen(pointer_, true, pressure_);
 }
 
 void StudioWindow::release(double x, double y) {
@@ -100,7 +109,19 @@ void StudioWindow::release(double x, double y) {
   const bool moved = (Vec2(x, y) - down_).norm() >= kClickPx;
   const Drag d = drag_;
   drag_ = Drag::None;
-  if (d == Drag::Handle) {
+  if (d == Drag::Sculpt) {
+    studio_.pen(pointer_, false, 0);
+    studio_.step();  // (the pen's lift: the stroke holds)
+    if (studio_.tool() == Studio::Tool::Brush) {
+      say(studio_.brush().points().empty() ? "no outline under the brush" : "brushed (K saves the sculpt as a key; R lets it go)");
+    } else {
+      const std::vector<std::string> chain = studio_.curve_chain();
+      std::string names;
+      for (size_t i = 1; i < chain.size(); ++i) names += (i > 1 ? ", " : "") + chain[i];
+      say(chain.size() < 2 ? "start on the part a chain hangs from and draw through its parts"
+                           : "the curve took " + names + " (hanging from " + chain[0] + "; K saves it as a key)");
+    }
+  } else if (d == Drag::Handle) {
     studio_.commit_pose();
     say("posed " + studio_.puppet().rig.handles[size_t(dragged_)].name + " (K saves the pose as a key)");
   } else if (d == Drag::Hinge && moved) {
@@ -156,6 +177,22 @@ void StudioWindow::key(const SDL_KeyboardEvent& k) {
       studio_.reset_pose();
       say("every handle at rest");
       break;
+    case SDLK_b:
+    case SDLK_c: {
+      const Studio::Tool t = sym == SDLK_b ? Studio::Tool::Brush : Studio::Tool::Curve;
+      const Studio::Tool want = studio_.tool() == t ? Studio::Tool::Pose : t;
+      const std::string err = studio_.set_tool(want);
+      say(want == Studio::Tool::Brush   ? "the brush: drag an outline (pressure or [ ] size it; B again: handles)"
+          : want == Studio::Tool::Curve ? "the curve: draw from the part a chain hangs from through its parts (C again: handles)"
+                                        : "posing handles",
+          err);
+      break;
+    }
+    case SDLK_LEFTBRACKET:
+    case SDLK_RIGHTBRACKET:
+      studio_.scale_brush(sym == SDLK_RIGHTBRACKET ? 1.25 : 0.8);
+      say("brush size x" + std::to_string(studio_.brush_scale()).substr(0, 4));
+      break;
     case SDLK_k:
       naming_ = true;
       name_.clear();
@@ -204,11 +241,20 @@ void StudioWindow::handle(const SDL_Event& e) {
       break;
     // A pen or a finger on a tablet the window system reports as touch: the same gestures.
     // SDL also makes mouse events of them (SDL_TOUCH_MOUSEID), which are skipped.
-    case SDL_FINGERDOWN: press(e.tfinger.x * ww, e.tfinger.y * wh); break;
-    case SDL_FINGERMOTION: motion(e.tfinger.x * ww, e.tfinger.y * wh); break;
+    case SDL_FINGERDOWN:
+      pressure_ = std::clamp(double(e.tfinger.pressure), 0.0, 1.0);
+      press(e.tfinger.x * ww, e.tfinger.y * wh);
+      break;
+    case SDL_FINGERMOTION:
+      pressure_ = std::clamp(double(e.tfinger.pressure), 0.0, 1.0);
+      motion(e.tfinger.x * ww, e.tfinger.y * wh);
+      break;
     case SDL_FINGERUP: release(e.tfinger.x * ww, e.tfinger.y * wh); break;
     case SDL_MOUSEBUTTONDOWN:
-      if (e.button.which != SDL_TOUCH_MOUSEID && e.button.button == SDL_BUTTON_LEFT) press(e.button.x, e.button.y);
+      if (e.button.which != SDL_TOUCH_MOUSEID && e.button.button == SDL_BUTTON_LEFT) {
+        pressure_ = 0.5;  // (a mouse has none: half way)
+        press(e.button.x, e.button.y);
+      }
       break;
     case SDL_MOUSEMOTION:
       if (e.motion.which != SDL_TOUCH_MOUSEID) motion(e.motion.x, e.motion.y);
@@ -259,6 +305,10 @@ void StudioWindow::draw() {
     hinge_points.push_back(drag_ == Drag::Hinge && int(j) == dragged_ ? hinge_to_ : hinges[j].at);
   if (overlay_) append_solver_overlay(p, {}, v, list_);
   append_markers(handles, hinge_points, selected_, v, list_);
+  if (studio_.tool() == Studio::Tool::Brush)
+    append_pen_marks(pointer_, drag_ == Drag::Sculpt && studio_.brush().down() ? studio_.brush().radius() : studio_.brush_radius(pressure_),
+                     {}, v, list_);
+  if (studio_.tool() == Studio::Tool::Curve && drag_ == Drag::Sculpt) append_pen_marks(pointer_, 0, studio_.stroke(), v, list_);
   if (std::string err = canvas_->draw(list_); !err.empty()) say("", err);
   canvas_->compose();
 
@@ -268,8 +318,9 @@ void StudioWindow::draw() {
   const double unit = (window_point(pointer_ + Vec2(1, 0)) - window_point(pointer_)).norm();
   const int hovered_hinge = studio_.hinge_at(pointer_, kPickPx / std::max(unit, 1e-9));
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%s%s   %zu handles, %zu hinges%s", studio_.rig_path().c_str(),
-                studio_.dirty() ? " (unsaved)" : "", handles.size(), hinges.size(), overlay_ ? ", frame" : "");
+  const char* tool = studio_.tool() == Studio::Tool::Brush ? "   [brush]" : studio_.tool() == Studio::Tool::Curve ? "   [curve]" : "";
+  std::snprintf(buf, sizeof buf, "%s%s   %zu handles, %zu hinges%s%s", studio_.rig_path().c_str(),
+                studio_.dirty() ? " (unsaved)" : "", handles.size(), hinges.size(), overlay_ ? ", frame" : "", tool);
   text_.push_back(buf);
   if (naming_) {
     text_.push_back("key name: " + name_ + "_");
@@ -282,7 +333,7 @@ void StudioWindow::draw() {
   } else {
     text_.push_back(status_);
   }
-  text_.push_back("drag handles and hinges  click: add  Del: remove  K: key  Ctrl+Z/Y: undo/redo  F: frame  R: rest  S: save");
+  text_.push_back("drag handles and hinges  click: add  Del: remove  B: brush  C: curve  K: key  Ctrl+Z/Y: undo/redo  F: frame  R: rest  S: save");
   const size_t status_lines = text_.size();
   for (size_t h = 0; h < handles.size(); ++h) text_.push_back(p.rig.handles[h].name);
   for (const StudioHinge& j : hinges) text_.push_back(j.label);

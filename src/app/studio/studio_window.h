@@ -6,7 +6,11 @@
 //   click on a part      add a handle there          Delete / Backspace: remove the one under
 //   drag a hinge         move it                     the pointer (or the last one touched)
 //   scroll over a part   stiffer (up) or softer (down), x1.25 a notch
-//   K                    save the pose as a key (type its name, Enter)
+//   B, C                 the pen's tool: the brush (drag an outline: it moves by the Gaussian
+//                        of its distance, radius by pressure, [ and ] size it) or the curve
+//                        (draw from the part a chain hangs from through its parts: they take
+//                        the stroke's curve); the same key again: back to posing handles
+//   K                    save the pose as a key (type its name, Enter; a sculpt saves the shape)
 //   Ctrl+Z, Ctrl+Y       undo, redo (Ctrl+Shift+Z too)
 //   F                    the frame overlay           R: every handle back at rest
 //   S                    save the rig (atomically; comments and order kept)
@@ -70,7 +74,7 @@ class StudioWindow {
   bool overlay_ = false;
   bool quit_ = false, quit_armed_ = false;
   // A gesture: what the pointer went down on.
-  enum class Drag { None, Handle, Hinge, Click } drag_ = Drag::None;
+  enum class Drag { None, Handle, Hinge, Click, Sculpt } drag_ = Drag::None;
   int dragged_ = -1;                 ///< handle or hinge index
   Vec2 down_ = Vec2::Zero();         ///< where it went down (window)
   Vec2 hinge_to_ = Vec2::Zero();     ///< a hinge being dragged: where it would go (character)
@@ -80,6 +84,7 @@ class StudioWindow {
   bool naming_ = false;              ///< typing a key's name
   bool skip_k_text_ = false;         ///< the text K's own press makes is not the name's
   std::string name_;
+  double pressure_ = 0.5;            ///< the pen's (a mouse: half way)
 };
 
 }  // namespace mar

@@ -5,6 +5,7 @@
 #include "app/studio/studio.h"
 #include "app/studio/studio_window.h"
 #include "character/rig.h"
+#include "render/image.h"
 #include "test_util.h"
 
 #include <SDL2/SDL.h>
@@ -394,6 +395,16 @@ struct Win {
     frames(1);
   }
   Vec2 at(const Vec2& character_point) const { return window->window_point(character_point); }
+  // The window as a PNG in $MARIONETTE_STUDIO_SHOTS, when it is set (to look at).
+  void shot(const std::string& name) {
+    const char* dir = std::getenv("MARIONETTE_STUDIO_SHOTS");
+    if (!dir || !*dir) return;
+    Image img;
+    img.width = window->canvas().window_width();
+    img.height = window->canvas().window_height();
+    img.rgba = window->canvas().read_window();
+    EXPECT_EQ(write_png((fs::path(dir) / (name + ".png")).string(), img), "");
+  }
   bool says(const std::string& what) const {
     for (const std::string& t : window->text())
       if (t.find(what) != std::string::npos) return true;
@@ -549,6 +560,75 @@ TEST(StudioWindow, KNamesAKeyFTogglesTheFrameAndSSaves) {
   e.key.keysym.sym = SDLK_ESCAPE;
   Win::push(e);
   EXPECT_FALSE(w.window->frame()) << "saved: Esc quits";
+}
+
+// B: the brush, dragged down over the belly with the mouse; K saves the sculpt as a key; C: the
+// curve, drawn from the body out along the tail.
+TEST(StudioWindow, BBrushesCDrawsACurveAndKSavesTheSculpt) {
+  if (!have_display_or_rerun()) return;
+  Win w(cat_folder("w_tools"));
+  ASSERT_TRUE(w.window);
+  Studio& s = *w.studio;
+  w.key(SDLK_b);
+  EXPECT_TRUE(w.says("[brush]"));
+  const Puppet& p = s.puppet();
+  int body = -1;
+  for (size_t k = 0; k < p.character.shapes.size(); ++k) body = p.character.shapes[k].id == "ellipse1042" ? int(k) : body;
+  ASSERT_GE(body, 0);
+  Vec2 belly = p.shapes[size_t(body)][0];
+  for (const Vec2& q : p.shapes[size_t(body)]) belly = q.y() > belly.y() ? q : belly;
+  const std::vector<std::uint8_t> before = w.window->canvas().read_window();
+  w.move(w.at(belly));
+  w.button(SDL_MOUSEBUTTONDOWN, w.at(belly));
+  w.frames(1);
+  for (int i = 1; i <= 8; ++i) {
+    w.move(w.at(belly) + Vec2(0, 25 * i / 8.0));
+    w.frames(1);
+  }
+  w.shot("brushing");
+  w.button(SDL_MOUSEBUTTONUP, w.at(belly) + Vec2(0, 25));
+  w.frames(20);
+  EXPECT_TRUE(w.says("brushed")) << w.window->status();
+  EXPECT_TRUE(s.sculpted());
+  const std::vector<std::uint8_t> after = w.window->canvas().read_window();
+  size_t differ = 0;
+  for (size_t i = 0; i < before.size() && i < after.size(); ++i) differ += before[i] != after[i];
+  EXPECT_GT(differ, 500u) << "the belly's outline moved on screen";
+  w.key(SDLK_k);
+  w.type("belly");
+  w.key(SDLK_RETURN);
+  EXPECT_TRUE(w.says("saved the key belly")) << w.window->status();
+  EXPECT_NE(s.text().find("shapes = \"cat.belly.key.json\""), std::string::npos);
+  // The curve: from the body beside the tail's hinge, out along the tail and bending.
+  w.key(SDLK_c);
+  EXPECT_TRUE(w.says("[curve]"));
+  EXPECT_FALSE(s.sculpted()) << "the curve's stroke lets the brush's sculpt go when it is drawn";
+  int tail = -1;
+  for (size_t k = 0; k < p.character.shapes.size(); ++k) tail = p.character.shapes[k].id == "path2291" ? int(k) : tail;
+  Vec2 hinge(0, 0);
+  for (const StudioHinge& j : s.hinges())
+    if ((j.shape_a == tail && j.shape_b == body) || (j.shape_a == body && j.shape_b == tail)) hinge = j.at;
+  Vec2 tip = hinge;
+  for (const Vec2& q : p.shapes[size_t(tail)]) tip = (q - hinge).norm() > (tip - hinge).norm() ? q : tip;
+  const Bounds bb = p.character.shapes[size_t(body)].bounds();
+  const Vec2 start = hinge + 0.15 * (0.5 * (bb.lo + bb.hi) - hinge), axis = tip - hinge, normal(-axis.y(), axis.x());
+  w.move(w.at(start));
+  w.button(SDL_MOUSEBUTTONDOWN, w.at(start));
+  w.frames(1);
+  for (int i = 1; i <= 16; ++i) {
+    const double t = i / 16.0;
+    w.move(w.at(hinge + t * axis + 0.25 * std::sin(M_PI * t) * normal));
+    w.frames(1);
+  }
+  w.shot("drawing");
+  w.button(SDL_MOUSEBUTTONUP, w.at(hinge + axis));
+  w.frames(20);
+  EXPECT_TRUE(w.says("the curve took")) << w.window->status();
+  w.shot("drawn");
+  EXPECT_TRUE(s.sculpted());
+  w.key(SDLK_c);
+  EXPECT_TRUE(w.says("posing handles"));
+  EXPECT_TRUE(s.sculpted()) << "back to the handles, the curve's shape held";
 }
 
 // The real program under Xvfb, driven by real X input (xdotool's XTEST events, as a mouse and
