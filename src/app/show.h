@@ -102,8 +102,11 @@ struct ShowBrush {
 struct ShowCurve {
   int device = 0;
   int who = 0;
-  std::vector<std::string> parts;  ///< the chain, the part nearest `from` first
-  std::string from;                ///< the part (or handle) it hangs from
+  /// `chain`: a chain of parts lays along the stroke (loop/curve.h); `contour`: the outline
+  /// segment the stroke runs along takes its shape (loop/contour.h).
+  enum Fit : uint8_t { Chain, Contour } fit = Chain;
+  std::vector<std::string> parts;  ///< the chain, the part nearest `from` first (contour: the parts whose outlines it fits; none: all)
+  std::string from;                ///< the part (or handle) it hangs from (a chain's)
   double strength = 1;
   ShowBrush::Release release = ShowBrush::Hold;
   double release_seconds = 1.0;  ///< (a bent chain springing back faster whips its secondary motion)

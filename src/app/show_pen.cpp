@@ -143,21 +143,25 @@ void read_curves(const std::string& path, const toml::table& root, ShowConfig& s
     c.who = b.index;
     if (auto* x = t.get("fit")) {
       const std::string fit = text(path, *x, "fit");
-      if (fit == "contour") throw ShowError{at(path, *x) + ": fit = \"contour\" is not built yet: \"chain\" lays a chain of parts along the stroke"};
-      if (fit != "chain") throw ShowError{at(path, *x) + ": fit must be \"chain\""};
+      if (fit != "chain" && fit != "contour") throw ShowError{at(path, *x) + ": fit must be \"chain\" or \"contour\""};
+      c.fit = fit == "contour" ? ShowCurve::Contour : ShowCurve::Chain;
     }
     const toml::node* parts = t.get("parts");
     const toml::node* from = t.get("from");
-    if (!parts || !from)
+    if (c.fit == ShowCurve::Chain && (!parts || !from))
       throw ShowError{at(path, n) + ": [[curve]] names its chain: parts = [\"...\"] (shape ids, the one nearest from first) and from (the part it hangs from)"};
-    if (const toml::array* a = parts->as_array()) {
-      for (const toml::node& e : *a) c.parts.push_back(text(path, e, "parts"));
-    } else {
-      c.parts.push_back(text(path, *parts, "parts"));
+    if (c.fit == ShowCurve::Contour && from)
+      throw ShowError{at(path, *from) + ": from is a chain's: fit = \"contour\" redraws the outlines of parts (or of every part)"};
+    if (parts) {
+      if (const toml::array* a = parts->as_array()) {
+        for (const toml::node& e : *a) c.parts.push_back(text(path, e, "parts"));
+      } else {
+        c.parts.push_back(text(path, *parts, "parts"));
+      }
+      if (c.parts.empty() || c.parts.size() > 32) throw ShowError{at(path, *parts) + ": parts must name 1..32 shape ids"};
     }
-    if (c.parts.empty() || c.parts.size() > 32) throw ShowError{at(path, *parts) + ": parts must name 1..32 shape ids"};
-    c.from = text(path, *from, "from");
-    c.strength = read_strength(path, t, 0.5);
+    if (from) c.from = text(path, *from, "from");
+    c.strength = read_strength(path, t, c.fit == ShowCurve::Contour ? 1.0 : 0.5);  // (a redrawn line is meant to be where it is drawn)
     read_release(path, t, rig, c.who, c.release, c.release_seconds, c.key);
     s.curves.push_back(c);
     s.bindings.push_back(std::move(b));

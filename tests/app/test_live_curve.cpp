@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -123,6 +124,110 @@ TEST(Curve, ASpringBringsTheChainBackAndANewStrokeReplacesTheCurve) {
   EXPECT_LT(left.x(), rest_tip.x() - 10) << "the second stroke replaced it, bending left";
 }
 
+// A show whose pen redraws the face's outline (fit = "contour"): the pen's stroke in canvas
+// pixels through the probe's view, as the brush's test draws.
+double distance_to(std::span<const Vec2> poly, const Vec2& x) {
+  double best = 1e300;
+  for (size_t i = 0; i + 1 < poly.size(); ++i) {
+    const Vec2 e = poly[i + 1] - poly[i];
+    const double t = e.squaredNorm() > 0 ? std::clamp((x - poly[i]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+    best = std::min(best, (poly[i] + t * e - x).norm());
+  }
+  return best;
+}
+
+TEST(Curve, AContourFitRedrawsTheOutlineWhereTheStrokeRuns) {
+  set_allocation_counter(&heap_allocation_count);
+  const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
+  auto show = [&](const std::string& name, const std::string& script) {
+    return test::write_temp(name, "[show]\nrig = \"" + rig + "\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+                                  "[display]\nwidth = 400\nheight = 560\n"
+                                  "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n" + script + "\"\"\"\n"
+                                  "[[curve]]\ndevice = \"pen\"\nfit = \"contour\"\nparts = [\"face\"]\nrelease = \"hold\"\n");
+  };
+  auto probe = load(show("contour_probe.toml", "0.1 leave\n"));
+  ASSERT_TRUE(probe);
+  const Affine2 view = probe->actors()[0]->view;
+  // The face is an ellipse about (150, 88), 44 across and 48 down: the stroke runs from its
+  // left point down round its cheek, pushed out 9 units at the middle (a fuller cheek).
+  std::string pts;
+  for (int i = 0; i <= 10; ++i) {
+    const double a = M_PI * (1.0 + 0.25 * i / 10.0), bulge = 9 * std::sin(M_PI * i / 10.0);
+    const Vec2 on(150 + 44 * std::cos(a), 88 - 48 * std::sin(a)), out = on + bulge * Vec2(std::cos(a), -std::sin(a));
+    const Vec2 c = view.apply(out);
+    char b[64];
+    std::snprintf(b, sizeof b, " %.6f,%.6f", c.x() / 400, c.y() / 560);
+    pts += b;
+  }
+  auto s = load(show("contour.toml", "0.1 hover" + pts.substr(0, pts.find(' ', 1)) + "\n0.2 stroke" + pts + " over 0.6 pressure 0.8\n"), 6);
+  ASSERT_TRUE(s);
+  const Actor& a = *s->actors()[0];
+  ASSERT_TRUE(a.has_curve());
+  for (int f = 0; f < 6; ++f) s->frame(int64_t(f * 1e9 / 60));
+  const long before = test::allocation_count();
+  for (int f = 6; f < 49; ++f) s->frame(int64_t(f * 1e9 / 60));  // (0.8 s: the stroke drawn, the pen still down)
+  const ContourStage& c = a.contour();
+  ASSERT_TRUE(c.drawing());
+  ASSERT_GE(c.segment().size(), 6u);
+  const FeatureFrameMethod& ff = *a.puppet().feature_frame();
+  double worst = 0, detail = 0;
+  for (size_t j = 0; j < c.segment().size(); ++j) {
+    worst = std::max(worst, distance_to(c.stroke(), ff.core().vertices()[size_t(c.segment()[j])]));
+    detail = std::max(detail, c.detail(int(j)).norm());
+  }
+  for (int f = 49; f < 120; ++f) s->frame(int64_t(f * 1e9 / 60));  // lifted: held on the face
+  EXPECT_EQ(test::allocation_count() - before, 0) << "drawing, fitting and holding allocate nothing";
+  std::cout << c.segment().size() << " outline vertices took the stroke; the farthest " << worst * a.px_per_unit
+            << " canvas px from it (its detail off a smooth line: " << detail * a.px_per_unit << " px)\n";
+  EXPECT_LT(worst * a.px_per_unit, 1.0 + detail * a.px_per_unit);
+  EXPECT_TRUE(c.active()) << "held after the lift";
+  EXPECT_GT(off_rest(a.puppet(), "face"), 6.0) << "the cheek is fuller";
+  for (const char* id : {"leg-left", "leg-right", "arm-left", "arm-right", "torso"})
+    EXPECT_LT(off_rest(a.puppet(), id), 0.005 * height(a.puppet())) << id;
+}
+
+// The detail kept: a part whose top edge is a zigzag (3 units each way of its mean line) is
+// redrawn by a straight stroke 12 units above that line; the edge takes the stroke's course and
+// keeps its zigzag.
+TEST(Curve, AContourFitKeepsTheOutlinesDetailOnTopOfTheStroke) {
+  std::string top;
+  for (int i = 0; i <= 12; ++i) top += " L " + std::to_string(40 + 10 * i) + " " + (i % 2 ? "54" : "60");
+  test::write_temp("wavy.svg", "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\" viewBox=\"0 0 200 200\">"
+                               "<path id=\"block\" fill=\"#c84\" d=\"M 40 100" + top + " L 160 100 Z\"/></svg>");
+  const std::string rig = test::write_temp("wavy.toml", "character = \"wavy.svg\"\n[[handle]]\nname = \"left\"\nrest = [45.0, 95.0]\n"
+                                                        "[[handle]]\nname = \"right\"\nrest = [155.0, 95.0]\n");
+  auto s = load(test::write_temp("wavy_show.toml", "[show]\nrig = \"" + rig + "\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+                                                   "[display]\nwidth = 400\nheight = 400\n"
+                                                   "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n"
+                                                   "0.1 hover 0.2,0.3\n0.2 stroke 0.2,0.3 0.5,0.225 0.8,0.225 over 0.6 pressure 0.8\n"
+                                                   "\"\"\"\n[[curve]]\ndevice = \"pen\"\nfit = \"contour\"\narea = [0, 0, 200, 200]\n"));
+  ASSERT_TRUE(s);
+  for (int f = 0; f < 49; ++f) s->frame(int64_t(f * 1e9 / 60));  // (drawn; the pen still down)
+  const Actor& a = *s->actors()[0];
+  const ContourStage& c = a.contour();
+  ASSERT_TRUE(c.drawing());
+  const auto v = a.puppet().feature_frame()->core().vertices();
+  const auto& rest = a.puppet().feature_frame()->frame().rest;
+  // The straight run of the stroke (x 100 .. 160 at y 45): each fitted vertex there sits off
+  // it by its own detail (its offset from the running mean of the edge at rest: the zigzag).
+  double worst = 0, zig = 0;
+  size_t n = 0;
+  for (size_t j = 1; j + 1 < c.segment().size(); ++j) {
+    const int k = c.segment()[j];
+    if (rest[size_t(k)].x() < 105 || rest[size_t(k)].x() > 155) continue;
+    const double across = v[size_t(k)].y() - 45;  // (the stroke runs +x: its normal is +y)
+    const double want = c.detail(int(j)).y();
+    worst = std::max(worst, std::abs(across - want));
+    zig = std::max(zig, std::abs(want));
+    ++n;
+  }
+  std::cout << n << " vertices on the stroke's straight run keep the zigzag to within " << worst * a.px_per_unit
+            << " canvas px (it stands " << zig * a.px_per_unit << " px off its mean)\n";
+  ASSERT_GE(n, 4u);
+  EXPECT_GT(zig, 2.5);
+  EXPECT_LT(worst * a.px_per_unit, 1.0);
+}
+
 // release = "key": the lifted curve springs back while the figure blends into its kick.
 TEST(Curve, AKeyReleaseSpringsTheChainBackIntoTheKeyPose) {
   auto s = load(curve_show("curve_key.toml", "release = \"key\"\nkey = \"kick\"\nrelease_seconds = 0.5", kStroke));
@@ -157,7 +262,9 @@ TEST(Curve, ABadCurveIsRefusedWithItsLine) {
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\", \"neck\"]\nfrom = \"torso\"\n")
                 .find(":6: [[curve]]: the chain names part 'neck' twice"),
             std::string::npos);
-  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nfit = \"contour\"\n").find(":10: fit = \"contour\" is not built yet"),
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nfit = \"contour\"\n").find(":9: from is a chain's"),
+            std::string::npos);
+  EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nfit = \"contour\"\nparts = [\"nose\"]\n").find(":6: [[curve]]: part 'nose'"),
             std::string::npos);
   EXPECT_NE(refused("[[curve]]\ndevice = \"pen\"\nparts = [\"neck\"]\nfrom = \"torso\"\nkey = \"wave\"\n").find(":10: key is for release = \"key\""),
             std::string::npos);

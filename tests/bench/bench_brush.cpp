@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -161,6 +162,74 @@ void BM_Curve(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_Curve)->Iterations(1)->Unit(benchmark::kMillisecond);
+
+// The contour fit (app/loop/contour.h): a stroke redrawing the figure's left cheek 9 units
+// fuller, drawn over 0.6 s (the pen covers the figure's drawing: area in its units); at 0.8 s,
+// the pen still down, the farthest of the fitted outline vertices from the stroke in canvas px,
+// their largest detail (off a smooth line) and the largest move of the parts the stroke did not
+// touch, % of the height; the solve's p50 (µs) over 3 s, the fit held after the lift.
+void BM_Contour(benchmark::State& state) {
+  std::string pts;
+  for (int i = 0; i <= 10; ++i) {
+    const double a = M_PI * (1.0 + 0.25 * i / 10.0), bulge = 9 * std::sin(M_PI * i / 10.0);
+    char b[64];
+    std::snprintf(b, sizeof b, " %.6f,%.6f", (150 + (44 + bulge) * std::cos(a)) / 300, (88 - (48 + bulge) * std::sin(a)) / 420);
+    pts += b;
+  }
+  const std::string text =
+      "[show]\nrig = \"" MARIONETTE_SOURCE_DIR "/config/rigs/figure.toml\"\nrate = 60\niterations = 12\nmin_iterations = 12\n"
+      "[display]\nwidth = 400\nheight = 560\nhud = false\n[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n"
+      "0.1 hover" + pts.substr(0, pts.find(' ', 1)) + "\n0.2 stroke" + pts + " over 0.6 pressure 0.8\n\"\"\"\n"
+      "[[curve]]\ndevice = \"pen\"\nfit = \"contour\"\nparts = [\"face\"]\nrelease = \"hold\"\narea = [0, 0, 300, 420]\n";
+  const auto path = std::filesystem::temp_directory_path() / "marionette_bench_contour.toml";
+  std::ofstream(path) << text;
+  for (auto _ : state) {
+    mar::RunOptions o;
+    o.headless = true;
+    o.quiet = true;
+    o.frames = 180;
+    auto s = mar::LiveShow::load(path.string(), o);
+    if (!s.ok()) {
+      state.SkipWithError(s.error.c_str());
+      return;
+    }
+    mar::LiveShow& live = **s.value;
+    for (long f = 0; f < 49; ++f) live.frame(int64_t(double(f) * 1e9 / 60));
+    const mar::Actor& a = *live.actors()[0];
+    const mar::Puppet& p = a.puppet();
+    const mar::ContourStage& c = a.contour();
+    const auto v = p.feature_frame()->core().vertices();
+    const auto stroke = c.stroke();
+    double off = 0, detail = 0, others = 0;
+    for (size_t j = 0; j < c.segment().size(); ++j) {
+      const mar::Vec2 x = v[size_t(c.segment()[j])];
+      double best = 1e300;
+      for (size_t i = 0; i + 1 < stroke.size(); ++i) {
+        const mar::Vec2 e = stroke[i + 1] - stroke[i];
+        const double t = e.squaredNorm() > 0 ? std::clamp((x - stroke[i]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+        best = std::min(best, (stroke[i] + t * e - x).norm());
+      }
+      off = std::max(off, best);
+      detail = std::max(detail, c.detail(int(j)).norm());
+    }
+    const mar::Bounds b = p.character.bounds();
+    const double h = b.hi.y() - b.lo.y();
+    for (size_t k = 0; k < p.shapes.size(); ++k) {
+      const std::string& id = p.character.shapes[k].id;
+      if (id == "face" || id.rfind("hair", 0) == 0 || id.rfind("eye", 0) == 0 || id == "mouth" || id == "neck") continue;
+      for (size_t i = 0; i < p.shapes[k].size(); ++i) others = std::max(others, (p.shapes[k][i] - p.character.shapes[k].points[i]).norm());
+    }
+    live.run();
+    const auto j = nlohmann::json::parse(live.stats_json());
+    state.counters["fitted_vertices"] = double(c.segment().size());
+    state.counters["off_stroke_px"] = off * a.px_per_unit;
+    state.counters["detail_px"] = detail * a.px_per_unit;
+    state.counters["others_off_rest_pct"] = 100 * others / h;
+    state.counters["solve_p50_us"] = j["stages_us"]["solve"]["p50"].get<double>();
+    state.counters["allocs_after_warmup"] = double(live.allocations_after_warmup());
+  }
+}
+BENCHMARK(BM_Contour)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

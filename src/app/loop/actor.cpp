@@ -53,9 +53,10 @@ std::string Actor::prepare(std::shared_ptr<Puppet> p, const ShowConfig& sh, Mapp
   for (const ShowCurve& c : sh.curves)  // a [[curve]] lays a chain along a stroke (loop/curve.h)
     if (c.who == who) {
       const std::string where = sh.path + ":" + std::to_string(c.line) + ": [[curve]]: ";
-      if (brush_.prepared() || curve_.prepared())
+      if (brush_.prepared() || curve_.prepared() || contour_.prepared())
         return where + "a character takes one pen tool, a [[brush]] or a [[curve]] (they share its solver's soft targets)";
-      if (std::string e = curve_.prepare(pp, c, where); !e.empty()) return e;
+      if (std::string e = c.fit == ShowCurve::Contour ? contour_.prepare(pp, c, where) : curve_.prepare(pp, c, where); !e.empty())
+        return e;
     }
   r_.swap0 = swap0;
   r_.swaps = pp.rig.swaps.size();
@@ -82,6 +83,7 @@ bool Actor::apply_settings(const Mapping& m) {
   grab_.restore(m.grab_point(), *puppet_);
   brush_.restore(*puppet_);
   curve_.restore(*puppet_);
+  contour_.restore(*puppet_);
   return true;
 }
 
@@ -90,18 +92,20 @@ void Actor::apply_grab(const Vec2& point, std::span<Vec2> targets) {
 }
 
 void Actor::solve(std::span<const Vec2> targets, int iterations) {
-  const bool was_down = brush_.down() || curve_.drawing();
+  const bool was_down = brush_.down() || curve_.drawing() || contour_.drawing();
   if (brush_.prepared()) brush_.step(pen_, pen_spec_, px_per_unit, pen_dt_, grab_.active(), targets, *puppet_);
   if (curve_.prepared()) curve_.step(pen_, curve_spec_, pen_dt_, grab_.active(), targets, *puppet_);
+  if (contour_.prepared()) contour_.step(pen_, curve_spec_, pen_dt_, grab_.active(), targets, *puppet_);
+  const bool is_down = brush_.down() || curve_.drawing() || contour_.drawing();
   // A tool that lets go into a key pose: its shape springs back while the next frames' poses
   // recall the key over the same seconds (KeyPoseStage's recall, as `pose.KEY` asks).
-  if (!was_down && (brush_.down() || curve_.drawing())) {
+  if (!was_down && is_down) {
     tool_release_ = pen_spec_ ? pen_spec_->release : curve_spec_ ? curve_spec_->release : ShowBrush::Spring;
     tool_recall_.key = pen_spec_ ? pen_spec_->key : curve_spec_ ? curve_spec_->key : -1;
     tool_recall_.seconds = pen_spec_ ? pen_spec_->release_seconds : curve_spec_ ? curve_spec_->release_seconds : 0;
     tool_recall_.who = r_.who;
   }
-  if (was_down && !(brush_.down() || curve_.drawing()) && tool_release_ == ShowBrush::Key) tool_recall_on_ = true;
+  if (was_down && !is_down && tool_release_ == ShowBrush::Key) tool_recall_on_ = true;
   std::copy(targets.begin(), targets.end(), solve_targets_.begin());
   if (curve_.prepared()) curve_.drive_handles(std::span<Vec2>(solve_targets_.data(), targets.size()));
   puppet_->solver->solve(std::span<const Vec2>(solve_targets_.data(), n_solve_), iterations);
@@ -177,6 +181,7 @@ void Actor::take_puppet_from(Actor& old) {
   solver_params_ = old.solver_params_;
   if (brush_.prepared() && old.brush_.prepared()) brush_ = old.brush_;  // (what it brushed stays)
   else if (curve_.prepared() && old.curve_.prepared()) curve_ = old.curve_;  // (and the curve it took)
+  else if (contour_.prepared() && old.contour_.prepared()) contour_ = old.contour_;
   else if (FeatureFrameMethod* ff = puppet_->feature_frame()) ff->core().clear_soft();
 }
 

@@ -11,6 +11,7 @@
 #pragma once
 
 #include "app/loop/brush.h"
+#include "app/loop/contour.h"
 #include "app/loop/curve.h"
 #include "app/loop/grab.h"
 #include "app/loop/key_poses.h"
@@ -77,9 +78,10 @@ class Actor {
     pen_dt_ = dt;
   }
   bool has_brush() const { return brush_.prepared(); }
-  bool has_curve() const { return curve_.prepared(); }
+  bool has_curve() const { return curve_.prepared() || contour_.prepared(); }
   const BrushStage& brush() const { return brush_; }
   const CurveStage& curve() const { return curve_; }
+  const ContourStage& contour() const { return contour_; }
 
   // The stages of a frame, on the actor's slice of the stage's targets (mapping order).
   /// Key poses: the weights from this frame's settings (`setting_value`: the mapping's,
@@ -162,6 +164,7 @@ class Actor {
   Grab grab_;
   BrushStage brush_;
   CurveStage curve_;
+  ContourStage contour_;
   Mapping::Pen pen_;
   const ShowBrush* pen_spec_ = nullptr;
   const ShowCurve* curve_spec_ = nullptr;

@@ -158,6 +158,7 @@ void Studio::step() {
   const ShowCurve* c = tool_ == Tool::Curve && from_ >= 0 && !chain_.empty() ? &curve_spec_ : nullptr;
   if (brush_.prepared()) brush_.step(pen_, b, 1.0, 1.0 / 60, false, targets_, *puppet_);
   if (curve_.prepared()) curve_.step(pen_, c, 1.0 / 60, false, targets_, *puppet_);
+  if (line_.prepared()) line_.step(pen_, tool_ == Tool::Line ? &line_spec_ : nullptr, 1.0 / 60, false, targets_, *puppet_);
   solve_targets_ = targets_;
   if (curve_.prepared()) curve_.drive_handles(solve_targets_);
   puppet_->solver->solve(solve_targets_, puppet_->rig.iterations);

@@ -10,6 +10,7 @@
 #pragma once
 
 #include "app/loop/brush.h"
+#include "app/loop/contour.h"
 #include "app/loop/curve.h"
 #include "app/puppet.h"
 #include "rig/rig_text.h"
@@ -91,7 +92,7 @@ class Studio {
   // ---- the pen's sculpting tools: a show's brush and drawn curve (app/loop/brush.h, curve.h)
   // on the studio's puppet (studio_tools.cpp). A sculpt is held until R, another tool's
   // stroke, or an edit of the rig (which loads the puppet again): K saves it as a key.
-  enum class Tool { Pose, Brush, Curve };
+  enum class Tool { Pose, Brush, Curve, Line };  ///< Line: the curve redrawing an outline (fit = "contour")
   /// Chooses the pen's tool; the first sculpting tool loads the finer frame a brush needs
   /// (kSculptSpacing), keeping the pose. "" or why not.
   std::string set_tool(Tool t);
@@ -111,9 +112,10 @@ class Studio {
   void clear_sculpt();
   const BrushStage& brush() const { return brush_; }
   const CurveStage& curve() const { return curve_; }
+  const ContourStage& line() const { return line_; }
   /// The curve's chain: the part it hangs from, then its parts (names as part_name gives).
   std::vector<std::string> curve_chain() const;
-  /// The stroke being drawn (the curve tool), as drawn.
+  /// The stroke being drawn (the curve and line tools), as drawn.
   const std::vector<Vec2>& stroke() const { return stroke_; }
 
   /// The rest point under p on the posed character (the fill triangle it is in, mapped back;
@@ -152,8 +154,9 @@ class Studio {
   double brush_scale_ = 1;
   BrushStage brush_;
   CurveStage curve_;
+  ContourStage line_;
   ShowBrush brush_spec_;
-  ShowCurve curve_spec_;
+  ShowCurve curve_spec_, line_spec_;
   Mapping::Pen pen_;
   bool pen_was_down_ = false;
   int from_ = -1;                 ///< the curve's: the part it hangs from

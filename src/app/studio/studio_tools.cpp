@@ -17,12 +17,17 @@ namespace fs = std::filesystem;
 std::string Studio::prepare_tools() {
   brush_ = BrushStage{};
   curve_ = CurveStage{};
+  line_ = ContourStage{};
   from_ = -1;
   chain_.clear();
   stroke_.clear();
   pen_ = Mapping::Pen{};
   pen_was_down_ = false;
+  line_spec_.fit = ShowCurve::Contour;
+  line_spec_.strength = 1.0;
+  line_spec_.release = ShowBrush::Hold;
   if (tool_ == Tool::Brush) return brush_.prepare(*puppet_);
+  if (tool_ == Tool::Line) return line_.prepare(*puppet_, line_spec_, "");
   return "";
 }
 
@@ -39,21 +44,22 @@ std::string Studio::set_tool(Tool t) {
     }
     return "";
   }
-  if (t == Tool::Brush && !brush_.prepared()) {  // (the curve's shape, if any, lets go: one tool's targets at a time)
-    if (curve_.prepared()) puppet_->feature_frame()->core().clear_soft();
-    curve_ = CurveStage{};
-    from_ = -1;
-    chain_.clear();
-    if (std::string err = brush_.prepare(*puppet_); !err.empty()) {
-      tool_ = was;
-      return err;
-    }
-  }
-  if (t == Tool::Curve && brush_.prepared()) {
+  // One tool's shape at a time (they share the solve's soft targets): another's lets go.
+  const bool other = (t != Tool::Brush && brush_.prepared()) || (t != Tool::Curve && curve_.prepared()) ||
+                     (t != Tool::Line && line_.prepared());
+  if (t != Tool::Pose && other) {
     puppet_->feature_frame()->core().clear_soft();
     brush_ = BrushStage{};
+    curve_ = CurveStage{};
+    line_ = ContourStage{};
+    from_ = -1;
+    chain_.clear();
   }
-  return "";
+  std::string err;
+  if (t == Tool::Brush && !brush_.prepared()) err = brush_.prepare(*puppet_);
+  if (t == Tool::Line && !line_.prepared()) err = line_.prepare(*puppet_, line_spec_, "");
+  if (!err.empty()) tool_ = was;
+  return err;
 }
 
 double Studio::brush_radius(double pressure) const {
@@ -63,7 +69,7 @@ double Studio::brush_radius(double pressure) const {
 
 void Studio::scale_brush(double factor) { brush_scale_ = std::clamp(brush_scale_ * factor, 0.25, 4.0); }
 
-bool Studio::sculpted() const { return !brush_.points().empty() || curve_.active(); }
+bool Studio::sculpted() const { return !brush_.points().empty() || curve_.active() || line_.active(); }
 
 void Studio::clear_sculpt() {
   if (FeatureFrameMethod* ff = puppet_->feature_frame()) ff->core().clear_soft();
@@ -81,6 +87,10 @@ void Studio::pen(const Vec2& p, bool down, double pressure) {
   pen_.point = p;
   pen_.pressure = pressure;
   pen_.down = down;
+  if (tool_ == Tool::Line) {
+    if (down && !pen_was_down_) stroke_.assign(1, p);
+    else if (down) stroke_.push_back(p);
+  }
   if (tool_ == Tool::Curve) {
     if (down && !pen_was_down_) {  // a new stroke: its chain hangs from the part it starts on
       if (curve_.prepared()) puppet_->feature_frame()->core().clear_soft();

@@ -114,6 +114,8 @@ void StudioWindow::release(double x, double y) {
     studio_.step();  // (the pen's lift: the stroke holds)
     if (studio_.tool() == Studio::Tool::Brush) {
       say(studio_.brush().points().empty() ? "no outline under the brush" : "brushed (K saves the sculpt as a key; R lets it go)");
+    } else if (studio_.tool() == Studio::Tool::Line) {
+      say(studio_.line().active() ? "redrew the outline (K saves it as a key; R lets it go)" : "start the stroke on an outline and draw along it");
     } else {
       const std::vector<std::string> chain = studio_.curve_chain();
       std::string names;
@@ -178,12 +180,14 @@ void StudioWindow::key(const SDL_KeyboardEvent& k) {
       say("every handle at rest");
       break;
     case SDLK_b:
-    case SDLK_c: {
-      const Studio::Tool t = sym == SDLK_b ? Studio::Tool::Brush : Studio::Tool::Curve;
+    case SDLK_c:
+    case SDLK_l: {
+      const Studio::Tool t = sym == SDLK_b ? Studio::Tool::Brush : sym == SDLK_c ? Studio::Tool::Curve : Studio::Tool::Line;
       const Studio::Tool want = studio_.tool() == t ? Studio::Tool::Pose : t;
       const std::string err = studio_.set_tool(want);
       say(want == Studio::Tool::Brush   ? "the brush: drag an outline (pressure or [ ] size it; B again: handles)"
           : want == Studio::Tool::Curve ? "the curve: draw from the part a chain hangs from through its parts (C again: handles)"
+          : want == Studio::Tool::Line  ? "the line: draw along an outline and it takes the stroke's course (L again: handles)"
                                         : "posing handles",
           err);
       break;
@@ -308,7 +312,8 @@ void StudioWindow::draw() {
   if (studio_.tool() == Studio::Tool::Brush)
     append_pen_marks(pointer_, drag_ == Drag::Sculpt && studio_.brush().down() ? studio_.brush().radius() : studio_.brush_radius(pressure_),
                      {}, v, list_);
-  if (studio_.tool() == Studio::Tool::Curve && drag_ == Drag::Sculpt) append_pen_marks(pointer_, 0, studio_.stroke(), v, list_);
+  if ((studio_.tool() == Studio::Tool::Curve || studio_.tool() == Studio::Tool::Line) && drag_ == Drag::Sculpt)
+    append_pen_marks(pointer_, 0, studio_.stroke(), v, list_);
   if (std::string err = canvas_->draw(list_); !err.empty()) say("", err);
   canvas_->compose();
 
@@ -318,7 +323,10 @@ void StudioWindow::draw() {
   const double unit = (window_point(pointer_ + Vec2(1, 0)) - window_point(pointer_)).norm();
   const int hovered_hinge = studio_.hinge_at(pointer_, kPickPx / std::max(unit, 1e-9));
   char buf[256];
-  const char* tool = studio_.tool() == Studio::Tool::Brush ? "   [brush]" : studio_.tool() == Studio::Tool::Curve ? "   [curve]" : "";
+  const char* tool = studio_.tool() == Studio::Tool::Brush   ? "   [brush]"
+                     : studio_.tool() == Studio::Tool::Curve ? "   [curve]"
+                     : studio_.tool() == Studio::Tool::Line  ? "   [line]"
+                                                             : "";
   std::snprintf(buf, sizeof buf, "%s%s   %zu handles, %zu hinges%s%s", studio_.rig_path().c_str(),
                 studio_.dirty() ? " (unsaved)" : "", handles.size(), hinges.size(), overlay_ ? ", frame" : "", tool);
   text_.push_back(buf);
@@ -333,7 +341,7 @@ void StudioWindow::draw() {
   } else {
     text_.push_back(status_);
   }
-  text_.push_back("drag handles and hinges  click: add  Del: remove  B: brush  C: curve  K: key  Ctrl+Z/Y: undo/redo  F: frame  R: rest  S: save");
+  text_.push_back("drag handles and hinges  click: add  Del: remove  B: brush  C: curve  L: line  K: key  Ctrl+Z/Y: undo/redo  F: frame  R: rest  S: save");
   const size_t status_lines = text_.size();
   for (size_t h = 0; h < handles.size(); ++h) text_.push_back(p.rig.handles[h].name);
   for (const StudioHinge& j : hinges) text_.push_back(j.label);

@@ -9,7 +9,8 @@
 //   B, C                 the pen's tool: the brush (drag an outline: it moves by the Gaussian
 //                        of its distance, radius by pressure, [ and ] size it) or the curve
 //                        (draw from the part a chain hangs from through its parts: they take
-//                        the stroke's curve); the same key again: back to posing handles
+//                        the stroke's curve); L the line (draw along an outline: it takes the
+//                        stroke's course, its detail kept); the same key again: back to handles
 //   K                    save the pose as a key (type its name, Enter; a sculpt saves the shape)
 //   Ctrl+Z, Ctrl+Y       undo, redo (Ctrl+Shift+Z too)
 //   F                    the frame overlay           R: every handle back at rest

@@ -194,6 +194,39 @@ TEST(StudioTools, TheCurveTakesTheChainItsStrokeCrossesAndSavesAsAKey) {
   EXPECT_LT(off, 0.02);
 }
 
+TEST(StudioTools, TheLineRedrawsAnOutlineAndSavesAsAKey) {
+  const fs::path dir = cat_folder("line");
+  auto s = open_cat(dir);
+  ASSERT_TRUE(s);
+  ASSERT_EQ(s->set_tool(Studio::Tool::Line), "");
+  const Puppet& p = s->puppet();
+  const int body = shape_of(p, "ellipse1042");
+  ASSERT_GE(body, 0);
+  // The body's back: from its top point a third of the way along, drawn 8 units higher.
+  const Bounds b = p.character.shapes[size_t(body)].bounds();
+  const Vec2 c = 0.5 * (b.lo + b.hi), r = 0.5 * (b.hi - b.lo);
+  Vec2 end(0, 0);
+  for (int f = 0; f <= 20; ++f) {
+    const double a = M_PI * (0.62 - 0.24 * f / 20.0), lift = f == 0 ? 0.0 : 8 * std::sin(M_PI * f / 20.0);
+    end = Vec2(c.x() + (r.x() + lift) * std::cos(a), c.y() - (r.y() + lift) * std::sin(a));
+    s->pen(end, true, 0.5);
+    s->step();
+  }
+  s->pen(end, false, 0);
+  for (int f = 0; f < 40; ++f) s->step();
+  ASSERT_TRUE(s->sculpted());
+  EXPECT_GE(s->line().segment().size(), 5u);
+  double up = 0;
+  for (size_t i = 0; i < p.shapes[size_t(body)].size(); ++i)
+    up = std::max(up, p.character.shapes[size_t(body)].points[i].y() - p.shapes[size_t(body)][i].y());
+  EXPECT_GT(up, 5.0) << "the back rose with the stroke";
+  ASSERT_EQ(s->save_key("proud"), "");
+  ASSERT_EQ(s->save(), "");
+  const double off = recalled_off(dir, "proud", s->puppet());
+  std::cout << "the recalled line key off the studio's pose: " << 100 * off << " % of the height\n";
+  EXPECT_LT(off, 0.005);
+}
+
 TEST(StudioTools, ABrokenSculptedKeyIsRefusedWithItsLine) {
   const fs::path dir = cat_folder("broken");
   {
