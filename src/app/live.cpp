@@ -273,6 +273,19 @@ void LiveShow::map(int64_t t_ns) {
   if (!leds_.empty() && !playback_) leds_.frame(t_ns, mapping_, swap_members_, triggers_on_, device_states_, lights_);
 }
 
+bool LiveShow::pen_over(int who, const Vec2& p) const {
+  if (who < 0 || size_t(who) >= actors_.size() || actors_[size_t(who)]->presence() <= 0) return false;
+  const Puppet& pp = actors_[size_t(who)]->puppet();
+  const double reach = 0.03 * pp.diagonal;
+  for (size_t k = 0; k < pp.shapes.size(); ++k) {
+    if (!pp.shown[k]) continue;
+    if (pp.character.shapes[k].closed() && pp.character.shapes[k].contains(p, pp.shapes[k])) return true;
+    for (const Vec2& q : pp.shapes[k])
+      if ((q - p).squaredNorm() <= reach * reach) return true;
+  }
+  return false;
+}
+
 void LiveShow::apply_settings() {
   // New solver parameters from a control: the system changes, so it is factorised again
   // (measured: refactor_us; the factorisation allocates, counted on its own).

@@ -185,6 +185,10 @@ class LiveShow : private LiveRun {
   uint64_t run_hash() const { return stats_.hash.value(); }
   long frames() const { return stats_.frames; }
   const Mapping& mapping() const { return mapping_; }
+  /// Whether the cast's character `who` is drawn at `p` (its units) as last posed: inside a
+  /// shown closed part, or within 3 % of its diagonal of an outline (where a brush touches).
+  /// What one pen with tools on several characters takes as its tip goes down.
+  bool pen_over(int who, const Vec2& p) const;
   /// The attract loop ([attract]), or nullptr.
   const Attract* attract() const { return attract_.get(); }
   /// The cast's first character's puppet (a show's single rig).

@@ -148,6 +148,8 @@ Result<std::unique_ptr<LiveShow>> LiveShow::prepare(const std::string& path, con
     s->actors_.push_back(std::move(a));
   }
   for (const auto& a : s->actors_) s->z_order_.push_back(a.get());
+  if (s->actors_.size() > 1 && (!sh.brushes.empty() || !sh.curves.empty()))  // (one pen, tools on several characters)
+    m.set_pen_hit([show = s.get()](int who, const Vec2& p) { return show->pen_over(who, p); });
   s->quality_.assign(s->actors_.size(), 0.0);
   if (!sh.cast.empty()) {
     size_t nh = 0, nk = 0;

@@ -326,6 +326,13 @@ bool Mapping::apply(const Event& e) {
             grab_by_ = b.tip ? bi : -1;
           } else if ((b.target == TargetKind::Brush || b.target == TargetKind::Curve) &&
                      (brush_by_ == bi || brush_by_ < 0 || pressed)) {
+            // One pen with tools on several characters: its tip going down takes the tool whose
+            // character is drawn under it (another pen's tip still takes over, as a grab does).
+            if (pressed && pen_hit_ && brush_by_ != bi) {
+              const bool under = pen_hit_(b.index, p);
+              if (brush_by_ >= 0 && brush_hit_ && bindings_[size_t(brush_by_)].control.device == b.control.device) break;
+              brush_hit_ = under;
+            }
             brush_.down = b.tip;
             brush_.curve = b.target == TargetKind::Curve;
             brush_.point = p;

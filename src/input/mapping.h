@@ -24,6 +24,7 @@
 #include "input/filters.h"
 #include "input/hid_usages.h"
 
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -207,6 +208,10 @@ class Mapping {
     int brush = 0;              ///< which [[brush]] or [[curve]] (ShowConfig::brushes, curves)
   };
   const Pen& brush() const { return brush_; }
+  /// Whether the cast's character `who` is drawn at `p` (its units): set by the stage, so that
+  /// one pen with tools on several characters takes, as its tip goes down, the one whose
+  /// character is under it (unset: the last of its tools, as any pointer takes over).
+  void set_pen_hit(std::function<bool(int who, const Vec2& p)> hit) { pen_hit_ = std::move(hit); }
   const MappingStats& stats() const { return stats_; }
   // For the HUD: each binding, the value its target has now (NaN for targets without one:
   // grabs, poses, swaps, triggers, recalls), and where an absolute control waiting for soft
@@ -275,6 +280,8 @@ class Mapping {
   Vec2 grab_point_ = Vec2::Zero();
   Pen brush_;
   int brush_by_ = -1;  ///< the binding holding the brush (-1: none)
+  bool brush_hit_ = false;  ///< its character was under the pen when its tip went down
+  std::function<bool(int, const Vec2&)> pen_hit_;
   int grab_who_ = 0;
   int grab_by_ = -1;  ///< the grab binding whose pen holds (-1: none)
   MappingStats stats_;

@@ -228,6 +228,35 @@ TEST(Curve, AContourFitKeepsTheOutlinesDetailOnTopOfTheStroke) {
   EXPECT_LT(worst * a.px_per_unit, 1.0);
 }
 
+// One pen with a tool on each of a cast's characters (the figure's brush, the cat's curve): as
+// its tip goes down it takes the tool whose character is drawn under it, whichever table comes
+// first in the show.
+TEST(Curve, OnePenTakesTheToolOfTheCharacterUnderIt) {
+  const std::string dir = (test::source_dir() / "config/rigs").string();
+  auto show = [&](const std::string& name, const std::string& script) {
+    return test::write_temp(name, "[show]\nrate = 60\n[display]\nwidth = 1000\nheight = 600\n"
+                                  "[[character]]\nname = \"figure\"\nrig = \"" + dir + "/figure.toml\"\nposition = [400, 300]\n"
+                                  "[[character]]\nname = \"cat\"\nrig = \"" + dir + "/cat.toml\"\nposition = [780, 420]\nscale = 0.55\n"
+                                  "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n" + script + "\"\"\"\n"
+                                  "[[brush]]\ndevice = \"pen\"\ncharacter = \"figure\"\nrelease = \"hold\"\n"
+                                  "[[curve]]\ndevice = \"pen\"\ncharacter = \"cat\"\nparts = [\"path2291\"]\nfrom = \"ellipse1042\"\n");
+  };
+  // The cat's tail drawn up from where it hangs (as sculpt.toml's tail pen draws it), then the
+  // figure's cheek brushed out (as its brush pen does).
+  auto s = load(show("one_pen.toml", "0.5 hover 0.665,0.70\n0.6 stroke 0.665,0.70 0.63,0.62 0.62,0.53 over 0.6 pressure 0.8\n"
+                                     "1.5 hover 0.3412,0.2430\n1.6 stroke 0.3412,0.2430 0.3169,0.2430 over 0.5 pressure 1.0\n"));
+  ASSERT_TRUE(s);
+  const Actor& figure = *s->actors()[0];
+  const Actor& cat = *s->actors()[1];
+  for (int f = 0; f < 80; ++f) s->frame(int64_t(f * 1e9 / 60));  // (1.33 s: the tail drawn)
+  EXPECT_EQ(cat.curve().strokes(), 1) << "the pen went down on the cat: its curve";
+  EXPECT_EQ(figure.brush().strokes(), 0) << "not the figure's brush, the first table";
+  for (int f = 80; f < 140; ++f) s->frame(int64_t(f * 1e9 / 60));
+  EXPECT_EQ(figure.brush().strokes(), 1) << "then down on the figure's cheek: its brush";
+  EXPECT_EQ(cat.curve().strokes(), 1);
+  EXPECT_GE(figure.brush().points().size(), 5u);
+}
+
 // release = "key": the lifted curve springs back while the figure blends into its kick.
 TEST(Curve, AKeyReleaseSpringsTheChainBackIntoTheKeyPose) {
   auto s = load(curve_show("curve_key.toml", "release = \"key\"\nkey = \"kick\"\nrelease_seconds = 0.5", kStroke));
