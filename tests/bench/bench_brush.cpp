@@ -1,7 +1,8 @@
 // The pen's tools on the figure. The brush of seed 004 (app/loop/brush.h), 60 Hz, headless on the virtual clock,
 // side by side in one run: the figure with no brush, with a [[brush]] whose pen never touches
 // (its finer feature frame: kSculptSpacing), and brushed — a stroke pushing the cheek out by 25
-// units at full pressure, held — then a knob swaying the figure with the stroke held. Reports
+// units at full pressure, held — and the same stroke as a plain grab of the cheek (mode 3: the
+// handle drag the tools' cost stands beside); then a knob swaying the figure. Reports
 // the solve's p50/p99 (µs), the brushed outline's worst distance from the Gaussian profile (% of
 // the drag), the largest distance from rest (% of the height) of the parts away from the stroke
 // (torso, arms, legs) and of those sewn to the face inside the brush (hair cap, neck), the
@@ -23,14 +24,15 @@ namespace {
 const mar::Vec2 kCheek(106.5, 96.0), kDrag(-24.0, 6.0);
 
 std::string show(int mode, const mar::Affine2& view) {
-  // mode 0: no brush; 1: a brush never touching; 2: brushed
+  // mode 0: no brush; 1: a brush never touching; 2: brushed; 3: the same stroke a plain grab
+  // (the pen drags the cheek's point as a temporary handle: the drag the tools stand beside)
   auto at = [&](const mar::Vec2& p) {
     const mar::Vec2 c = view.apply(p);
     char s[64];
     std::snprintf(s, sizeof s, "%.6f,%.6f", c.x() / 800, c.y() / 600);
     return std::string(s);
   };
-  std::string pen = mode == 2 ? "0.1 hover " + at(kCheek) + "\n0.2 stroke " + at(kCheek) + " " + at(kCheek + kDrag) +
+  std::string pen = mode >= 2 ? "0.1 hover " + at(kCheek) + "\n0.2 stroke " + at(kCheek) + " " + at(kCheek + kDrag) +
                                     " over 0.5 pressure 1.0\n"
                               : "0.1 leave\n";
   std::string text = "[show]\nrig = \"" MARIONETTE_SOURCE_DIR "/config/rigs/figure.toml\"\nrate = 60\niterations = 10\n"
@@ -40,7 +42,8 @@ std::string show(int mode, const mar::Affine2& view) {
   for (int k = 0; k < 5; ++k)
     text += std::to_string(2 * k + 1) + ".0 turn 1 -12 over 1.0\n" + std::to_string(2 * k + 2) + ".0 turn 1 12 over 1.0\n";
   text += "\"\"\"\n[[binding]]\ndevice = \"knobs\"\ncontrol = \"encoder 1\"\nmode = \"delta\"\nstep = 2.0\ntarget = \"handle.chest.x\"\n";
-  if (mode > 0) text += "[[brush]]\ndevice = \"pen\"\nradius = [12, 40]\nrelease = \"hold\"\n";
+  if (mode == 1 || mode == 2) text += "[[brush]]\ndevice = \"pen\"\nradius = [12, 40]\nrelease = \"hold\"\n";
+  if (mode == 3) text += "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\narea = \"canvas\"\n";
   const auto path = std::filesystem::temp_directory_path() / ("marionette_bench_brush_" + std::to_string(mode) + ".toml");
   std::ofstream(path) << text;
   return path.string();
@@ -105,7 +108,7 @@ void BM_Brush(benchmark::State& state) {
     state.counters["allocs_after_warmup"] = double(live.allocations_after_warmup());
   }
 }
-BENCHMARK(BM_Brush)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Brush)->ArgName("mode")->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Iterations(1)->Unit(benchmark::kMillisecond);
 
 // The drawn curve of seed 001 (app/loop/curve.h) on the figure's neck, face and hair cap (a
 // line of action bending right, drawn over 0.6 s and held): the chain's axis from the drawn

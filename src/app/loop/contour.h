@@ -78,7 +78,7 @@ class ContourStage {
   std::array<double, kMaxStroke> stroke_s_{};
   int n_stroke_ = 0;
   double min_step_ = 1, strength_ = 1;
-  bool down_ = false, releasing_ = false, hold_ = true, fitted_ = false;
+  bool down_ = false, releasing_ = false, hold_ = true;
   double release_s_ = 0.5, release_t_ = 0, spring_k_ = 1;
   long strokes_ = 0;
 };
