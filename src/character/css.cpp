@@ -65,8 +65,10 @@ bool parse_selector(std::string_view s, Selector& out) {
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> parse_declarations(
-    std::string_view body, std::vector<std::pair<std::string, std::string>>* important) {
+    std::string_view text, std::vector<std::pair<std::string, std::string>>* important) {
   std::vector<std::pair<std::string, std::string>> out;
+  const std::string clean = strip_comments(text);  // (a style attribute may hold /* comments */ too)
+  std::string_view body = clean;
   while (!body.empty()) {
     const size_t semi = body.find(';');
     std::string_view decl = body.substr(0, semi);

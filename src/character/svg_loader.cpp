@@ -6,6 +6,7 @@
 #include "base/read_file.h"
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <sstream>
 
@@ -194,11 +195,35 @@ std::optional<Vec2> SvgLoader::transform_origin(const pugi::xml_node& n) {
 }
 
 Affine2 SvgLoader::element_transform(const pugi::xml_node& n) {
+  // The CSS property (a style attribute's or a sheet's) over the attribute; its lengths and
+  // angles may carry units (translate(10px, 5px), rotate(45deg)): those of the attribute's.
+  std::string text;
+  bool css = false;
+  if (std::string_view(n.attribute("style").value()).find("transform") != std::string_view::npos || !sheet_.rules.empty()) {
+    const Decls d = declarations(n);
+    if (auto v = prop(d, "transform")) {
+      for (size_t i = 0; i < v->size(); ++i) {
+        const bool after_number = i > 0 && (std::isdigit(static_cast<unsigned char>((*v)[i - 1])) || (*v)[i - 1] == '.');
+        if (after_number && v->substr(i, 2) == "px") {
+          ++i;
+          continue;
+        }
+        if (after_number && v->substr(i, 3) == "deg") {
+          i += 2;
+          continue;
+        }
+        text.push_back((*v)[i]);
+      }
+      css = true;
+    }
+  }
   pugi::xml_attribute t = n.attribute("transform");
-  if (!t) return Affine2::identity();
-  auto m = svg::parse_transform(t.value());
+  if (!css && !t) return Affine2::identity();
+  if (!css) text = t.value();
+  if (trim_space(text) == "none") return Affine2::identity();
+  auto m = svg::parse_transform(text);
   if (!m || !m->is_finite()) {
-    warn(n, std::string("bad transform \"") + t.value() + "\"; element not drawn");
+    warn(n, "bad transform \"" + text + "\"; element not drawn");
     return Affine2{0, 0, 0, 0, 0, 0};
   }
   return about_origin(n, *m);

@@ -56,6 +56,9 @@ struct Style {
   bool non_scaling = false;    // vector-effect: non-scaling-stroke (not inherited)
   std::string marker_start, marker_mid, marker_end;  // marker references (url(#id)), inherited
   FillRule clip_rule = FillRule::NonZero;            // (inherited)
+  // fill or stroke currentColor: inherited as the keyword, each element's own color (CSS Color 4)
+  bool fill_current = false, stroke_current = false;
+  double font_size = 16;  // what em and ex lengths are (inherited; text itself is not drawn)
 };
 
 // A gradient's stop: where (0..1, never before the one before it) and its colour with opacity.
@@ -251,6 +254,7 @@ class SvgLoader {
   css::Sheet sheet_;
   std::map<std::string, std::shared_ptr<const Texture>> images_;
   Viewport current_vp_;
+  double current_font_ = 16;  // the element being read's font-size (em, ex)
   Character ch_;
   size_t total_points_ = 0;
   size_t elements_ = 0;  // visited so far, each <use> expansion again (SvgOptions::max_elements)

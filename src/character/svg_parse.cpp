@@ -315,7 +315,7 @@ double parse_opacity(std::string_view v, double fallback) {
   return std::clamp(pct ? *r / 100.0 : *r, 0.0, 1.0);
 }
 
-std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h) {
+std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h, double font_size) {
   v = trim_ws(v);
   size_t pos = 0;
   auto r = read_number(v, pos);
@@ -338,9 +338,9 @@ std::optional<double> parse_length(std::string_view v, int axis, double vp_w, do
   } else if (unit == "pc") {
     k = 16;
   } else if (unit == "em") {
-    k = 16;
+    k = font_size;
   } else if (unit == "ex") {
-    k = 8;
+    k = font_size / 2;
   } else {
     return std::nullopt;
   }

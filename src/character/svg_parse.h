@@ -71,7 +71,8 @@ double parse_opacity(std::string_view v, double fallback);
 /// A length in px: number with px, pt, pc, mm, cm, in, em (16 px), ex (8 px) or %.
 /// Percentages refer to the viewport: axis 0 = width, 1 = height, 2 = the normalised
 /// diagonal sqrt((w^2 + h^2) / 2). nullopt when malformed or not finite.
-std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h);
+/// `font_size`: what em is (ex: half of it), the element's font-size.
+std::optional<double> parse_length(std::string_view v, int axis, double vp_w, double vp_h, double font_size = 16);
 
 /// A `systemLanguage` list ("en, fr-CA") passes when it names English (en or en-*), the
 /// language marionette's messages are in.

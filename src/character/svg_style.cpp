@@ -17,7 +17,7 @@ SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
       "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
       "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
       "mask", "clip-path", "stroke-dashoffset", "paint-order", "vector-effect", "marker-start", "marker-mid",
-      "marker-end", "clip-rule", "mask-type", "overflow"};
+      "marker-end", "clip-rule", "mask-type", "overflow", "font-size"};
   for (const char* p : kPresentation) {
     if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
   }
@@ -105,7 +105,7 @@ double SvgLoader::length_attr(const pugi::xml_node& n, const char* attr, int axi
                               double fallback) {
   pugi::xml_attribute a = n.attribute(attr);
   if (!a) return fallback;
-  auto v = svg::parse_length(a.value(), axis, vp.w, vp.h);
+  auto v = svg::parse_length(a.value(), axis, vp.w, vp.h, current_font_);
   if (!v) {
     warn(n, std::string("bad length ") + attr + "=\"" + a.value() + "\"");
     return fallback;
@@ -117,18 +117,34 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   Style s = parent;
   const Decls d = declarations(n);
   auto is_inherit = [](std::string_view v) { return trim_space(v) == "inherit"; };
+  if (auto v = prop(d, "font-size"); v && !is_inherit(*v)) {  // (em and % of the parent's)
+    const std::string_view f = trim_space(*v);
+    if (!f.empty() && f.back() == '%') {
+      if (auto k = svg::parse_length(f.substr(0, f.size() - 1), 0, 0, 0); k && *k > 0) s.font_size = parent.font_size * *k / 100;
+    } else if (auto k = svg::parse_length(f, 2, current_vp_.w, current_vp_.h, parent.font_size); k && *k > 0 && *k < 1e6) {
+      s.font_size = *k;
+    }
+  }
+  current_font_ = s.font_size;
   if (auto v = prop(d, "color"); v && !is_inherit(*v)) {
     if (auto c = parse_color(*v)) s.color = *c;
   }
   if (auto v = prop(d, "fill"); v && !is_inherit(*v)) {
-    if (auto p = parse_paint(*v, n)) s.fill = *p;
+    if (auto p = parse_paint(*v, n)) {
+      s.fill = *p;
+      s.fill_current = p->kind == Paint::CurrentColor;
+    }
   }
   if (auto v = prop(d, "stroke"); v && !is_inherit(*v)) {
-    if (auto p = parse_paint(*v, n)) s.stroke = *p;
+    if (auto p = parse_paint(*v, n)) {
+      s.stroke = *p;
+      s.stroke_current = p->kind == Paint::CurrentColor;
+    }
   }
-  // currentColor is resolved where it is specified (inherited as a colour).
-  if (s.fill.kind == Paint::CurrentColor) s.fill = Paint{Paint::Color, s.color, {}, false, {}, false};
-  if (s.stroke.kind == Paint::CurrentColor) s.stroke = Paint{Paint::Color, s.color, {}, false, {}, false};
+  // currentColor is inherited as the keyword and resolved against each element's own color
+  // (a group's fill="currentColor" over a child's color="green" paints green).
+  if (s.fill_current) s.fill = Paint{Paint::Color, s.color, {}, false, {}, false};
+  if (s.stroke_current) s.stroke = Paint{Paint::Color, s.color, {}, false, {}, false};
   if (auto v = prop(d, "fill-opacity"); v && !is_inherit(*v)) s.fill_opacity = svg::parse_opacity(*v, 1);
   if (auto v = prop(d, "stroke-opacity"); v && !is_inherit(*v)) s.stroke_opacity = svg::parse_opacity(*v, 1);
   if (auto v = prop(d, "clip-rule"); v) {
@@ -141,7 +157,7 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   }
   if (auto v = prop(d, "stroke-width"); v && !is_inherit(*v)) {
     Viewport vp = current_vp_;
-    if (auto w = svg::parse_length(*v, 2, vp.w, vp.h); w && *w >= 0) s.stroke_width = *w;
+    if (auto w = svg::parse_length(*v, 2, vp.w, vp.h, current_font_); w && *w >= 0) s.stroke_width = *w;
   }
   if (auto v = prop(d, "stroke-linejoin"); v) {
     const std::string_view j = trim_space(*v);

@@ -245,6 +245,33 @@ TEST(load_svg, CurrentColor) {
   EXPECT_EQ(color_hex(ch.shapes.at(0).fill.color), "#123456");
 }
 
+TEST(load_svg, CurrentColorIsInheritedAsTheKeyword) {
+  // A group's fill="currentColor" paints each child in the child's own color (CSS Color 4).
+  auto ch = load(R"svg(<g fill="currentColor" stroke="currentColor"><g color="#00ff00"><rect id="a" width="1" height="1"/></g>
+      <rect id="b" x="2" width="1" height="1" color="#0000ff"/><rect id="c" x="4" width="1" height="1" fill="red"/></g>)svg");
+  EXPECT_EQ(color_hex(find(ch, "a")->fill.color), "#00ff00");
+  EXPECT_EQ(color_hex(find(ch, "a")->stroke.color), "#00ff00");
+  EXPECT_EQ(color_hex(find(ch, "b")->fill.color), "#0000ff");
+  EXPECT_EQ(color_hex(find(ch, "c")->fill.color), "#ff0000");
+}
+
+TEST(load_svg, StyleCommentsCssTransformsAndFontRelativeLengths) {
+  auto ch = load(R"svg(<rect id="commented" width="10" height="10" style="/* a note */fill:#00ff00/* another */"/>
+      <rect id="scaled" x="10" y="10" width="10" height="10" style="transform: translate(5px, 0) scale(2)"/>
+      <rect id="none" x="10" width="1" height="1" transform="scale(3)" style="transform:none"/>
+      <g font-size="20"><rect id="em" x="1em" width="2em" height="1ex"/><g font-size="50%"><rect id="half" width="1em" height="1em"/></g></g>)svg");
+  EXPECT_EQ(color_hex(find(ch, "commented")->fill.color), "#00ff00");
+  const Bounds s = find(ch, "scaled")->bounds();
+  EXPECT_NEAR(s.lo.x(), 25, 1e-9) << "the style's transform, its units read";
+  EXPECT_NEAR(s.hi.y(), 40, 1e-9);
+  EXPECT_NEAR(find(ch, "none")->bounds().hi.x(), 11, 1e-9) << "transform: none over the attribute";
+  const Bounds e = find(ch, "em")->bounds();
+  EXPECT_NEAR(e.lo.x(), 20, 1e-9);
+  EXPECT_NEAR(e.hi.x(), 60, 1e-9);
+  EXPECT_NEAR(e.hi.y(), 10, 1e-9) << "an ex is half an em";
+  EXPECT_NEAR(find(ch, "half")->bounds().hi.x(), 10, 1e-9) << "a percentage of the parent's font-size";
+}
+
 TEST(load_svg, DisplayAndVisibility) {
   auto ch = load(R"svg(<g style="display:none"><rect id="gone" width="1" height="1"/></g>
                     <g visibility="hidden"><rect id="hidden" width="1" height="1"/>

@@ -6,7 +6,8 @@
 // transparent background) and compare per pixel (premultiplied channels). A test
 // matches when at most 1% of its pixels differ by more than 32/255 in any channel.
 // Prints the share, and writes per-test numbers as JSON with --json FILE.
-// This is a measurement for README, not a pass/fail gate.
+// This is a measurement for README, not a pass/fail gate. External images are read wherever
+// they are (the suite's are in its `resources` folder), as `[show] images = "anywhere"` allows.
 #include "character/load.h"
 #include "render/canvas.h"
 
@@ -51,7 +52,11 @@ int main(int argc, char** argv) {
     for (const fs::path& svg : svgs) {
       Row row{std::string(group) + "/" + fs::relative(svg, root / group).string(), "", 1.0};
       auto ref = mar::read_png_image(fs::path(svg).replace_extension(".png").string());
-      auto ch = mar::load_character(svg.string());
+      // (the suite keeps its pictures in a folder of their own, `resources`, beside the tests:
+      // what a show allows with [show] images = "anywhere")
+      mar::LoadOptions lo;
+      lo.images_anywhere = true;
+      auto ch = mar::load_character(svg.string(), lo);
       if (!ref.ok()) {
         row.status = "no-reference";
       } else if (!ch.ok()) {
