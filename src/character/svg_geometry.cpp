@@ -80,16 +80,26 @@ void SvgLoader::image(const pugi::xml_node& n, const Ctx& ctx) {
   if (!ctx.style.visible) return;
   const std::string_view href = trim_space(href_of(n));
   if (href.empty()) return;
+  if (!images_.count(std::string(href))) {  // (an SVG document is drawn as one, not as pixels)
+    std::vector<unsigned char> bytes;
+    std::string label, problem;
+    if (svg::image_href_bytes(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, bytes, label, problem) &&
+        svg::is_svg_image(href, bytes)) {
+      svg_image(n, ctx, bytes, label);
+      return;
+    }
+  }
   std::shared_ptr<const Texture> tex = load_image(n, href);
   if (!tex) return;
   const double x = length_attr(n, "x", 0, ctx.vp, 0), y = length_attr(n, "y", 1, ctx.vp, 0);
-  double w = length_attr(n, "width", 0, ctx.vp, 0), h = length_attr(n, "height", 1, ctx.vp, 0);
-  if (!n.attribute("width") && !n.attribute("height")) {
+  auto given = [&](const char* a) { return n.attribute(a) && trim_space(n.attribute(a).value()) != "auto"; };
+  double w = given("width") ? length_attr(n, "width", 0, ctx.vp, 0) : 0, h = given("height") ? length_attr(n, "height", 1, ctx.vp, 0) : 0;
+  if (!given("width") && !given("height")) {  // (no size, or "auto": the picture's own)
     w = tex->width;
     h = tex->height;
-  } else if (!n.attribute("width")) {
+  } else if (!given("width")) {
     w = h * tex->width / tex->height;
-  } else if (!n.attribute("height")) {
+  } else if (!given("height")) {
     h = w * tex->height / tex->width;
   }
   if (!(w > 0) || !(h > 0)) return;
@@ -304,6 +314,75 @@ void SvgLoader::make_ids_unique() {
       s.id.append(std::to_string(k));
     }
   }
+}
+
+void SvgLoader::svg_image(const pugi::xml_node& n, const Ctx& ctx, const std::vector<unsigned char>& bytes, const std::string& label) {
+  if (nested_depth_ >= 3) {
+    warn(n, "SVG images nest more than 3 deep; this one skipped");
+    return;
+  }
+  if (bytes.size() >= 2 && bytes[0] == 0x1f && bytes[1] == 0x8b) {
+    warn(n, "a compressed SVG (.svgz) as an image is not supported; skipped");
+    return;
+  }
+  auto nd = std::make_unique<NestedDoc>();
+  nd->text.assign(bytes.begin(), bytes.end());
+  const pugi::xml_parse_result pr = nd->doc.load_buffer(nd->text.data(), nd->text.size(),
+                                                        pugi::parse_default | pugi::parse_ws_pcdata_single, pugi::encoding_auto);
+  pugi::xml_node root = pr ? nd->doc.document_element() : pugi::xml_node();
+  if (root) resolve_namespaces(root);
+  if (!root || local_name(root) != "svg") {
+    warn(n, label + (pr ? " is not an SVG document" : std::string(" is malformed XML: ") + pr.description()) + "; skipped");
+    return;
+  }
+  // Its own document while it is read: its name and lines (what a warning names), its ids and
+  // its style sheets; nothing of the drawing's reaches into it.
+  std::string name = label;
+  std::string_view text = nd->text;
+  std::vector<size_t> lines{0};
+  for (size_t i = 0; i < text.size(); ++i)
+    if (text[i] == '\n') lines.push_back(i + 1);
+  std::unordered_map<std::string, pugi::xml_node> ids;
+  css::Sheet sheet;
+  std::swap(name_, name);
+  std::swap(text_, text);
+  std::swap(line_starts_, lines);
+  std::swap(ids_, ids);
+  std::swap(sheet_, sheet);
+  ++nested_depth_;
+  index_ids(root);
+  collect_style_sheets(root);
+  // Its size: its width and height, else its viewBox's; the image's box takes it where the
+  // image gives no width or height (or "auto"), keeping its proportions.
+  const auto vb = svg::parse_viewbox(root.attribute("viewBox").value());
+  const Viewport outer{vb ? (*vb)[2] : 100.0, vb ? (*vb)[3] : 100.0};
+  double iw = length_attr(root, "width", 0, outer, outer.w), ih = length_attr(root, "height", 1, outer, outer.h);
+  if (!(iw > 0)) iw = outer.w;
+  if (!(ih > 0)) ih = outer.h;
+  auto given = [&](const char* a) { return n.attribute(a) && trim_space(n.attribute(a).value()) != "auto"; };
+  double w = given("width") ? length_attr(n, "width", 0, ctx.vp, 0) : 0, h = given("height") ? length_attr(n, "height", 1, ctx.vp, 0) : 0;
+  if (!given("width") && !given("height")) {
+    w = iw;
+    h = ih;
+  } else if (!given("width")) {
+    w = h * iw / ih;
+  } else if (!given("height")) {
+    h = w * ih / iw;
+  }
+  if (w > 0 && h > 0 && std::isfinite(w) && std::isfinite(h)) {
+    Ctx c = ctx;
+    c.style = compute_style(root, Style{});  // (an image inherits no style)
+    c.depth = ctx.depth + 1;
+    const std::array<double, 4> box = vb ? *vb : std::array<double, 4>{0, 0, iw, ih};
+    const char* par = n.attribute("preserveAspectRatio") ? n.attribute("preserveAspectRatio").value() : nullptr;
+    if (visible_element(root)) visit_nested_svg(n, c, root, w, h, false, &box, par);
+  }
+  --nested_depth_;
+  std::swap(name_, name);
+  std::swap(text_, text);
+  std::swap(line_starts_, lines);
+  std::swap(ids_, ids);
+  std::swap(sheet_, sheet);
 }
 
 }  // namespace mar::svg_load

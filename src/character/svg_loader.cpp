@@ -157,8 +157,8 @@ pugi::xml_node SvgLoader::lookup_iri(std::string_view ref) const {
 }
 
 const char* SvgLoader::href_of(const pugi::xml_node& n) {
-  if (const char* h = n.attribute("xlink:href").value(); *h) return h;
-  return n.attribute("href").value();
+  if (const char* h = n.attribute("href").value(); *h) return h;  // (SVG 2: href over xlink:href)
+  return n.attribute("xlink:href").value();
 }
 
 // transform-origin (SVG 2, CSS): x and y as lengths, percentages of the viewport (the view-box
@@ -248,6 +248,9 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
       "stop"};
   if (kSilent.count(name)) return;
   if (name.find(':') != std::string_view::npos) return;  // foreign namespace (sodipodi, ...)
+  // Conditional processing holds everywhere, not only in a switch: an element for another
+  // language (systemLanguage) or an extension we lack is not drawn.
+  if (!passes_conditions(n)) return;
   bool hidden = parent.hidden;
   if (!visible_element(n)) {
     if (!alternative(n)) return;
@@ -284,8 +287,12 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
   } else if (name == "svg") {
     visit_nested_svg(n, ctx, n, 0, 0, false);
   } else if (name == "switch") {
+    static constexpr std::string_view kDrawn[] = {"g", "svg", "path", "rect", "circle", "ellipse", "line", "polyline",
+                                                  "polygon", "image", "use", "text", "foreignObject", "switch", "a"};
     for (pugi::xml_node c : n.children()) {
       if (c.type() != pugi::node_element) continue;
+      // (an element SVG does not know is no alternative: the next one is)
+      if (std::find(std::begin(kDrawn), std::end(kDrawn), local_name(c)) == std::end(kDrawn)) continue;
       if (passes_conditions(c)) {
         visit(c, ctx);
         break;
@@ -322,17 +329,21 @@ bool SvgLoader::passes_conditions(const pugi::xml_node& c) {
 
 // Nested <svg> (or a <symbol>/<svg> instanced by <use>): a new viewport.
 void SvgLoader::visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::xml_node& content,
-                                 double use_w, double use_h, bool from_use) {
-  const double x = from_use ? 0 : length_attr(n, "x", 0, ctx.vp, 0);
-  const double y = from_use ? 0 : length_attr(n, "y", 1, ctx.vp, 0);
+                                 double use_w, double use_h, bool from_use, const std::array<double, 4>* viewbox,
+                                 const char* par) {
+  // (a use places its own x and y; an svg it draws keeps its x and y inside that)
+  const bool own_xy = !from_use || local_name(content) == "svg";
+  const double x = own_xy ? length_attr(from_use ? content : n, "x", 0, ctx.vp, 0) : 0;
+  const double y = own_xy ? length_attr(from_use ? content : n, "y", 1, ctx.vp, 0) : 0;
   double w = use_w > 0 ? use_w : length_attr(content, "width", 0, ctx.vp, ctx.vp.w);
   double h = use_h > 0 ? use_h : length_attr(content, "height", 1, ctx.vp, ctx.vp.h);
   if (!(w > 0) || !(h > 0)) return;  // zero-size viewport draws nothing
   ctx.ctm = ctx.ctm * Affine2::translate(x, y);
   const Affine2 port = ctx.ctm;  // (the viewport's own space: [0, w] x [0, h])
-  const auto vb = svg::parse_viewbox(content.attribute("viewBox").value());
+  auto vb = svg::parse_viewbox(content.attribute("viewBox").value());
+  if (viewbox) vb = *viewbox;
   if (vb) {
-    ctx.ctm = ctx.ctm * svg::viewbox_transform(*vb, w, h, content.attribute("preserveAspectRatio").value());
+    ctx.ctm = ctx.ctm * svg::viewbox_transform(*vb, w, h, par ? par : content.attribute("preserveAspectRatio").value());
     ctx.vp = {(*vb)[2], (*vb)[3]};
   } else {
     ctx.vp = {w, h};
@@ -416,7 +427,8 @@ void SvgLoader::visit_use(const pugi::xml_node& n, Ctx ctx) {
       Ctx inner = ctx;
       current_vp_ = ctx.vp;
       inner.style = compute_style(target, ctx.style);
-      inner.ctm = ctx.ctm * element_transform(target);
+      // (a symbol's transform is SVG 2's; SVG 1.1, which the drawings and resvg's suite follow, has none)
+      inner.ctm = tname == "svg" ? ctx.ctm * element_transform(target) : ctx.ctm;
       inner.depth = ctx.depth + 1;
       visit_nested_svg(target, inner, target, w > 0 ? w : 0, h > 0 ? h : 0, true);
     }

@@ -12,6 +12,7 @@
 
 #include <pugixml.hpp>
 
+#include <array>
 #include <map>
 #include <memory>
 #include <optional>
@@ -170,8 +171,13 @@ class SvgLoader {
   bool passes_conditions(const pugi::xml_node& c);
 
   // Nested <svg> (or a <symbol>/<svg> instanced by <use>): a new viewport.
+  // `viewbox`, `par`: the viewport's, when they are not `content`'s (an SVG image's).
   void visit_nested_svg(const pugi::xml_node& n, Ctx ctx, const pugi::xml_node& content,
-                        double use_w, double use_h, bool from_use);
+                        double use_w, double use_h, bool from_use, const std::array<double, 4>* viewbox = nullptr,
+                        const char* par = nullptr);
+  // <image> of an SVG document: the document read on its own (its ids, style sheets, lines and
+  // name; no style inherited) and drawn as a nested viewport at the image's box, clipped to it.
+  void svg_image(const pugi::xml_node& n, const Ctx& ctx, const std::vector<unsigned char>& bytes, const std::string& label);
 
   void visit_use(const pugi::xml_node& n, Ctx ctx);
 
@@ -253,6 +259,11 @@ class SvgLoader {
   std::map<int, int> layer_ids_;
   css::Sheet sheet_;
   std::map<std::string, std::shared_ptr<const Texture>> images_;
+  struct NestedDoc {  // an SVG image's document, while its nodes are read (nothing keeps them after)
+    std::string text;
+    pugi::xml_document doc;
+  };
+  int nested_depth_ = 0;
   Viewport current_vp_;
   double current_font_ = 16;  // the element being read's font-size (em, ex)
   Character ch_;

@@ -728,6 +728,86 @@ TEST(load_svg, ImageElementBecomesTexturedRectangle) {
   EXPECT_TRUE(has_warning(ch, "cannot decode image"));
 }
 
+// An SVG document as an image is drawn as one: its shapes in the image's box (its viewBox fitted
+// by the image's preserveAspectRatio, clipped to the box), read on its own (its ids and styles;
+// none of the drawing's), from a file or a data URI; one nesting itself stops at 3 deep.
+TEST(load_svg, AnSvgImageIsDrawnAsItsShapesInTheImagesBox) {
+  const auto dir = test::temp_dir("svg-svg-image");
+  std::ofstream((dir / "inner.svg").string())
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"0 0 20 10\"><style>.c { fill: #00ff00 }</style>"
+         "<rect id=\"r\" class=\"c\" width=\"20\" height=\"10\"/></svg>";
+  std::ofstream((dir / "self.svg").string())
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\"><rect width=\"1\" height=\"1\"/>"
+         "<image href=\"self.svg\" width=\"10\" height=\"10\"/></svg>";
+  const std::string inline_svg = "<svg xmlns='http://www.w3.org/2000/svg' width='4' height='4'><circle cx='2' cy='2' r='2'/></svg>";
+  static const char* k64 = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string b64;
+  for (size_t i = 0; i < inline_svg.size(); i += 3) {
+    const unsigned v = (unsigned(uint8_t(inline_svg[i])) << 16) | (i + 1 < inline_svg.size() ? unsigned(uint8_t(inline_svg[i + 1])) << 8 : 0) |
+                       (i + 2 < inline_svg.size() ? unsigned(uint8_t(inline_svg[i + 2])) : 0);
+    b64 += k64[(v >> 18) & 63];
+    b64 += k64[(v >> 12) & 63];
+    b64 += i + 1 < inline_svg.size() ? k64[(v >> 6) & 63] : '=';
+    b64 += i + 2 < inline_svg.size() ? k64[v & 63] : '=';
+  }
+  std::ofstream((dir / "doc.svg").string())
+      << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\"><style>.c { fill: red }</style>\n"
+         "<image id=\"a\" href=\"inner.svg\" x=\"10\" y=\"10\" width=\"40\" height=\"40\"/>\n"
+         "<image id=\"b\" href=\"data:;base64," + b64 + "\" x=\"60\" y=\"60\" width=\"auto\"/>\n"
+         "<image id=\"s\" href=\"self.svg\" x=\"80\" width=\"10\" height=\"10\"/>\n</svg>\n";
+  auto r = load_svg_file((dir / "doc.svg").string());
+  ASSERT_TRUE(r.ok()) << r.error;
+  const Character& ch = *r.value;
+  // The inner rect: 20 x 10 in a 40 x 40 box, xMidYMid meet: 40 x 20, centred; its own style sheet's green.
+  const SubShape* rect = nullptr;
+  for (const SubShape& sh : ch.shapes)
+    if (sh.element == "rect" && sh.bounds().lo.x() < 50) rect = &sh;
+  ASSERT_TRUE(rect);
+  expect_bounds(*rect, 10, 20, 50, 40, 1e-9);
+  EXPECT_EQ(color_hex(rect->fill.color), "#00ff00") << "the image's document styles itself";
+  // The data URI with no type: an SVG by its bytes, its own size (4 x 4) where width is auto.
+  const SubShape* circle = nullptr;
+  for (const SubShape& sh : ch.shapes)
+    if (sh.element == "circle") circle = &sh;
+  ASSERT_TRUE(circle);
+  expect_bounds(*circle, 60, 60, 64, 64, 0.05);
+  // The self-nesting image: three deep, then said and stopped.
+  int small = 0;
+  for (const SubShape& sh : ch.shapes) small += sh.element == "rect" && sh.bounds().lo.x() >= 80;
+  EXPECT_EQ(small, 3);
+  EXPECT_TRUE(has_warning(ch, "SVG images nest more than 3 deep"));
+}
+
+// Where SVG 2 and SVG 1.1 differ as drawings meet them: href over xlink:href; a use of an svg
+// keeps the svg's x and y; a symbol has no transform; a switch passes over elements SVG does
+// not know; systemLanguage holds outside a switch too.
+TEST(load_svg, HrefPrecedenceNestedSvgPlacementSwitchAndSystemLanguage) {
+  auto ch = load(R"svg(<defs><rect id="red" width="5" height="5" fill="red"/><rect id="green" width="5" height="5" fill="#00ff00"/>
+      <svg id="inner" x="40" y="40" width="10" height="10"><rect id="in" width="10" height="10"/></svg>
+      <symbol id="sym" transform="skewX(30)"><rect id="sy" width="4" height="4"/></symbol></defs>
+      <use id="u" xlink:href="#red" href="#green"/>
+      <use id="v" href="#inner"/>
+      <use id="w" href="#sym" x="80"/>
+      <switch><unknown/><rect id="picked" y="90" width="2" height="2"/></switch>
+      <rect id="russian" y="95" width="2" height="2" systemLanguage="ru-RU"/>)svg");
+  bool green = false;
+  for (const SubShape& sh : ch.shapes) green = green || color_hex(sh.fill.color) == "#00ff00";
+  EXPECT_TRUE(green) << "href wins";
+  for (const SubShape& sh : ch.shapes) EXPECT_NE(color_hex(sh.fill.color), "#ff0000") << sh.id;
+  const SubShape* in = nullptr;
+  const SubShape* sy = nullptr;
+  for (const SubShape& sh : ch.shapes) {
+    if (sh.id.find("in") != std::string::npos && sh.bounds().lo.x() >= 39) in = &sh;
+    if (sh.bounds().lo.x() >= 79) sy = &sh;
+  }
+  ASSERT_TRUE(in);
+  expect_bounds(*in, 40, 40, 50, 50, 1e-9);
+  ASSERT_TRUE(sy);
+  expect_bounds(*sy, 80, 0, 84, 4, 1e-9);
+  EXPECT_TRUE(find(ch, "picked"));
+  EXPECT_FALSE(find(ch, "russian"));
+}
+
 }  // namespace
 }  // namespace mar
 
