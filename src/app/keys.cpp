@@ -20,6 +20,27 @@ int find_key(const Rig& rig, const std::string& name) {
 
 namespace {
 
+// How deep a JSON text nests ('[' and '{' outside strings): a key's file nests three deep, and a
+// file of millions of brackets would build a document of gigabytes (read only up to 64).
+int json_depth(std::string_view text) {
+  int depth = 0, most = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < text.size() && most <= 64; ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      most = std::max(most, ++depth);
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return most;
+}
+
 // A sculpted key's frame vertices from every shape's outline as posed (RigKey::shapes): per shape
 // id, per contour, samples [rest x, rest y, posed x, posed y] in outline order, as the studio
 // flattened the drawing. A frame vertex on an outline moves as the nearest point of its contour's
@@ -134,6 +155,7 @@ Result<std::vector<Points>> solve_keys(Puppet& p, std::vector<Points>* details) 
       const std::filesystem::path f = p.rig.beside(k.shapes);
       Result<std::string> file_text = read_file(f.string(), kMaxScriptBytes, "a sculpted key");
       if (!file_text.ok()) return R::failure(where(k) + ": " + file_text.error);
+      if (json_depth(*file_text.value) > 8) return R::failure(where(k) + ": " + f.string() + " nests deeper than a sculpted key does");
       nlohmann::json j = nlohmann::json::parse(*file_text.value, nullptr, false);
       if (j.is_discarded()) return R::failure(where(k) + ": " + f.string() + " is not JSON");
       auto v = frame_from_shapes(p, j, f.string());
@@ -156,6 +178,7 @@ Result<std::vector<Points>> solve_keys(Puppet& p, std::vector<Points>* details) 
       const std::filesystem::path f = p.rig.beside(k.frame);
       Result<std::string> file_text = read_file(f.string(), kMaxScriptBytes, "a key's frame");
       if (!file_text.ok()) return R::failure(where(k) + ": " + file_text.error);
+      if (json_depth(*file_text.value) > 8) return R::failure(where(k) + ": " + f.string() + " nests deeper than a saved frame does");
       nlohmann::json j = nlohmann::json::parse(*file_text.value, nullptr, false);
       if (j.is_discarded() || !j.contains("frame_vertices") || !j["frame_vertices"].is_array())
         return R::failure(where(k) + ": cannot read frame_vertices from " + f.string());

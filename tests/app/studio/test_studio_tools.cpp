@@ -244,6 +244,12 @@ TEST(StudioTools, ABrokenSculptedKeyIsRefusedWithItsLine) {
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.error.find("key 'bad'"), std::string::npos) << s.error;
   EXPECT_NE(s.error.find("bad.key.json"), std::string::npos) << s.error;
+  EXPECT_NE(s.error.find("shape 'path2291'"), std::string::npos) << s.error << " (the first shape it lacks)";
+  // A file of brackets nested a million deep is refused before it is parsed.
+  std::ofstream(dir / "rigs" / "bad.key.json") << "{\"shapes\": " << std::string(1000000, '[') << std::string(1000000, ']') << "}";
+  auto deep = LiveShow::load(show, o);
+  ASSERT_FALSE(deep.ok());
+  EXPECT_NE(deep.error.find("nests deeper than a sculpted key does"), std::string::npos) << deep.error;
 }
 
 }  // namespace
