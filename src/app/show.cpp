@@ -310,7 +310,6 @@ Binding read_binding(const std::string& path, const toml::node& bn, ShowConfig& 
       throw ShowError{at(path, *n) + ": area must be [x0, y0, x1, y1] (character units) or \"canvas\""};
     }
     for (size_t i = 0; i < 4 && a; ++i) tf.area[i] = number(path, *a->get(i), "area");
-    for (size_t i = 0; i < 4; ++i) tf.area[i] = number(path, *a->get(i), "area");
   }
   read_priority(path, t, s.devices[size_t(di)], b);
   return b;

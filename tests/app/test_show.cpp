@@ -39,6 +39,26 @@ TEST(Show, DefaultsComeFromDefaultShow) {
   EXPECT_TRUE(d.hud);
 }
 
+// A pointer binding's area: four numbers (character units) or "canvas"; anything else is said
+// with its line (a "canvas" area once crashed the reader, which went on to read four numbers).
+TEST(Show, APointersAreaIsFourNumbersOrTheCanvas) {
+  auto load = [](const std::string& name, const std::string& area) {
+    const std::string path = test::write_temp(name, "[show]\nrig = \"r.toml\"\n[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\n"
+                                                    "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\narea = " + area + "\n");
+    return load_show(path, [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  };
+  auto canvas = load("area_canvas.toml", "\"canvas\"");
+  ASSERT_TRUE(canvas.ok()) << canvas.error;
+  EXPECT_TRUE(canvas.value->bindings.back().tf.area_canvas);
+  auto box = load("area_box.toml", "[0, 0, 20, 10]");
+  ASSERT_TRUE(box.ok()) << box.error;
+  EXPECT_FALSE(box.value->bindings.back().tf.area_canvas);
+  EXPECT_EQ(box.value->bindings.back().tf.area[2], 20);
+  auto bad = load("area_bad.toml", "\"everywhere\"");
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.error.find(":10: area must be [x0, y0, x1, y1] (character units) or \"canvas\""), std::string::npos) << bad.error;
+}
+
 TEST(Show, SolverTargetsNameTheSettingsTheRigOffers) {
   const std::string path = test::write_temp("settings.toml", R"([show]
 rig = "r.toml"
