@@ -98,6 +98,44 @@ TEST(Curve, TheChainTakesTheDrawnCurveAndTheRestStays) {
   EXPECT_EQ(s->allocations_after_warmup(), 0u);
 }
 
+// The chain takes a straight stroke leaning right, a C and an S alike: its axis on the stroke
+// within 1 % of the height, each part within 0.5 % of its rest shape laid along it.
+TEST(Curve, AStraightACAndAnSStrokeAreEachTaken) {
+  const struct {
+    const char* name;
+    const char* stroke;
+  } strokes[] = {
+      {"straight", "0.1 hover 0.5,0.5\n0.2 stroke 0.5,0.5 0.54,0.39 0.58,0.28 over 0.6 pressure 0.8\n"},
+      {"C", kStroke},
+      {"S", "0.1 hover 0.5,0.5\n0.2 stroke 0.5,0.5 0.515,0.44 0.52,0.38 0.505,0.33 0.49,0.28 over 0.6 pressure 0.8\n"},
+  };
+  for (const auto& k : strokes) {
+    auto s = load(curve_show(std::string("curve_") + k.name + ".toml", "release = \"hold\"", k.stroke));
+    ASSERT_TRUE(s);
+    for (int f = 0; f < 90; ++f) s->frame(int64_t(f * 1e9 / 60));
+    const CurveStage& c = s->actors()[0]->curve();
+    const Puppet& p = s->actors()[0]->puppet();
+    ASSERT_TRUE(c.active()) << k.name;
+    const double h = height(p);
+    const ChainGeometry& g = c.chain();
+    double axis_off = 0, s_at = 0, own = 0;
+    for (size_t i = 0; i < g.rest.size(); ++i) {
+      if (i > 0) s_at += (g.rest[i] - g.rest[i - 1]).norm();
+      axis_off = std::max(axis_off, (now(p, g.rest[i]) - c.curve_at(s_at)).norm());
+    }
+    for (int part : g.shapes) {
+      const Points& rest = p.character.shapes[size_t(part)].points;
+      double sum = 0;
+      for (size_t i = 0; i < rest.size(); ++i) sum += (p.shapes[size_t(part)][i] - c.lay(rest[i])).squaredNorm();
+      own = std::max(own, std::sqrt(sum / double(std::max<size_t>(1, rest.size()))));
+    }
+    std::cout << k.name << ": axis off the stroke " << 100 * axis_off / h << " % of the height, parts off their laid shape "
+              << 100 * own / h << " %\n";
+    EXPECT_LT(axis_off, 0.01 * h) << k.name;
+    EXPECT_LT(own, 0.005 * h) << k.name;
+  }
+}
+
 TEST(Curve, ASpringBringsTheChainBackAndANewStrokeReplacesTheCurve) {
   // Bent right at 0.2 - 0.8 s, springing back over 1 s; then a stroke bending left at 2.5 s.
   const std::string two = std::string(kStroke) + "2.4 hover 0.5,0.5\n2.5 stroke 0.5,0.5 0.485,0.43 0.46,0.37 0.425,0.32 over 0.4\n";
