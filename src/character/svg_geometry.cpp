@@ -66,42 +66,49 @@ void SvgLoader::shape(const pugi::xml_node& n, const Ctx& ctx) {
   if (ctx.style.visible && ctx.role != ShapeRole::Clip) markers(n, ctx, cmds);  // (on every shape, as SVG 2 has it)
 }
 
-std::shared_ptr<const Texture> SvgLoader::load_image(const pugi::xml_node& n, std::string_view href) {
-  const std::string key(href);
-  if (auto it = images_.find(key); it != images_.end()) return it->second;
-  std::string problem;
-  auto tex = svg::decode_image_href(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, problem);
-  if (!tex) warn(n, problem + "; skipped");
-  return images_[key] = tex;
+// An <image>'s box: its width and height; where it gives neither (or "auto"), the picture's
+// own size (iw x ih); where it gives one, the other keeps the picture's proportions.
+void SvgLoader::image_size(const pugi::xml_node& n, const Viewport& vp, double iw, double ih, double& w, double& h) {
+  auto given = [&](const char* a) { return n.attribute(a) && trim_space(n.attribute(a).value()) != "auto"; };
+  w = given("width") ? length_attr(n, "width", 0, vp, 0) : 0;
+  h = given("height") ? length_attr(n, "height", 1, vp, 0) : 0;
+  if (!given("width") && !given("height")) {
+    w = iw;
+    h = ih;
+  } else if (!given("width")) {
+    w = h * iw / ih;
+  } else if (!given("height")) {
+    h = w * ih / iw;
+  }
 }
 
-// <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
+// <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio; or, for an
+// SVG document, its shapes (svg_image).
 void SvgLoader::image(const pugi::xml_node& n, const Ctx& ctx) {
   if (!ctx.style.visible) return;
   const std::string_view href = trim_space(href_of(n));
   if (href.empty()) return;
-  if (!images_.count(std::string(href))) {  // (an SVG document is drawn as one, not as pixels)
+  const std::string key(href);
+  std::shared_ptr<const Texture> tex;
+  if (auto it = images_.find(key); it != images_.end()) {
+    tex = it->second;
+  } else {  // (read once: a raster image is decoded and kept; an SVG document is drawn as one, each time)
     std::vector<unsigned char> bytes;
     std::string label, problem;
-    if (svg::image_href_bytes(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, bytes, label, problem) &&
-        svg::is_svg_image(href, bytes)) {
-      svg_image(n, ctx, bytes, label);
-      return;
+    if (svg::image_href_bytes(href, std::filesystem::path(name_).parent_path().string(), opt_.images_anywhere, bytes, label, problem)) {
+      if (svg::is_svg_image(href, bytes)) {
+        svg_image(n, ctx, bytes, label);
+        return;
+      }
+      tex = svg::decode_image_bytes(bytes, label, problem);
     }
+    if (!tex) warn(n, problem + "; skipped");
+    images_[key] = tex;
   }
-  std::shared_ptr<const Texture> tex = load_image(n, href);
   if (!tex) return;
   const double x = length_attr(n, "x", 0, ctx.vp, 0), y = length_attr(n, "y", 1, ctx.vp, 0);
-  auto given = [&](const char* a) { return n.attribute(a) && trim_space(n.attribute(a).value()) != "auto"; };
-  double w = given("width") ? length_attr(n, "width", 0, ctx.vp, 0) : 0, h = given("height") ? length_attr(n, "height", 1, ctx.vp, 0) : 0;
-  if (!given("width") && !given("height")) {  // (no size, or "auto": the picture's own)
-    w = tex->width;
-    h = tex->height;
-  } else if (!given("width")) {
-    w = h * tex->width / tex->height;
-  } else if (!given("height")) {
-    h = w * tex->height / tex->width;
-  }
+  double w = 0, h = 0;
+  image_size(n, ctx.vp, tex->width, tex->height, w, h);
   if (!(w > 0) || !(h > 0)) return;
   // Placement of the whole image inside the viewport (x, y, w, h).
   const Affine2 place = svg::viewbox_transform({0, 0, static_cast<double>(tex->width), static_cast<double>(tex->height)},
@@ -352,23 +359,14 @@ void SvgLoader::svg_image(const pugi::xml_node& n, const Ctx& ctx, const std::ve
   ++nested_depth_;
   index_ids(root);
   collect_style_sheets(root);
-  // Its size: its width and height, else its viewBox's; the image's box takes it where the
-  // image gives no width or height (or "auto"), keeping its proportions.
+  // Its size: its width and height, else its viewBox's (the image's box where it gives none).
   const auto vb = svg::parse_viewbox(root.attribute("viewBox").value());
   const Viewport outer{vb ? (*vb)[2] : 100.0, vb ? (*vb)[3] : 100.0};
   double iw = length_attr(root, "width", 0, outer, outer.w), ih = length_attr(root, "height", 1, outer, outer.h);
   if (!(iw > 0)) iw = outer.w;
   if (!(ih > 0)) ih = outer.h;
-  auto given = [&](const char* a) { return n.attribute(a) && trim_space(n.attribute(a).value()) != "auto"; };
-  double w = given("width") ? length_attr(n, "width", 0, ctx.vp, 0) : 0, h = given("height") ? length_attr(n, "height", 1, ctx.vp, 0) : 0;
-  if (!given("width") && !given("height")) {
-    w = iw;
-    h = ih;
-  } else if (!given("width")) {
-    w = h * iw / ih;
-  } else if (!given("height")) {
-    h = w * ih / iw;
-  }
+  double w = 0, h = 0;
+  image_size(n, ctx.vp, iw, ih, w, h);
   if (w > 0 && h > 0 && std::isfinite(w) && std::isfinite(h)) {
     Ctx c = ctx;
     c.style = compute_style(root, Style{});  // (an image inherits no style)

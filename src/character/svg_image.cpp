@@ -63,15 +63,8 @@ bool is_svg_image(std::string_view href, const std::vector<unsigned char>& bytes
   return lt != std::string_view::npos && b.substr(0, lt).find_first_not_of(" \t\r\n") == b.substr(0, lt).find("<");
 }
 
-std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir, bool anywhere,
-                                                 std::string& problem) {
-  std::vector<unsigned char> bytes;
-  std::string label;
-  if (!image_href_bytes(href, base_dir, anywhere, bytes, label, problem)) return nullptr;
-  if (is_svg_image(href, bytes)) {
-    problem = "an SVG document as an image is not a raster image";
-    return nullptr;
-  }
+std::shared_ptr<const Texture> decode_image_bytes(const std::vector<unsigned char>& bytes, const std::string& label,
+                                                  std::string& problem) {
   // The header first: a few bytes can declare an image of gigabytes.
   {
     int w = 0, h = 0, comp = 0;

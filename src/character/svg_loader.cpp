@@ -197,25 +197,27 @@ std::optional<Vec2> SvgLoader::transform_origin(const pugi::xml_node& n) {
 Affine2 SvgLoader::element_transform(const pugi::xml_node& n) {
   // The CSS property (a style attribute's or a sheet's) over the attribute; its lengths and
   // angles may carry units (translate(10px, 5px), rotate(45deg)): those of the attribute's.
-  std::string text;
-  bool css = false;
-  if (std::string_view(n.attribute("style").value()).find("transform") != std::string_view::npos || !sheet_.rules.empty()) {
+  // (compute_style, just before, read it with the element's declarations: not matched again)
+  std::optional<std::string> declared = css_transform_;
+  if (css_transform_of_ != n) {
     const Decls d = declarations(n);
-    if (auto v = prop(d, "transform")) {
-      for (size_t i = 0; i < v->size(); ++i) {
-        const bool after_number = i > 0 && (std::isdigit(static_cast<unsigned char>((*v)[i - 1])) || (*v)[i - 1] == '.');
-        if (after_number && v->substr(i, 2) == "px") {
-          ++i;
-          continue;
-        }
-        if (after_number && v->substr(i, 3) == "deg") {
-          i += 2;
-          continue;
-        }
-        text.push_back((*v)[i]);
-      }
-      css = true;
+    const auto v = prop(d, "transform");
+    declared = v ? std::optional<std::string>(std::string(*v)) : std::nullopt;
+  }
+  std::string text;
+  const bool css = declared.has_value();
+  for (size_t i = 0; css && i < declared->size(); ++i) {
+    const std::string_view v = *declared;
+    const bool after_number = i > 0 && (std::isdigit(static_cast<unsigned char>(v[i - 1])) || v[i - 1] == '.');
+    if (after_number && v.substr(i, 2) == "px") {
+      ++i;
+      continue;
     }
+    if (after_number && v.substr(i, 3) == "deg") {
+      i += 2;
+      continue;
+    }
+    text.push_back(v[i]);
   }
   pugi::xml_attribute t = n.attribute("transform");
   if (!css && !t) return Affine2::identity();

@@ -224,7 +224,7 @@ class SvgLoader {
   void markers(const pugi::xml_node& n, const Ctx& ctx, const std::vector<PathCmd>& cmds);
 
   // ---- images ------------------------------------------------------------------------
-  std::shared_ptr<const Texture> load_image(const pugi::xml_node& n, std::string_view href);
+  void image_size(const pugi::xml_node& n, const Viewport& vp, double iw, double ih, double& w, double& h);
 
   // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
   void image(const pugi::xml_node& n, const Ctx& ctx);
@@ -266,6 +266,8 @@ class SvgLoader {
   int nested_depth_ = 0;
   Viewport current_vp_;
   double current_font_ = 16;  // the element being read's font-size (em, ex)
+  pugi::xml_node css_transform_of_;           // the element compute_style read last, and
+  std::optional<std::string> css_transform_;  // its CSS transform property, if it has one
   Character ch_;
   size_t total_points_ = 0;
   size_t elements_ = 0;  // visited so far, each <use> expansion again (SvgOptions::max_elements)

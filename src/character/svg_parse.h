@@ -94,22 +94,20 @@ std::vector<PathCmd> ellipse_path(double cx, double cy, double rx, double ry);
 /// Decodes base64 (standard and URL alphabets; whitespace and padding ignored).
 std::vector<unsigned char> base64_decode(std::string_view in);
 
-/// Decodes the raster image an <image> href names: a base64 data URI or a file relative
-/// to `base_dir` (PNG, JPEG, GIF, BMP via stb_image), read as every outside file is
-/// (base/read_file.h), its size checked from its header before decoding. A file outside
-/// `base_dir` and its subfolders (after following links) is refused unless `anywhere`.
-/// nullptr with `problem` set when it cannot (remote, an SVG document, outside the folder,
-/// missing, not a file, too large, undecodable). Defined in svg_image.cpp.
-std::shared_ptr<const Texture> decode_image_href(std::string_view href, const std::string& base_dir, bool anywhere,
-                                                 std::string& problem);
-
-/// The bytes an <image> href names, read as decode_image_href reads them; `label` names them
-/// (the file, or "embedded image"). false with `problem` set when it cannot.
+/// The bytes an <image> href names: a base64 data URI, or a file relative to `base_dir`, read as
+/// every outside file is (base/read_file.h). A file outside `base_dir` and its subfolders (after
+/// following links) is refused unless `anywhere`. `label` names them (the file, or "embedded
+/// image"). false with `problem` set when it cannot (remote, outside the folder, missing, not a
+/// file, too large). Defined in svg_image.cpp, as the two below.
 bool image_href_bytes(std::string_view href, const std::string& base_dir, bool anywhere, std::vector<unsigned char>& bytes,
                       std::string& label, std::string& problem);
 /// Whether an href names an SVG document (a data URI of image/svg+xml, a .svg file, or bytes
 /// that begin, after any XML prolog, with an <svg element).
 bool is_svg_image(std::string_view href, const std::vector<unsigned char>& bytes);
+/// Decodes a raster image's bytes (PNG, JPEG, GIF, BMP via stb_image), its size checked from its
+/// header first. nullptr with `problem` set when it cannot (too large, undecodable).
+std::shared_ptr<const Texture> decode_image_bytes(const std::vector<unsigned char>& bytes, const std::string& label,
+                                                  std::string& problem);
 
 /// One flattened contour in output units.
 struct FlatContour {

@@ -116,6 +116,10 @@ double SvgLoader::length_attr(const pugi::xml_node& n, const char* attr, int axi
 Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
   Style s = parent;
   const Decls d = declarations(n);
+  // (the CSS transform property, for element_transform, read with the rest)
+  css_transform_of_ = n;
+  const auto declared_transform = prop(d, "transform");
+  css_transform_ = declared_transform ? std::optional<std::string>(std::string(*declared_transform)) : std::nullopt;
   auto is_inherit = [](std::string_view v) { return trim_space(v) == "inherit"; };
   if (auto v = prop(d, "font-size"); v && !is_inherit(*v)) {  // (em and % of the parent's)
     const std::string_view f = trim_space(*v);

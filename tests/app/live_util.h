@@ -1,5 +1,5 @@
 // Helpers of the end-to-end live tests (tests/app/test_live*.cpp): a show file around the
-// figure's rig, a headless show, a handle's solved position.
+// figure's rig, a headless show, a handle's solved position, a part's distance from its rest.
 #pragma once
 
 #include "app/live.h"
@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <string>
 
@@ -29,6 +30,25 @@ inline std::unique_ptr<LiveShow> load(const std::string& path, RunOptions o = {}
 inline Vec2 handle_position(const LiveShow& s, int h) {
   return s.puppet().solver->handle_point(size_t(h));
 }
+
+/// The drawing's height, a sub-shape's index by id (-1: none), and how far its farthest point is
+/// from its rest as the puppet is posed (0 for none).
+inline double height(const Puppet& p) { return p.character.bounds().hi.y() - p.character.bounds().lo.y(); }
+
+inline int shape_of(const Puppet& p, const std::string& id) {
+  for (size_t k = 0; k < p.character.shapes.size(); ++k)
+    if (p.character.shapes[k].id == id) return int(k);
+  return -1;
+}
+
+inline double off_rest(const Puppet& p, int k) {
+  double d = 0;
+  for (size_t i = 0; k >= 0 && i < p.shapes[size_t(k)].size(); ++i)
+    d = std::max(d, (p.shapes[size_t(k)][i] - p.character.shapes[size_t(k)].points[i]).norm());
+  return d;
+}
+
+inline double off_rest(const Puppet& p, const std::string& id) { return off_rest(p, shape_of(p, id)); }
 
 
 }  // namespace mar::test

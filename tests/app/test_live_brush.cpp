@@ -5,6 +5,7 @@
 #include "alloc_counter.h"
 #include "app/alloc_count.h"
 #include "app/live.h"
+#include "live_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +15,10 @@
 
 namespace mar {
 namespace {
+
+using test::height;
+using test::off_rest;
+using test::shape_of;
 
 const Vec2 kCheek(106.5, 96.0);  // on the face's outline (an ellipse [106, 40] - [194, 136])
 const Vec2 kDrag(-24.0, 6.0);    // out and a little down
@@ -61,21 +66,6 @@ Brushing brushing(const std::string& name, const std::string& release, double pr
   const std::string script = "0.1 hover " + normalised(a) + "\n0.2 stroke " + normalised(a) + " " + normalised(b) +
                              " over 0.5 pressure " + p + "\n";
   return {load(brush_show(name, release, script), warmup), view};
-}
-
-double height(const Puppet& p) { return p.character.bounds().hi.y() - p.character.bounds().lo.y(); }
-
-int shape_of(const Puppet& p, const std::string& id) {
-  for (size_t k = 0; k < p.character.shapes.size(); ++k)
-    if (p.character.shapes[k].id == id) return int(k);
-  return -1;
-}
-
-double off_rest(const Puppet& p, int k) {
-  double d = 0;
-  for (size_t i = 0; i < p.shapes[size_t(k)].size(); ++i)
-    d = std::max(d, (p.shapes[size_t(k)][i] - p.character.shapes[size_t(k)].points[i]).norm());
-  return d;
 }
 
 TEST(Brush, TheOutlineMovesByTheGaussianOfItsDistanceAndTheRestStays) {

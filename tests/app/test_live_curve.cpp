@@ -5,6 +5,7 @@
 #include "alloc_counter.h"
 #include "app/alloc_count.h"
 #include "app/live.h"
+#include "live_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -15,6 +16,9 @@
 
 namespace mar {
 namespace {
+
+using test::height;
+using test::off_rest;
 
 std::string curve_show(const std::string& name, const std::string& release, const std::string& script) {
   const std::string rig = (test::source_dir() / "config/rigs/figure.toml").string();
@@ -38,16 +42,6 @@ std::unique_ptr<LiveShow> load(const std::string& path, int warmup = 0) {
 // A line of action bending to the right, drawn up from the middle of the tablet over 0.6 s.
 const char* kStroke =
     "0.1 hover 0.5,0.5\n0.2 stroke 0.5,0.5 0.515,0.43 0.54,0.37 0.575,0.32 0.615,0.285 over 0.6 pressure 0.8\n";
-
-double off_rest(const Puppet& p, const std::string& id) {
-  double d = 0;
-  for (size_t k = 0; k < p.shapes.size(); ++k)
-    if (p.character.shapes[k].id == id)
-      for (size_t i = 0; i < p.shapes[k].size(); ++i) d = std::max(d, (p.shapes[k][i] - p.character.shapes[k].points[i]).norm());
-  return d;
-}
-
-double height(const Puppet& p) { return p.character.bounds().hi.y() - p.character.bounds().lo.y(); }
 
 // Where a rest point of the drawing is now (bound to the frame as a handle is).
 Vec2 now(const Puppet& p, const Vec2& rest) {

@@ -30,12 +30,6 @@ std::string BrushStage::prepare(const Puppet& p) {
   // Each part's handles (a handle is bound to a line of the frame: its first vertex's part;
   // none: the part goes as the whole character's handles ask).
   motion_.prepare(p);
-  part_handles_.assign(p.character.shapes.size(), {});
-  const std::span<const ShapeParam> bind = ff->bindings();
-  for (int h : motion_.free_handles()) {
-    const int shape = f.origin[size_t(bind[size_t(h)].a)].shape;
-    if (shape >= 0 && size_t(shape) < part_handles_.size()) part_handles_[size_t(shape)].push_back(h);
-  }
   frame_ = &f;
   return {};
 }
@@ -156,7 +150,7 @@ void BrushStage::step(const Mapping::Pen& pen, const ShowBrush* spec, double px_
       if (pt.d <= 0) continue;
       if (pt.part != part) {  // (a stroke's points are one contour's: one part, one fit)
         part = pt.part;
-        back = motion_.of(part_handles_[size_t(part)]).back(drag);
+        back = motion_.of_part(part).back(drag);
       }
       pt.offset = pt.base + pt.d * back;
     }
@@ -184,7 +178,7 @@ void BrushStage::apply(Puppet& p) {
     const Point& pt = pts_[size_t(i)];
     if (pt.part != part) {  // (earlier strokes may hold other parts)
       part = pt.part;
-      mo = motion_.of(part_handles_[size_t(part)]);
+      mo = motion_.of_part(part);
     }
     t[size_t(i)] = mo.apply(frame_->rest[size_t(pt.v)] + pt.offset);
   }

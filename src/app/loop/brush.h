@@ -79,7 +79,6 @@ class BrushStage {
   const FeatureFrame* frame_ = nullptr;
   std::vector<int> contour_of_, at_in_contour_;  ///< per frame vertex
   std::vector<char> contour_closed_;             ///< per contour (FeatureFrame::subframes)
-  std::vector<std::vector<int>> part_handles_;   ///< per shape: the handles bound to it (chains' ends not)
   HandleMotion motion_;
   std::array<Point, kMaxPoints> pts_{};
   int n_ = 0;

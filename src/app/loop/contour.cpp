@@ -42,12 +42,6 @@ std::string ContourStage::prepare(const Puppet& p, const ShowCurve& spec, const 
   }
   if (!any) return where + "the parts have no outline on the frame to fit";
   motion_.prepare(p);
-  part_handles_.assign(p.character.shapes.size(), {});
-  const std::span<const ShapeParam> bind = ff->bindings();
-  for (int h : motion_.free_handles()) {
-    const int shape = f.origin[size_t(bind[size_t(h)].a)].shape;
-    if (shape >= 0 && size_t(shape) < part_handles_.size()) part_handles_[size_t(shape)].push_back(h);
-  }
   seen_.assign(q, Vec2::Zero());
   min_step_ = 0.002 * p.diagonal;
   reach_ = 0.08 * p.diagonal;
@@ -204,7 +198,7 @@ void ContourStage::step(const Mapping::Pen& pen, const ShowCurve* spec, double d
     down_ = false;
     if (n_ > 0) {
       const std::span<Vec2> t = solver.soft_targets();
-      const RigidMotion mo = motion_.of(part_handles_[size_t(part_)]);
+      const RigidMotion mo = motion_.of_part(part_);
       for (int i = 0; i < n_; ++i) {
         const Vec2 at_rest = mo.from_c + mo.back(t[size_t(i)] - mo.to_c);
         held_[size_t(i)] = at_rest - frame_->rest[size_t(ids_[size_t(i)])];
@@ -242,7 +236,7 @@ void ContourStage::place(Puppet& p) {
     for (int i = seg_; i < n_ && size_t(i) < t.size(); ++i) t[size_t(i)] = held_[size_t(i)];
     return;
   }
-  const RigidMotion mo = motion_.of(part_handles_[size_t(part_)]);
+  const RigidMotion mo = motion_.of_part(part_);
   for (int i = 0; i < n_ && size_t(i) < t.size(); ++i)
     t[size_t(i)] = mo.apply(frame_->rest[size_t(ids_[size_t(i)])] + spring_k_ * held_[size_t(i)]);
 }

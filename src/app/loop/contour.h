@@ -63,7 +63,6 @@ class ContourStage {
   const FeatureFrame* frame_ = nullptr;
   std::vector<int> contour_of_, at_in_contour_;
   std::vector<char> contour_closed_, allowed_;   ///< per contour
-  std::vector<std::vector<int>> part_handles_;
   HandleMotion motion_;
   std::vector<double> rest_s_;                   ///< per frame vertex: arc length along its contour at rest
   std::vector<Vec2> seen_;                       ///< the frame as it was at the touch

@@ -23,6 +23,16 @@ class HandleMotion {
     free_.clear();
     for (size_t h = 0; h < rest_.size() && h < p.rig.handles.size(); ++h)
       if (!p.rig.handles[h].physics) free_.push_back(int(h));
+    // Each part's handles: a handle is bound to a line of the frame, its first vertex's part.
+    part_.assign(p.character.shapes.size(), {});
+    if (const FeatureFrameMethod* ff = p.feature_frame()) {
+      const std::span<const ShapeParam> bind = ff->bindings();
+      for (int h : free_) {
+        if (size_t(h) >= bind.size()) continue;
+        const int shape = ff->frame().origin[size_t(bind[size_t(h)].a)].shape;
+        if (shape >= 0 && size_t(shape) < part_.size()) part_[size_t(shape)].push_back(h);
+      }
+    }
   }
   /// This frame's targets (the character's handles, rig order). No allocation.
   void set_targets(std::span<const Vec2> targets) {
@@ -44,6 +54,10 @@ class HandleMotion {
     }
     return rigid_fit(std::span<const Vec2>(from_.data(), n), std::span<const Vec2>(to_.data(), n));
   }
+  /// The motion part `shape`'s handles ask for (none on it: every handle's). No allocation.
+  RigidMotion of_part(int shape) const {
+    return shape >= 0 && size_t(shape) < part_.size() ? of(part_[size_t(shape)]) : of({});
+  }
   const Vec2& rest(size_t h) const { return rest_[h]; }
   /// The handles that move parts (all but chains' ends).
   std::span<const int> free_handles() const { return free_; }
@@ -51,6 +65,7 @@ class HandleMotion {
  private:
   std::vector<Vec2> rest_, targets_;
   std::vector<int> free_;
+  std::vector<std::vector<int>> part_;   ///< per shape: the handles bound to it (chains' ends not)
   mutable std::vector<Vec2> from_, to_;  ///< (room for every handle)
 };
 

@@ -108,8 +108,8 @@ class Studio {
   double brush_scale() const { return brush_scale_; }
   /// Whether a brush or a curve holds a shape now.
   bool sculpted() const;
-  /// Lets every sculpt go.
-  void clear_sculpt();
+  /// Lets every sculpt go (the chosen tool's stage made again: "" or why not).
+  std::string clear_sculpt();
   const BrushStage& brush() const { return brush_; }
   const CurveStage& curve() const { return curve_; }
   const ContourStage& line() const { return line_; }

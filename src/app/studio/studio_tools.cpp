@@ -44,20 +44,13 @@ std::string Studio::set_tool(Tool t) {
     }
     return "";
   }
-  // One tool's shape at a time (they share the solve's soft targets): another's lets go.
+  // One tool's shape at a time (they share the solve's soft targets): another's lets go, and
+  // the chosen one's stage is made (the curve makes its own as each stroke names its chain).
   const bool other = (t != Tool::Brush && brush_.prepared()) || (t != Tool::Curve && curve_.prepared()) ||
                      (t != Tool::Line && line_.prepared());
-  if (t != Tool::Pose && other) {
-    puppet_->feature_frame()->core().clear_soft();
-    brush_ = BrushStage{};
-    curve_ = CurveStage{};
-    line_ = ContourStage{};
-    from_ = -1;
-    chain_.clear();
-  }
-  std::string err;
-  if (t == Tool::Brush && !brush_.prepared()) err = brush_.prepare(*puppet_);
-  if (t == Tool::Line && !line_.prepared()) err = line_.prepare(*puppet_, line_spec_, "");
+  const bool ready = t == Tool::Curve || (t == Tool::Brush && brush_.prepared()) || (t == Tool::Line && line_.prepared());
+  if (t == Tool::Pose || (ready && !other)) return "";
+  const std::string err = clear_sculpt();
   if (!err.empty()) tool_ = was;
   return err;
 }
@@ -71,11 +64,9 @@ void Studio::scale_brush(double factor) { brush_scale_ = std::clamp(brush_scale_
 
 bool Studio::sculpted() const { return !brush_.points().empty() || curve_.active() || line_.active(); }
 
-void Studio::clear_sculpt() {
+std::string Studio::clear_sculpt() {
   if (FeatureFrameMethod* ff = puppet_->feature_frame()) ff->core().clear_soft();
-  const Tool t = tool_;
-  prepare_tools();
-  tool_ = t;
+  return prepare_tools();
 }
 
 void Studio::pen(const Vec2& p, bool down, double pressure) {

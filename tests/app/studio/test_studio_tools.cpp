@@ -2,6 +2,7 @@
 // the result saved as a key pose (a file of every shape's points beside the rig), and that key
 // recalled in a show standing as the studio left it.
 #include "app/live.h"
+#include "app/live_util.h"
 #include "app/studio/studio.h"
 #include "character/rig.h"
 #include "test_util.h"
@@ -16,6 +17,10 @@
 
 namespace mar {
 namespace {
+
+using test::height;
+using test::off_rest;
+using test::shape_of;
 
 namespace fs = std::filesystem;
 
@@ -33,21 +38,6 @@ std::unique_ptr<Studio> open_cat(const fs::path& dir) {
   EXPECT_TRUE(s.ok()) << s.error;
   return s.ok() ? std::move(*s.value) : nullptr;
 }
-
-int shape_of(const Puppet& p, const std::string& id) {
-  for (size_t k = 0; k < p.character.shapes.size(); ++k)
-    if (p.character.shapes[k].id == id) return int(k);
-  return -1;
-}
-
-double off_rest(const Puppet& p, int k) {
-  double d = 0;
-  for (size_t i = 0; i < p.shapes[size_t(k)].size(); ++i)
-    d = std::max(d, (p.shapes[size_t(k)][i] - p.character.shapes[size_t(k)].points[i]).norm());
-  return d;
-}
-
-double height(const Puppet& p) { return p.character.bounds().hi.y() - p.character.bounds().lo.y(); }
 
 // The saved rig in a show whose button recalls `key` at 0.1 s (0.2 s transition): how far, at
 // most, its shapes stand from `posed` (the studio's) after 2 s, a fraction of the height.
