@@ -7,6 +7,8 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(tomlplusplus REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(STB REQUIRED IMPORTED_TARGET stb)
+# SVG text: fonts as fontconfig picks them, shaped by HarfBuzz, outlines from FreeType.
+pkg_check_modules(FONTS REQUIRED IMPORTED_TARGET freetype2 fontconfig harfbuzz)
 # Text on the performer's overlays (the HUD), with a font from fonts-dejavu-core.
 pkg_check_modules(SDL2TTF REQUIRED IMPORTED_TARGET SDL2_ttf)
 # A transparent window on X11 needs an ARGB visual, found with Xlib before SDL opens the window.

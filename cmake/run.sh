@@ -16,7 +16,7 @@ ROOT=$(pwd)
 JOBS=${JOBS:-$(nproc)}
 
 PACKAGES=(cmake g++ pkg-config
-  libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libx11-dev librsvg2-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
+  libsdl2-dev libsdl2-image-dev libsdl2-ttf-dev fonts-dejavu-core libfreetype-dev libfontconfig-dev libharfbuzz-dev libx11-dev librsvg2-dev libstb-dev libcgal-dev libeigen3-dev libtomlplusplus-dev
   libcli11-dev libspdlog-dev libpugixml-dev libgtest-dev libbenchmark-dev nlohmann-json3-dev
   libgpiod-dev gpiod libhidapi-dev libusb-1.0-0-dev umockdev libumockdev-dev
   libevdev-dev liblo-dev librtmidi-dev libasound2-dev libsystemd-dev xvfb xauth xdotool openbox espeak-ng
@@ -50,7 +50,7 @@ apt_install() { # packages (the missing ones; none: nothing to do)
 }
 
 # The arm64 libraries beside the native ones (Debian multiarch), the cross compiler and qemu-user.
-ARM64_PACKAGES=(libsdl2-dev libsdl2-ttf-dev libx11-dev libstb-dev libcgal-dev libtomlplusplus-dev libspdlog-dev
+ARM64_PACKAGES=(libsdl2-dev libsdl2-ttf-dev libfreetype-dev libfontconfig-dev libharfbuzz-dev libx11-dev libstb-dev libcgal-dev libtomlplusplus-dev libspdlog-dev
   libpugixml-dev libgtest-dev libgpiod-dev libhidapi-dev libusb-1.0-0-dev libevdev-dev
   liblo7 libasound2-dev libsystemd-dev libpipewire-0.3-dev libavcodec-dev libavformat-dev libavutil-dev
   libswscale-dev)

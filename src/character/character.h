@@ -59,6 +59,11 @@ struct Stroke {
   double dash_offset = 0;
   /// Drawn under the shape's fill (paint-order: stroke).
   bool under_fill = false;
+  /// The pen's shape (its linear part only): the element's transform scaled to unit area when it
+  /// scales x and y apart or skews, so a stroke is drawn as SVG draws it, in the element's own
+  /// units (wider one way than the other); identity otherwise.
+  Affine2 pen;
+  bool round_pen() const { return pen.a == 1 && pen.b == 0 && pen.c == 0 && pen.d == 1; }
 };
 
 /// A polyline inside SubShape::points: points[begin .. begin+count).

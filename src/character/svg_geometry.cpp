@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <sstream>
 
 namespace mar::svg_load {
@@ -213,10 +214,16 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
     }
   }
   if (st.stroke_width > 0) {
-    // Non-uniform scale: use the geometric mean (strokes are not re-shaped per axis). A
-    // non-scaling stroke keeps its width in the document's units.
+    // The width scales by the geometric mean of the transform's scales; when it scales x and
+    // y apart (or skews), the pen keeps the rest as its shape (Stroke::pen). A non-scaling
+    // stroke keeps its width in the document's units, with a round pen.
     const double scale = std::sqrt(std::abs(ctx.ctm.det()));
     const double width = st.stroke_width * (st.non_scaling ? 1.0 : scale);
+    const Affine2& m = ctx.ctm;
+    const bool similar = std::abs(m.a - m.d) + std::abs(m.b + m.c) <= 1e-9 * scale ||  // turn and scale
+                         std::abs(m.a + m.d) + std::abs(m.b - m.c) <= 1e-9 * scale;   // mirrored
+    if (!st.non_scaling && !similar && scale > 0 && std::isfinite(scale))
+      s.stroke.pen = Affine2{m.a / scale, m.b / scale, m.c / scale, m.d / scale, 0, 0};
     Affine2 uv;
     if (auto tex = gradient_paint(st.stroke, n, ctx, s.points, 0.5 * width, uv)) {
       s.stroke.enabled = true;
@@ -381,6 +388,145 @@ void SvgLoader::svg_image(const pugi::xml_node& n, const Ctx& ctx, const std::ve
   std::swap(line_starts_, lines);
   std::swap(ids_, ids);
   std::swap(sheet_, sheet);
+}
+
+// <text>: its characters in runs (each the text of one element, in its style), laid out along
+// the baseline from x, y (and dx, dy) in chunks (a chunk starts where an x or y is given, and
+// stands from its x by its text-anchor), each run then drawn as one shape of glyph outlines in
+// its element's fill and stroke. The first of a list of x, y, dx, dy values is taken.
+void SvgLoader::text(const pugi::xml_node& n, const Ctx& ctx) {
+  constexpr size_t kMaxChars = 100000;  // characters of text in one document
+  struct Run {
+    pugi::xml_node node;
+    Ctx ctx;
+    std::string chars;
+    std::optional<double> x, y;
+    double dx = 0, dy = 0;
+    bool shown = true;
+  };
+  std::vector<Run> runs;
+  Run pending;
+  auto first_length = [&](const pugi::xml_node& e, const char* attr, int axis, const Ctx& c) -> std::optional<double> {
+    std::string_view v = e.attribute(attr).value();
+    while (!v.empty() && (v.front() == ' ' || v.front() == '\t' || v.front() == '\n' || v.front() == '\r')) v.remove_prefix(1);
+    v = v.substr(0, v.find_first_of(" ,\t\n\r"));
+    if (v.empty()) return std::nullopt;
+    auto k = svg::parse_length(v, axis, c.vp.w, c.vp.h, c.style.font_size);
+    if (!k || !std::isfinite(*k)) return std::nullopt;
+    return k;
+  };
+  auto position = [&](const pugi::xml_node& e, const Ctx& c) {
+    if (auto x = first_length(e, "x", 0, c)) pending.x = x;
+    if (auto y = first_length(e, "y", 1, c)) pending.y = y;
+    if (auto dx = first_length(e, "dx", 0, c)) pending.dx += *dx;
+    if (auto dy = first_length(e, "dy", 1, c)) pending.dy += *dy;
+  };
+  bool space_before = true;
+  std::function<void(const pugi::xml_node&, const Ctx&, bool)> walk = [&](const pugi::xml_node& e, const Ctx& c, bool shown) {
+    for (pugi::xml_node k : e.children()) {
+      if (!fatal_.empty()) return;
+      if (k.type() == pugi::node_pcdata || k.type() == pugi::node_cdata) {
+        if (text_chars_ >= kMaxChars) continue;
+        std::string chars;
+        if (c.style.preserve_space) {
+          chars = k.value();
+          std::replace_if(chars.begin(), chars.end(), [](char ch) { return ch == '\n' || ch == '\r' || ch == '\t'; }, ' ');
+          space_before = !chars.empty() && chars.back() == ' ';
+        } else {
+          chars = svg::collapse_white_space(k.value(), space_before);
+        }
+        if (chars.empty()) continue;
+        if (text_chars_ + chars.size() > kMaxChars) {
+          warn(e, "more than " + std::to_string(kMaxChars) + " characters of text in the document; the rest skipped");
+          count(ch_.dropped, "text past the document's characters");
+          chars.resize(kMaxChars - text_chars_);
+        }
+        text_chars_ += chars.size();
+        pending.node = e;
+        pending.ctx = c;
+        pending.chars = std::move(chars);
+        pending.shown = shown;
+        runs.push_back(std::move(pending));
+        pending = Run{};
+        continue;
+      }
+      if (k.type() != pugi::node_element) continue;
+      const std::string_view name = local_name(k);
+      if (name == "tspan" || name == "a") {
+        if (++elements_ > opt_.max_elements) {
+          fatal_ = where(k) + ": more than " + std::to_string(opt_.max_elements) + " elements; file refused";
+          return;
+        }
+        if (!passes_conditions(k) || !visible_element(k)) continue;
+        Ctx kc = c;
+        current_vp_ = c.vp;
+        kc.style = compute_style(k, c.style);
+        position(k, kc);
+        walk(k, kc, shown && kc.style.visible);
+      } else if (name == "textPath" || name == "tref") {
+        warn(k, std::string(name) + " is not supported; its text skipped");
+        count(ch_.dropped, std::string(name) + " (text along a path, or referenced)");
+      }
+    }
+  };
+  position(n, ctx);
+  walk(n, ctx, true);
+  // (a trailing space is no part of the layout)
+  if (!runs.empty() && !runs.back().ctx.style.preserve_space && !runs.back().chars.empty() && runs.back().chars.back() == ' ')
+    runs.back().chars.pop_back();
+  if (runs.empty()) return;
+  if (!shaper_) shaper_ = std::make_unique<svg::TextShaper>();
+  auto font_of = [](const Style& st) { return svg::FontRequest{st.font_family, st.font_weight, st.italic}; };
+  std::vector<Vec2> origin(runs.size(), Vec2::Zero());
+  Vec2 pen = Vec2::Zero();
+  size_t chunk = 0;
+  double chunk_x = 0;
+  auto finish_chunk = [&](size_t end) {
+    if (end <= chunk) return;
+    // (its width ends at its last character: letter-spacing goes between characters)
+    const int anchor = runs[chunk].ctx.style.text_anchor;
+    const double width = pen.x() - chunk_x - runs[end - 1].ctx.style.letter_spacing;
+    const double shift = anchor == 1 ? -0.5 * width : anchor == 2 ? -width : 0.0;
+    for (size_t i = chunk; i < end; ++i) origin[i].x() += shift;
+  };
+  std::string problem;
+  for (size_t i = 0; i < runs.size(); ++i) {
+    Run& r = runs[i];
+    if (r.x || r.y) {
+      finish_chunk(i);
+      chunk = i;
+      if (r.x) pen.x() = *r.x;
+      if (r.y) pen.y() = *r.y;
+      chunk_x = pen.x();
+    }
+    pen += Vec2(r.dx, r.dy);
+    if (i == 0) chunk_x = pen.x();
+    origin[i] = pen;
+    double advance = 0;
+    if (!shaper_->shape(font_of(r.ctx.style), r.ctx.style.font_size, r.chars, r.ctx.style.letter_spacing, pen, nullptr, 0,
+                        advance, problem)) {
+      warn(r.node, problem + "; its text skipped");
+      count(ch_.dropped, "text with no font");
+      r.shown = false;
+    } else if (!problem.empty() && !fonts_capped_) {
+      warn(r.node, problem);
+      count(ch_.approximated, "text in a font not asked for (too many fonts)");
+      fonts_capped_ = true;
+    }
+    pen.x() += advance;
+  }
+  finish_chunk(runs.size());
+  std::vector<PathCmd> cmds;
+  for (size_t i = 0; i < runs.size() && fatal_.empty(); ++i) {
+    Run& r = runs[i];
+    if (!r.shown || !r.ctx.style.visible) continue;
+    cmds.clear();
+    double advance = 0;
+    // (a run drawing more outline than the file's points left is refused by emit, as any shape)
+    shaper_->shape(font_of(r.ctx.style), r.ctx.style.font_size, r.chars, r.ctx.style.letter_spacing, origin[i], &cmds,
+                   std::min(points_left(), opt_.max_shape_points) + 1, advance, problem);
+    if (!cmds.empty()) emit(r.node, r.ctx, cmds);
+  }
 }
 
 }  // namespace mar::svg_load

@@ -306,7 +306,7 @@ void SvgLoader::visit(const pugi::xml_node& n, const Ctx& parent) {
              name == "line" || name == "polyline" || name == "polygon") {
     shape(n, ctx);
   } else if (name == "text") {
-    warn(n, "text is not supported; skipped");
+    text(n, ctx);
   } else if (name == "image") {
     image(n, ctx);
   } else if (name == "style") {

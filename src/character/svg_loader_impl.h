@@ -9,6 +9,7 @@
 #include "character/css.h"
 #include "character/svg_loader.h"
 #include "character/svg_parse.h"
+#include "character/svg_text.h"
 
 #include <pugixml.hpp>
 
@@ -59,7 +60,15 @@ struct Style {
   FillRule clip_rule = FillRule::NonZero;            // (inherited)
   // fill or stroke currentColor: inherited as the keyword, each element's own color (CSS Color 4)
   bool fill_current = false, stroke_current = false;
-  double font_size = 16;  // what em and ex lengths are (inherited; text itself is not drawn)
+  double font_size = 16;  // what em and ex lengths are, and text's size (inherited)
+  // Text (svg_text.cpp), all inherited: the font asked for, where a chunk of text stands from
+  // its x (0 start, 1 middle, 2 end), what is added after each character, xml:space.
+  std::string font_family = "Times New Roman";
+  int font_weight = 400;
+  bool italic = false;
+  int text_anchor = 0;
+  double letter_spacing = 0;
+  bool preserve_space = false;
 };
 
 // A gradient's stop: where (0..1, never before the one before it) and its colour with opacity.
@@ -228,6 +237,8 @@ class SvgLoader {
 
   // <image>: a textured rectangle placed by x, y, width, height and preserveAspectRatio.
   void image(const pugi::xml_node& n, const Ctx& ctx);
+  // <text> and its <tspan>s as shapes (svg_geometry.cpp; fonts by svg::TextShaper).
+  void text(const pugi::xml_node& n, const Ctx& ctx);
 
   // The point budget (SvgOptions::max_points): what is left of it, and the error past it.
   size_t points_left() const { return opt_.max_points - std::min(opt_.max_points, total_points_); }
@@ -266,6 +277,9 @@ class SvgLoader {
   int nested_depth_ = 0;
   Viewport current_vp_;
   double current_font_ = 16;  // the element being read's font-size (em, ex)
+  std::unique_ptr<svg::TextShaper> shaper_;  // made at the first text
+  size_t text_chars_ = 0;                    // characters laid out so far (bounded)
+  bool fonts_capped_ = false;                // said that too many fonts were asked for
   pugi::xml_node css_transform_of_;           // the element compute_style read last, and
   std::optional<std::string> css_transform_;  // its CSS transform property, if it has one
   Character ch_;

@@ -17,7 +17,8 @@ SvgLoader::Decls SvgLoader::declarations(const pugi::xml_node& n) const {
       "stroke-linejoin", "stroke-linecap", "stroke-miterlimit", "opacity", "display",
       "visibility", "color", "stop-color", "stop-opacity", "stroke-dasharray", "filter",
       "mask", "clip-path", "stroke-dashoffset", "paint-order", "vector-effect", "marker-start", "marker-mid",
-      "marker-end", "clip-rule", "mask-type", "overflow", "font-size"};
+      "marker-end", "clip-rule", "mask-type", "overflow", "font-size", "font-family", "font-weight", "font-style",
+      "text-anchor", "letter-spacing"};
   for (const char* p : kPresentation) {
     if (pugi::xml_attribute a = n.attribute(p)) d.emplace_back(p, a.value());
   }
@@ -130,6 +131,29 @@ Style SvgLoader::compute_style(const pugi::xml_node& n, const Style& parent) {
     }
   }
   current_font_ = s.font_size;
+  if (auto v = prop(d, "font-family"); v && !is_inherit(*v) && !trim_space(*v).empty()) s.font_family = std::string(trim_space(*v));
+  if (auto v = prop(d, "font-weight"); v && !is_inherit(*v)) {
+    const std::string_view w = trim_space(*v);
+    if (w == "normal") s.font_weight = 400;
+    else if (w == "bold") s.font_weight = 700;
+    else if (w == "bolder") s.font_weight = parent.font_weight < 350 ? 400 : parent.font_weight < 550 ? 700 : 900;
+    else if (w == "lighter") s.font_weight = parent.font_weight < 550 ? 100 : parent.font_weight < 750 ? 400 : 700;
+    else if (auto k = svg::parse_length(w, 0, 0, 0); k && *k >= 1 && *k <= 1000) s.font_weight = int(*k);
+  }
+  if (auto v = prop(d, "font-style"); v && !is_inherit(*v)) {
+    const std::string_view f = trim_space(*v);
+    s.italic = f == "italic" || f.rfind("oblique", 0) == 0;
+  }
+  if (auto v = prop(d, "text-anchor"); v && !is_inherit(*v)) {
+    const std::string_view a = trim_space(*v);
+    s.text_anchor = a == "middle" ? 1 : a == "end" ? 2 : 0;
+  }
+  if (auto v = prop(d, "letter-spacing"); v && !is_inherit(*v)) {
+    const std::string_view l = trim_space(*v);
+    if (l == "normal") s.letter_spacing = 0;
+    else if (auto k = svg::parse_length(l, 0, current_vp_.w, current_vp_.h, s.font_size); k && std::abs(*k) < 1e6) s.letter_spacing = *k;
+  }
+  if (pugi::xml_attribute a = n.attribute("xml:space")) s.preserve_space = std::string_view(a.value()) == "preserve";
   if (auto v = prop(d, "color"); v && !is_inherit(*v)) {
     if (auto c = parse_color(*v)) s.color = *c;
   }

@@ -615,12 +615,38 @@ void draw_shape(const SubShape& s, const ShapeMesh* mesh, std::span<const Vec2> 
       out.item_starts.push_back(static_cast<int>(out.indices.size()));
       out.item_outline.push_back({static_cast<int>(out.outline.size()), static_cast<int>(out.outline.size())});
       const size_t first_vertex = out.vertices.size();
+      // A pen wider one way than the other (Stroke::pen): stroke round in its space, then take
+      // the outline back; the pen turns with the shape (the linear part of the affine map that
+      // best fits its deformation) and with the view.
+      Affine2 pen, from_pen;
+      const bool shaped = !s.stroke.round_pen();
+      if (shaped) {
+        Affine2 moved;
+        if (pts.data() != s.points.data()) moved = affine_fit(s.points, pts);
+        pen = view * moved * s.stroke.pen;
+        pen.e = pen.f = 0;
+        const double k = std::sqrt(std::abs(pen.det()));
+        if (k > 1e-12 && std::isfinite(k)) {
+          pen = Affine2{pen.a / k, pen.b / k, pen.c / k, pen.d / k, 0, 0};
+          from_pen = pen.inverse();
+        } else {
+          pen = from_pen = Affine2{};
+        }
+      }
       for (const Contour& c : s.contours) {
         if (c.count < 2) continue;  // an interior point (a solver's mesh vertex), not a line
         out.scratch.resize(static_cast<size_t>(c.count));
-        for (int k = 0; k < c.count; ++k) out.scratch[static_cast<size_t>(k)] = view.apply(pts[static_cast<size_t>(c.begin + k)]);
+        for (int k = 0; k < c.count; ++k)
+          out.scratch[static_cast<size_t>(k)] = from_pen.apply(view.apply(pts[static_cast<size_t>(c.begin + k)]));
+        const size_t from = out.vertices.size();
         if (s.stroke.dashes.empty()) stroke_polyline(out.scratch, c.stroke_closed(), st, col, out);
         else stroke_dashes(s, c, out.scratch, st, col, out);
+        if (shaped)
+          for (size_t v = from; v < out.vertices.size(); ++v) {
+            SDL_FPoint& q = out.vertices[v].position;
+            const Vec2 p = pen.apply(Vec2(q.x, q.y));
+            q = {float(p.x()), float(p.y())};
+          }
       }
       if (tex) texture_stroke(s, pts, view, first_vertex, out);
       end_batch(out);

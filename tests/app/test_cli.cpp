@@ -146,12 +146,12 @@ TEST(cli_inspect, JsonListsEverySubShape) {
 TEST(cli_inspect, TextTableAndWarnings) {
   const std::string svg = test::write_temp("warn.svg",
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"10\" height=\"10\">\n"
-      "<rect id=\"box\" width=\"5\" height=\"5\"/>\n<text>hello</text>\n</svg>\n");
+      "<rect id=\"box\" width=\"5\" height=\"5\"/>\n<text><textPath href=\"#box\">hello</textPath>\n</text></svg>\n");
   auto r = test::run_cli("inspect " + q(svg));
   ASSERT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("box"), std::string::npos);
   EXPECT_NE(r.out.find("totals: 1 sub-shapes"), std::string::npos);
-  EXPECT_NE(r.out.find("warn.svg:3: <text>: text is not supported"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("warn.svg:3: <textPath>: textPath is not supported"), std::string::npos) << r.out;
 }
 
 TEST(cli_inspect, MaskOnlyForPng) {

@@ -295,7 +295,7 @@ TEST(load_svg, PatternsTextAndFiltersWarnAndGradientStrokesAreTextures) {
                     <rect id="b" width="1" height="1" fill="none" stroke="url(#g2)"/>
                     <rect id="c" width="1" height="1" fill="url(#pat)"/>
                     <rect id="d" width="1" height="1" fill="url(#missing) #00ffff"/>
-                    <text x="0" y="0">hi</text>
+                    <text x="0" y="0"><textPath href="#a">hi</textPath></text>
                     <rect id="e" width="1" height="1" filter="url(#f)"/>)svg");
   // A gradient stroke samples a texture over the shape's bounds widened by half its width.
   for (const char* id : {"a", "b"}) {
@@ -312,7 +312,7 @@ TEST(load_svg, PatternsTextAndFiltersWarnAndGradientStrokesAreTextures) {
   EXPECT_TRUE(find(ch, "e"));
   EXPECT_FALSE(has_warning(ch, "linearGradient 'g' drawn as its mean colour"));
   EXPECT_TRUE(has_warning(ch, "pattern 'pat'"));
-  EXPECT_TRUE(has_warning(ch, "text is not supported"));
+  EXPECT_TRUE(has_warning(ch, "textPath is not supported; its text skipped"));
   EXPECT_TRUE(has_warning(ch, "filter 'url(#f)' names no filter"));
 }
 
@@ -408,6 +408,47 @@ TEST(load_svg, SwitchPicksFirstMatchingChild) {
                     <rect id="other" width="1" height="1"/></switch>)svg");
   ASSERT_EQ(ch.shapes.size(), 1u);
   EXPECT_EQ(ch.shapes[0].id, "en");
+}
+
+// Text is drawn as its glyphs' outlines (in the font fontconfig picks), one shape a run, laid out
+// along the baseline from x, y; text-anchor, tspans, letter-spacing and white space as SVG has them.
+TEST(load_svg, TextIsItsGlyphsLaidOutAlongTheBaseline) {
+  auto ch = load(R"svg(<text id="hi" x="10" y="50" font-family="DejaVu Sans" font-size="20">Hi</text>
+                    <text id="mid" x="50" y="80" text-anchor="middle" font-family="DejaVu Sans" font-size="10">Hello</text>
+                    <text id="end" x="50" y="90" text-anchor="end" font-family="DejaVu Sans" font-size="10">Hello</text>
+                    <text id="spaced" x="0" y="20" font-family="DejaVu Sans" font-size="10">  a   b
+                       c </text>
+                    <text id="plain" x="0" y="30" font-family="DejaVu Sans" font-size="10">a b c</text>
+                    <text id="wide" x="0" y="40" font-family="DejaVu Sans" font-size="10" letter-spacing="2">a b c</text>
+                    <text x="0" y="60" font-family="DejaVu Sans" font-size="10">one <tspan id="two" x="60" fill="#f00">two</tspan></text>)svg",
+                 R"svg(width="100" height="100")svg");
+  EXPECT_TRUE(ch.warnings.empty()) << ch.warnings.front();
+  const SubShape* hi = find(ch, "hi");
+  ASSERT_TRUE(hi);
+  EXPECT_EQ(hi->contours.size(), 3u);  // H, and i's stem and dot
+  EXPECT_TRUE(hi->fill.enabled);
+  EXPECT_EQ(color_hex(hi->fill.color), "#000000");
+  const Bounds b = hi->bounds();
+  EXPECT_NEAR(b.hi.y(), 50, 0.01);         // on the baseline
+  EXPECT_NEAR(50 - b.lo.y(), 0.76 * 20, 1); // i's dot a little over the capitals (0.73 em)
+  EXPECT_GT(b.lo.x(), 10);
+  EXPECT_LT(b.lo.x(), 13);
+  // Anchored: the middle about x, the end at x (within the glyphs' side bearings).
+  const Bounds m = find(ch, "mid")->bounds(), e = find(ch, "end")->bounds();
+  EXPECT_NEAR(0.5 * (m.lo.x() + m.hi.x()), 50, 0.6);
+  EXPECT_NEAR(e.hi.x(), 50, 1.0);
+  EXPECT_NEAR(m.hi.x() - m.lo.x(), e.hi.x() - e.lo.x(), 1e-9);
+  // White space collapsed (newlines gone, runs of spaces one, none leading) as in "a b c".
+  const Bounds sp = find(ch, "spaced")->bounds(), pl = find(ch, "plain")->bounds(), w = find(ch, "wide")->bounds();
+  EXPECT_NEAR(sp.lo.x(), pl.lo.x(), 1e-9);
+  EXPECT_NEAR(sp.hi.x(), pl.hi.x(), 1e-9);
+  EXPECT_NEAR((w.hi.x() - w.lo.x()) - (pl.hi.x() - pl.lo.x()), 4 * 2, 1e-6);  // four gaps between five characters
+  // A tspan is a run of its own: its own paint, from its own x.
+  const SubShape* two = find(ch, "two");
+  ASSERT_TRUE(two);
+  EXPECT_EQ(color_hex(two->fill.color), "#ff0000");
+  EXPECT_GE(two->bounds().lo.x(), 60);
+  EXPECT_LT(two->bounds().lo.x(), 61);
 }
 
 TEST(load_svg, NestedSvgViewport) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace mar {
 namespace {
 
@@ -118,6 +120,38 @@ TEST(build_draw_list, FollowsDeformedPositionsAndKeepsPaintOrder) {
   const SDL_Vertex& last = moved.vertices[static_cast<size_t>(moved.indices.back())];
   EXPECT_EQ(last.color.b, 255);
   EXPECT_GE(last.position.x, 5.0f);
+}
+
+// A stroke whose pen is squashed (Stroke::pen, from a transform scaling x and y apart) is wider
+// across x than across y; turned with its shape, the wide side turns with it.
+TEST(build_draw_list, ASquashedPenTurnsWithItsShape) {
+  Character ch;
+  ch.width = ch.height = 40;
+  ch.layers = {"l"};
+  SubShape s;
+  s.id = "ring";
+  for (int k = 0; k < 64; ++k) s.points.push_back(Vec2(10 * std::cos(k * M_PI / 32), 10 * std::sin(k * M_PI / 32)));
+  s.contours = {{0, 64, true}};
+  s.stroke.enabled = true;
+  s.stroke.width = 2;               // the pen's area is a circle's of radius 1:
+  s.stroke.pen = Affine2::scale(2, 0.5);  // 2 across x, 0.5 across y
+  ch.shapes.push_back(s);
+  const CharacterMesh mesh = prepare_mesh(ch);
+  auto extent = [&](const std::vector<Points>& pos) {
+    DrawList d;
+    build_draw_list(ch, mesh, pos, Affine2::identity(), 0.05, d);
+    Vec2 hi(-1e9, -1e9);
+    for (const SDL_Vertex& v : d.vertices) hi = hi.cwiseMax(Vec2(v.position.x, v.position.y));
+    return hi;
+  };
+  const Vec2 rest = extent({});
+  EXPECT_NEAR(rest.x(), 12.0, 0.05);
+  EXPECT_NEAR(rest.y(), 10.5, 0.05);
+  std::vector<Points> turned{s.points};
+  for (Vec2& p : turned[0]) p = Vec2(-p.y(), p.x());  // a quarter turn
+  const Vec2 moved = extent(turned);
+  EXPECT_NEAR(moved.x(), 10.5, 0.05);
+  EXPECT_NEAR(moved.y(), 12.0, 0.05);
 }
 
 }  // namespace
