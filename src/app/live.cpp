@@ -351,7 +351,13 @@ void LiveShow::render() {
   if (pool_) pool_->run(actors_.size(), one);
   else
     for (size_t i = 0; i < actors_.size(); ++i) one(i);
-  quality_pct_ = *std::max_element(quality_.begin(), quality_.end());
+  const auto worst = std::max_element(quality_.begin(), quality_.end());
+  quality_pct_ = *worst;
+  if (quality_pct_ * 1000.0 > stats_.quality.max() || stats_.quality.count() == 0) {  // (which part, for --stats)
+    worst_actor_ = int(worst - quality_.begin());
+    worst_shape_ = actors_[size_t(worst_actor_)]->worst_shape();
+    worst_frame_ = stats_.frames;
+  }
   stats_.quality.add(quality_pct_ * 1000.0);
   if (stage_.copied())
     canvas_->clear_to_underlay();  // the scenery behind, drawn once

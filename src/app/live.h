@@ -308,6 +308,8 @@ class LiveShow : private LiveRun {
   int64_t newest_ns_ = -1;                         ///< this frame's newest input (show clock; -1: none)
   static uint64_t allocation_count();
   double quality_pct_ = 0;       ///< this frame's pose quality (the HUD)
+  int worst_actor_ = -1, worst_shape_ = -1;  ///< where the show's worst distortion so far was (--stats)
+  long worst_frame_ = 0;
   std::atomic<bool> stop_{false};
   bool quit_ = false, learned_ = false, reload_asked_ = false, released_ = false;
   std::string reload_cause_, restarted_, last_reload_;

@@ -85,7 +85,15 @@ std::string LiveShow::stats_json() const {
       {"quality", {{"unit", "% of character height"},
                    {"worst_part_distortion", {{"p50", stats_.quality.quantile(0.5) / 1000},
                                               {"p99", stats_.quality.quantile(0.99) / 1000},
-                                              {"max", stats_.quality.max() / 1000}}}}},
+                                              {"max", stats_.quality.max() / 1000}}},
+                   // (where the max was: the part and its character, and the frame)
+                   {"worst_part", [&] {
+                      if (worst_actor_ < 0 || size_t(worst_actor_) >= actors_.size() || worst_shape_ < 0) return json(nullptr);
+                      const Actor& a = *actors_[size_t(worst_actor_)];
+                      const auto& shapes = a.puppet().character.shapes;
+                      if (size_t(worst_shape_) >= shapes.size()) return json(nullptr);
+                      return json{{"character", a.name()}, {"part", shapes[size_t(worst_shape_)].id}, {"frame", worst_frame_}};
+                    }()}}},
       {"behaviors", [&] {
          json a = json::array();
          for (size_t i = 0; i < idle_.size(); ++i)

@@ -123,7 +123,19 @@ void relate_parts(PartGraph& G, AutoRig& out) {
       // (and a rectangle under the whole drawing is its background, whatever is on it)
       const Vec2 all = cb.hi - cb.lo;
       const bool canvas = geo[i].area >= 0.95 * box && first && box >= 0.9 * all.x() * all.y();
-      const bool backdrop = (plain && first && geo[i].area >= 0.3 * others && straddled) || canvas;
+      // (a face behind its hair is no backdrop: two of its eyes, nose, mouth lie on it and
+      // touch nothing else, where what lies on a sun behind a horse lies on or touches the horse)
+      int own_details = 0;
+      for (size_t j = 0; j < n && own_details < 2 && !canvas; ++j) {
+        if (j == i || scenery[j] || geo[j].shape < geo[i].shape || geo[j].area >= 0.2 * geo[i].area ||
+            overlap[i][j] < 0.9 * geo[j].area)
+          continue;
+        bool elsewhere = false;
+        for (size_t k = 0; k < n && !elsewhere; ++k)
+          elsewhere = k != i && k != j && !scenery[k] && geo[k].area > geo[j].area && overlap[k][j] >= 0.05 * geo[j].area;
+        own_details += !elsewhere;
+      }
+      const bool backdrop = (plain && first && geo[i].area >= 0.3 * others && straddled && own_details < 2) || canvas;
       const bool ground = plain && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
                           geo[i].area <= 0.3 * others && inside > 0;
       if (!backdrop && !ground) continue;

@@ -62,6 +62,15 @@ TEST(Live, DemoPartsKeepTheirShape) {
   const auto& q = j["quality"]["worst_part_distortion"];
   EXPECT_LT(q["p50"].get<double>(), 0.5) << q.dump();
   EXPECT_LT(q["max"].get<double>(), 2.5) << q.dump();
+  // where the max was: a part of the figure (the demo's one character), on a frame of the show
+  const auto& w = j["quality"]["worst_part"];
+  ASSERT_TRUE(w.is_object()) << j["quality"].dump();
+  const std::string part = w["part"].get<std::string>();
+  std::ifstream svg(test::characters_dir() / "figure.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), {});
+  EXPECT_NE(text.find("id=\"" + part + "\""), std::string::npos) << part;
+  EXPECT_GE(w["frame"].get<long>(), 0);
+  EXPECT_LT(w["frame"].get<long>(), j["frames"].get<long>());
   EXPECT_EQ(j["grabs"]["count"], 2);
   EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
 }

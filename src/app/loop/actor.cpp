@@ -132,7 +132,12 @@ double Actor::reconstruct() {
   // Pose quality: the worst part's distortion (RMS residual of its best rigid fit to its rest
   // shape), in percent of the character's height.
   double worst = 0;
-  for (size_t k = 0; k < p.shapes.size(); ++k) worst = std::max(worst, rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]));
+  worst_shape_ = -1;
+  for (size_t k = 0; k < p.shapes.size(); ++k)
+    if (const double d = rigid_fit_rms(p.character.shapes[k].points, p.shapes[k]); d > worst) {
+      worst = d;
+      worst_shape_ = int(k);
+    }
   return worst * 100.0 / std::max(1e-9, p.character.height);
 }
 

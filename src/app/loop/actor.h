@@ -108,8 +108,9 @@ class Actor {
   /// The solve, from its slice of the stage's targets (and the grab's slot).
   void solve(std::span<const Vec2> targets, int iterations);
   /// The shapes from the solve, blended from a reload's last drawing while one is under way;
-  /// returns the worst part's distortion, % of the height.
+  /// returns the worst part's distortion, % of the height (which part: worst_shape()).
   double reconstruct();
+  int worst_shape() const { return worst_shape_; }
   /// Its shapes as now posed, on its view as now drawn, at its opacity.
   void draw(DrawList& list) const;
 
@@ -160,6 +161,7 @@ class Actor {
   KeyPoseStage keys_;
   std::vector<double> key_values_;      ///< this frame's value of each of keys_.settings()
   std::vector<Vec2> detailed_v_;        ///< the solve's frame with a sculpted key's detail on it
+  int worst_shape_ = -1;  ///< the shape the last reconstruct() found the most distorted (-1: none)
   PhysicsStage physics_;
   Grab grab_;
   BrushStage brush_;
