@@ -82,8 +82,9 @@ class Regions {
       }
     }
   }
-  // The worst piece's RMS residual of its best rigid fit (character units).
-  double worst(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now) const {
+  // The worst piece's RMS residual of its best rigid fit (character units); `in_limb` says
+  // whether that piece is a limb's (else the body's).
+  double worst(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now, bool* in_limb = nullptr) const {
     double w = 0;
     for (size_t k = 0; k < rest.size() && k < now.size(); ++k) {
       if (rest[k].size() != now[k].size() || region_[k].size() != rest[k].size()) continue;
@@ -94,7 +95,10 @@ class Regions {
         mar::Points a, b;
         for (size_t i = 0; i < rest[k].size(); ++i)
           if (region_[k][i] == id) a.push_back(rest[k][i]), b.push_back(now[k][i]);
-        if (a.size() >= 3) w = std::max(w, mar::rigid_fit_rms(a, b));
+        if (const double d = a.size() >= 3 ? mar::rigid_fit_rms(a, b) : 0.0; d > w) {
+          w = d;
+          if (in_limb) *in_limb = id != 0;
+        }
       }
     }
     return w;
@@ -167,7 +171,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "warning: %s\n", e.c_str());
     auto text = mar::starter_show(ar, *ch.value, rig.filename().string(), "nanokontrol2");
     double worst = -1, away = -1, by_region = -1;
-    std::string worst_part;
+    std::string worst_part, worst_piece;
     if (ar.rig.handles.empty() || !text.ok()) {
       row["error"] = ar.rig.handles.empty() ? "nothing to rig" : text.error;
     } else if (!write(show, *text.value)) {
@@ -203,18 +207,25 @@ int main(int argc, char** argv) {
           mar::LiveShow& r = **again.value;
           const Regions reg(ar, rest);
           (void)r.run();
-          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes);
+          bool limb = false;
+          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb);
           for (long k = 1; k < base + 120; ++k) {
             r.frame(int64_t(double(k) * period * 1e9));
             whole = std::max(whole, reg.whole(rest, r.puppet().shapes));
-            pieces = std::max(pieces, reg.worst(rest, r.puppet().shapes));
+            bool in_limb = false;
+            if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb); d > pieces) {
+              pieces = d;
+              limb = in_limb;
+            }
           }
+          worst_piece = limb ? "a limb's piece" : "the body's";
           const double height = std::max(1e-9, r.puppet().character.height);
           by_region = 100.0 * pieces / height;
           // (played again frame by frame it is the same show: the same worst whole shape)
           if (std::abs(100.0 * whole / height - worst) > 1e-3)
             std::fprintf(stderr, "warning: %s: played again, its worst part is %.4f %%, not %.4f %%\n", rel.c_str(), 100.0 * whole / height, worst);
           row["worst_by_region_pct"] = by_region;
+          row["worst_piece"] = worst_piece;
         } else {
           by_region = worst;
         }
@@ -238,7 +249,7 @@ int main(int argc, char** argv) {
     rows.push_back(row);
     std::printf("%-8s %-52s %6d %6d %9.2f %9.2f %7s%s%s\n", category.c_str(), rel.c_str(), person, limbs, worst, by_region,
                 away < 0 ? "-" : ok_rest ? "yes" : "no", ar.rig.solver == "rigid_grid" ? "  (silhouette)" : "",
-                worst > 1.5 ? ("  worst: " + worst_part).c_str() : "");
+                worst > 1.5 ? ("  worst: " + worst_part + (by_region > 1.5 && !worst_piece.empty() ? ", by piece " + worst_piece : "")).c_str() : "");
     std::fflush(stdout);
   }
   if (n == 0) return 0;
