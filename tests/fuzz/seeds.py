@@ -30,6 +30,12 @@ def hexbytes(text):
     return bytes(int(t, 16) for t in re.findall(r'\b[0-9a-fA-F]{2}\b', text))
 
 # SVG documents, path data, attribute values, colours, style sheets.
+# Text (tspans, anchors, spacing, preserved white space, a textPath), which no character has.
+add('fuzz_svg_document', b'''<svg xmlns="http://www.w3.org/2000/svg" width="120" height="80">
+<text x="10 20" y="30" dx="1" font-family="DejaVu Sans, serif" font-size="12" font-weight="bold" letter-spacing="1">Hi <tspan
+ x="40" dy="-2" fill="#c00" font-style="italic" text-anchor="middle">there</tspan><a><tspan>!</tspan></a></text>
+<text x="60" y="70" text-anchor="end" xml:space="preserve" stroke="#000" font-size="2em">  a	b  <textPath href="#p">x</textPath></text>
+</svg>''')
 svgs = sorted(glob.glob(f'{src}/config/characters/*.svg'))
 svgs += sorted(glob.glob(f'{corpus}/svg/characters-dicebear-cc0/*.svg'))
 svgs += sorted(glob.glob(f'{corpus}/svg/resvg/**/*.svg', recursive=True))[::12]
