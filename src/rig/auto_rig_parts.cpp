@@ -69,6 +69,44 @@ int PartGraph::part_at(const Vec2& q, bool with_details) const {
   return best;
 }
 
+namespace {
+
+// Whether a ring is drawn as a disc (a circle or an ellipse, at any angle): every outline point
+// at the same normalised distance from its centre under the filled shape's second moments (2 for
+// an ellipse), within 6 %. A face with a nose, a head of hair with locks are not.
+bool disc_like(const Points& ring) {
+  const size_t n = ring.size();
+  if (n < 8) return false;
+  Vec2 o = Vec2::Zero();
+  for (const Vec2& p : ring) o += p;
+  o /= double(n);
+  double a = 0, cx = 0, cy = 0, ixx = 0, iyy = 0, ixy = 0;
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 p = ring[i] - o, q = ring[(i + 1) % n] - o;
+    const double c = p.x() * q.y() - q.x() * p.y();
+    a += c;
+    cx += (p.x() + q.x()) * c;
+    cy += (p.y() + q.y()) * c;
+    ixx += c * (p.x() * p.x() + p.x() * q.x() + q.x() * q.x());
+    iyy += c * (p.y() * p.y() + p.y() * q.y() + q.y() * q.y());
+    ixy += c * (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y());
+  }
+  if (!(std::abs(a) > 1e-12)) return false;
+  a *= 0.5;
+  const Vec2 c(cx / (6 * a), cy / (6 * a));
+  const double sxx = ixx / (12 * a) - c.x() * c.x(), syy = iyy / (12 * a) - c.y() * c.y(), sxy = ixy / (24 * a) - c.x() * c.y();
+  const double det = sxx * syy - sxy * sxy;
+  if (!(det > 0)) return false;
+  for (const Vec2& p0 : ring) {
+    const Vec2 p = p0 - o - c;
+    const double r2 = (syy * p.x() * p.x() - 2 * sxy * p.x() * p.y() + sxx * p.y() * p.y()) / det;
+    if (std::abs(std::sqrt(r2) - 2.0) > 0.12) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 void relate_parts(PartGraph& G, AutoRig& out) {
   const Character& ch = G.ch;
   const double height = G.height;
@@ -116,7 +154,9 @@ void relate_parts(PartGraph& G, AutoRig& out) {
       }
       const Vec2 ext = geo[i].hi - geo[i].lo;
       const double box = std::max(1e-12, ext.x() * ext.y());
-      const bool plain = geo[i].area >= 0.7 * box;  // a disc (0.785 of its box), a rectangle
+      const bool filled = geo[i].area >= 0.7 * box;  // most of its box (a shadow's ellipse, a blob)
+      // a disc (0.785 of its box) or a rectangle, drawn as one (a blob of back hair is not)
+      const bool plain = geo[i].area >= 0.95 * box || (filled && disc_like(geo[i].ring));
       const bool first = behind >= 0.7 * others;    // drawn behind the rest
       // (a body drawn first has its limbs attached along its outline; a backdrop has the
       // character itself crossing it)
@@ -136,7 +176,7 @@ void relate_parts(PartGraph& G, AutoRig& out) {
         own_details += !elsewhere;
       }
       const bool backdrop = (plain && first && geo[i].area >= 0.3 * others && straddled && own_details < 2) || canvas;
-      const bool ground = plain && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
+      const bool ground = filled && first && ext.x() >= 3 * ext.y() && geo[i].centroid.y() >= cb.lo.y() + 0.8 * height &&
                           geo[i].area <= 0.3 * others && inside > 0;
       if (!backdrop && !ground) continue;
       scenery[i] = 1;

@@ -416,6 +416,18 @@ TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
                                                 "<rect id=\"rect4\" x=\"45\" y=\"75\" width=\"30\" height=\"5\" fill=\"#c33\"/></svg>"));
   EXPECT_TRUE(haired.ar.left_out.empty());
   EXPECT_EQ(ids_of(haired, AutoRigPart::Body), std::set<std::string>{"circle1"});
+  // Long hair drawn behind the face, its locks hanging: filled most of its box as a disc is, but
+  // drawn as no disc or rectangle, so it is the character's (it was left out, held still, as a
+  // backdrop: head12's back hair); the face turns on it.
+  const Rigged back = rig_of(test::write_temp("hair-behind-face.svg",
+                                              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"120\" height=\"120\">"
+                                              "<path id=\"path1\" d=\"M 15 75 A 45 35 0 0 1 105 75 L 105 110 L 95 102 L 85 110 L 75 102 L 65 110 "
+                                              "L 55 102 L 45 110 L 35 102 L 25 110 L 15 102 z\" fill=\"#630\"/>"
+                                              "<circle id=\"circle2\" cx=\"60\" cy=\"42\" r=\"28\" fill=\"#fc9\"/>"
+                                              "<circle id=\"circle3\" cx=\"50\" cy=\"34\" r=\"4\"/><circle id=\"circle4\" cx=\"70\" cy=\"34\" r=\"4\"/>"
+                                              "<rect id=\"rect5\" x=\"50\" y=\"52\" width=\"20\" height=\"4\" fill=\"#c33\"/></svg>"));
+  EXPECT_TRUE(back.ar.left_out.empty());
+  EXPECT_EQ(ids_of(back, AutoRigPart::Head), std::set<std::string>{"circle2"});
   // the same face on a rectangle that fills the drawing: its background
   const Rigged framed = rig_of(test::write_temp("face-on-card.svg",
                                                 "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">"
