@@ -457,8 +457,13 @@ void SvgLoader::text(const pugi::xml_node& n, const Ctx& ctx) {
           fatal_ = where(k) + ": more than " + std::to_string(opt_.max_elements) + " elements; file refused";
           return;
         }
+        if (c.depth > 200) {  // (as visit: the walk recurses once a level)
+          warn(k, "nesting deeper than 200 levels; skipped");
+          continue;
+        }
         if (!passes_conditions(k) || !visible_element(k)) continue;
         Ctx kc = c;
+        kc.depth = c.depth + 1;
         current_vp_ = c.vp;
         kc.style = compute_style(k, c.style);
         position(k, kc);
@@ -476,8 +481,11 @@ void SvgLoader::text(const pugi::xml_node& n, const Ctx& ctx) {
     runs.back().chars.pop_back();
   if (runs.empty()) return;
   if (!shaper_) shaper_ = std::make_unique<svg::TextShaper>();
-  auto font_of = [](const Style& st) { return svg::FontRequest{st.font_family, st.font_weight, st.italic}; };
-  std::vector<Vec2> origin(runs.size(), Vec2::Zero());
+  // Each run shaped once, its outlines placed along the baseline from the pen; a chunk's runs
+  // then moved by its anchor once its width is known, and drawn. (Outlines past what the file's
+  // points left can hold are not made: emit refuses the run that goes over, as any shape.)
+  std::vector<std::vector<PathCmd>> cmds(runs.size());
+  size_t room = points_left();  // (commands: each at least a point)
   Vec2 pen = Vec2::Zero();
   size_t chunk = 0;
   double chunk_x = 0;
@@ -487,10 +495,19 @@ void SvgLoader::text(const pugi::xml_node& n, const Ctx& ctx) {
     const int anchor = runs[chunk].ctx.style.text_anchor;
     const double width = pen.x() - chunk_x - runs[end - 1].ctx.style.letter_spacing;
     const double shift = anchor == 1 ? -0.5 * width : anchor == 2 ? -width : 0.0;
-    for (size_t i = chunk; i < end; ++i) origin[i].x() += shift;
+    for (size_t i = chunk; i < end && fatal_.empty(); ++i) {
+      for (PathCmd& c : cmds[i]) {
+        c.c1.x() += shift;
+        c.c2.x() += shift;
+        c.p.x() += shift;
+      }
+      if (!cmds[i].empty()) emit(runs[i].node, runs[i].ctx, cmds[i]);
+      std::vector<PathCmd>().swap(cmds[i]);  // (its memory too)
+    }
+    room = points_left();
   };
   std::string problem;
-  for (size_t i = 0; i < runs.size(); ++i) {
+  for (size_t i = 0; i < runs.size() && fatal_.empty(); ++i) {
     Run& r = runs[i];
     if (r.x || r.y) {
       finish_chunk(i);
@@ -501,32 +518,22 @@ void SvgLoader::text(const pugi::xml_node& n, const Ctx& ctx) {
     }
     pen += Vec2(r.dx, r.dy);
     if (i == 0) chunk_x = pen.x();
-    origin[i] = pen;
+    const bool drawn = r.shown && r.ctx.style.visible;
     double advance = 0;
-    if (!shaper_->shape(font_of(r.ctx.style), r.ctx.style.font_size, r.chars, r.ctx.style.letter_spacing, pen, nullptr, 0,
-                        advance, problem)) {
+    if (!shaper_->shape({r.ctx.style.font_family, r.ctx.style.font_weight, r.ctx.style.italic}, r.ctx.style.font_size, r.chars,
+                        r.ctx.style.letter_spacing, pen, drawn ? &cmds[i] : nullptr, std::min(room, opt_.max_shape_points) + 1, advance,
+                        problem)) {
       warn(r.node, problem + "; its text skipped");
       count(ch_.dropped, "text with no font");
-      r.shown = false;
     } else if (!problem.empty() && !fonts_capped_) {
       warn(r.node, problem);
       count(ch_.approximated, "text in a font not asked for (too many fonts)");
       fonts_capped_ = true;
     }
+    room -= std::min(room, cmds[i].size());
     pen.x() += advance;
   }
   finish_chunk(runs.size());
-  std::vector<PathCmd> cmds;
-  for (size_t i = 0; i < runs.size() && fatal_.empty(); ++i) {
-    Run& r = runs[i];
-    if (!r.shown || !r.ctx.style.visible) continue;
-    cmds.clear();
-    double advance = 0;
-    // (a run drawing more outline than the file's points left is refused by emit, as any shape)
-    shaper_->shape(font_of(r.ctx.style), r.ctx.style.font_size, r.chars, r.ctx.style.letter_spacing, origin[i], &cmds,
-                   std::min(points_left(), opt_.max_shape_points) + 1, advance, problem);
-    if (!cmds.empty()) emit(r.node, r.ctx, cmds);
-  }
 }
 
 }  // namespace mar::svg_load

@@ -451,6 +451,18 @@ TEST(load_svg, TextIsItsGlyphsLaidOutAlongTheBaseline) {
   EXPECT_LT(two->bounds().lo.x(), 61);
 }
 
+// A tspan in a tspan ... 100,000 deep (a 1.5 MB file) overflowed the stack of the text's walk
+// (a crash); it stops at 200 levels, as elements do, and says so.
+TEST(load_svg, TextNestedPastTwoHundredLevelsIsSkipped) {
+  std::string deep;
+  for (int i = 0; i < 100000; ++i) deep += "<tspan>";
+  deep += "x";
+  for (int i = 0; i < 100000; ++i) deep += "</tspan>";
+  auto ch = load("<text id=\"t\" x=\"0\" y=\"20\" font-family=\"DejaVu Sans\">ok " + deep + "</text>");
+  EXPECT_TRUE(has_warning(ch, "nesting deeper than 200 levels; skipped"));
+  ASSERT_TRUE(find(ch, "t"));  // the text above the cut is drawn
+}
+
 TEST(load_svg, NestedSvgViewport) {
   auto ch = load(R"svg(<svg x="10" y="10" width="20" height="20" viewBox="0 0 2 2"><rect width="1" height="1"/></svg>)svg");
   expect_bounds(ch.shapes.at(0), 10, 10, 20, 20, 1e-9);

@@ -397,44 +397,41 @@ TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
   EXPECT_EQ(ids_of(r, AutoRigPart::Limb), ids_of(plain, AutoRigPart::Limb));
   EXPECT_TRUE(handles_of(r).count("scenery")) << "held where it is drawn";
   loads(r, "figure-sun");
-  const Rigged face = rig_of(test::write_temp("face.svg",
-                                              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">"
-                                              "<circle id=\"circle1\" cx=\"50\" cy=\"50\" r=\"45\" fill=\"#fc0\"/>"
-                                              "<circle id=\"circle2\" cx=\"35\" cy=\"40\" r=\"6\"/><circle id=\"circle3\" cx=\"65\" cy=\"40\" r=\"6\"/>"
-                                              "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/></svg>"));
+  // (small drawings made for the test: name, size, body)
+  auto drawn = [](const std::string& name, int w, int h, const std::string& body) {
+    return rig_of(test::write_temp(name, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" + std::to_string(w) + "\" height=\"" +
+                                             std::to_string(h) + "\">" + body + "</svg>"));
+  };
+  const std::string face_disc = "<circle id=\"circle1\" cx=\"50\" cy=\"50\" r=\"45\" fill=\"#fc0\"/>"
+                                "<circle id=\"circle2\" cx=\"35\" cy=\"40\" r=\"6\"/><circle id=\"circle3\" cx=\"65\" cy=\"40\" r=\"6\"/>"
+                                "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/>";
+  const Rigged face = drawn("face.svg", 100, 100, face_disc);
   EXPECT_TRUE(face.ar.left_out.empty());
   EXPECT_EQ(ids_of(face, AutoRigPart::Body), std::set<std::string>{"circle1"});
   // A face drawn first under its hair (the hair half over it, half beside it, as a horse over a
   // sun): its eyes and mouth lie on it and on nothing else, so it is the character, not a
   // backdrop (it was left out, held still while the hair moved, in two heads of the benchmark).
-  const Rigged haired = rig_of(test::write_temp("face-under-hair.svg",
-                                                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"120\" height=\"110\">"
-                                                "<circle id=\"circle1\" cx=\"60\" cy=\"55\" r=\"40\" fill=\"#fc9\"/>"
-                                                "<path id=\"path5\" d=\"M5 60 C 5 -15, 115 -15, 115 60 L 115 105 L 95 105 L 95 45 C 90 25, 30 25, "
-                                                "25 45 L 25 105 L 5 105 z\" fill=\"#630\"/>"
-                                                "<circle id=\"circle2\" cx=\"45\" cy=\"55\" r=\"5\"/><circle id=\"circle3\" cx=\"75\" cy=\"55\" r=\"5\"/>"
-                                                "<rect id=\"rect4\" x=\"45\" y=\"75\" width=\"30\" height=\"5\" fill=\"#c33\"/></svg>"));
+  const Rigged haired = drawn("face-under-hair.svg", 120, 110,
+                              "<circle id=\"circle1\" cx=\"60\" cy=\"55\" r=\"40\" fill=\"#fc9\"/>"
+                              "<path id=\"path5\" d=\"M5 60 C 5 -15, 115 -15, 115 60 L 115 105 L 95 105 L 95 45 C 90 25, 30 25, "
+                              "25 45 L 25 105 L 5 105 z\" fill=\"#630\"/>"
+                              "<circle id=\"circle2\" cx=\"45\" cy=\"55\" r=\"5\"/><circle id=\"circle3\" cx=\"75\" cy=\"55\" r=\"5\"/>"
+                              "<rect id=\"rect4\" x=\"45\" y=\"75\" width=\"30\" height=\"5\" fill=\"#c33\"/>");
   EXPECT_TRUE(haired.ar.left_out.empty());
   EXPECT_EQ(ids_of(haired, AutoRigPart::Body), std::set<std::string>{"circle1"});
   // Long hair drawn behind the face, its locks hanging: filled most of its box as a disc is, but
   // drawn as no disc or rectangle, so it is the character's (it was left out, held still, as a
   // backdrop: head12's back hair); the face turns on it.
-  const Rigged back = rig_of(test::write_temp("hair-behind-face.svg",
-                                              "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"120\" height=\"120\">"
-                                              "<path id=\"path1\" d=\"M 15 75 A 45 35 0 0 1 105 75 L 105 110 L 95 102 L 85 110 L 75 102 L 65 110 "
-                                              "L 55 102 L 45 110 L 35 102 L 25 110 L 15 102 z\" fill=\"#630\"/>"
-                                              "<circle id=\"circle2\" cx=\"60\" cy=\"42\" r=\"28\" fill=\"#fc9\"/>"
-                                              "<circle id=\"circle3\" cx=\"50\" cy=\"34\" r=\"4\"/><circle id=\"circle4\" cx=\"70\" cy=\"34\" r=\"4\"/>"
-                                              "<rect id=\"rect5\" x=\"50\" y=\"52\" width=\"20\" height=\"4\" fill=\"#c33\"/></svg>"));
+  const Rigged back = drawn("hair-behind-face.svg", 120, 120,
+                            "<path id=\"path1\" d=\"M 15 75 A 45 35 0 0 1 105 75 L 105 110 L 95 102 L 85 110 L 75 102 L 65 110 "
+                            "L 55 102 L 45 110 L 35 102 L 25 110 L 15 102 z\" fill=\"#630\"/>"
+                            "<circle id=\"circle2\" cx=\"60\" cy=\"42\" r=\"28\" fill=\"#fc9\"/>"
+                            "<circle id=\"circle3\" cx=\"50\" cy=\"34\" r=\"4\"/><circle id=\"circle4\" cx=\"70\" cy=\"34\" r=\"4\"/>"
+                            "<rect id=\"rect5\" x=\"50\" y=\"52\" width=\"20\" height=\"4\" fill=\"#c33\"/>");
   EXPECT_TRUE(back.ar.left_out.empty());
   EXPECT_EQ(ids_of(back, AutoRigPart::Head), std::set<std::string>{"circle2"});
   // the same face on a rectangle that fills the drawing: its background
-  const Rigged framed = rig_of(test::write_temp("face-on-card.svg",
-                                                "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"100\" height=\"100\">"
-                                                "<rect id=\"rect0\" width=\"100\" height=\"100\" fill=\"#2a6\"/>"
-                                                "<circle id=\"circle1\" cx=\"50\" cy=\"50\" r=\"45\" fill=\"#fc0\"/>"
-                                                "<circle id=\"circle2\" cx=\"35\" cy=\"40\" r=\"6\"/><circle id=\"circle3\" cx=\"65\" cy=\"40\" r=\"6\"/>"
-                                                "<rect id=\"rect4\" x=\"30\" y=\"65\" width=\"40\" height=\"6\"/></svg>"));
+  const Rigged framed = drawn("face-on-card.svg", 100, 100, "<rect id=\"rect0\" width=\"100\" height=\"100\" fill=\"#2a6\"/>" + face_disc);
   ASSERT_EQ(framed.ar.left_out.size(), 1u);
   EXPECT_EQ(framed.ch.shapes[size_t(framed.ar.left_out[0].shape)].id, "rect0");
   EXPECT_EQ(ids_of(framed, AutoRigPart::Body), std::set<std::string>{"circle1"});
