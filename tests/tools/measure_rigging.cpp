@@ -4,7 +4,9 @@
 // nanoKONTROL2 played headless to its end: the worst part's distortion (best rigid fit per
 // part, % of the character's height) and whether the character is back at rest once every
 // control is back where it started and two seconds have passed (no point more than 1% of the
-// height from its rest).
+// height from its rest). A rig from the silhouette is also played frame by frame: its shapes
+// measured piece by piece, and its reach (the farthest any handle is from its target: a limb
+// that lags its knob, or is too stiff to turn as far as it is told).
 // Prints a row per drawing and the shares; --json FILE writes them, --keep DIR keeps each
 // rig, starter show and preview, --list FILE measures another list. A measurement, not a gate: without the package it says so and
 // measures nothing.
@@ -25,6 +27,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -130,10 +134,19 @@ int main(int argc, char** argv) {
     std::cout << "openclipart-svg is not installed (apt-get install openclipart-svg): nothing measured\n";
     return 0;
   }
-  const fs::path work = keep.empty() ? fs::temp_directory_path() / "marionette-rigging" : fs::path(keep);
+  // (a folder of its own: two runs at once must not play each other's rigs)
+  const fs::path work = keep.empty() ? fs::temp_directory_path() / ("marionette-rigging-" + std::to_string(getpid())) : fs::path(keep);
   fs::create_directories(work);
+  struct Cleanup {  // the rigs and shows of a run not kept go with it
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      if (!dir.empty()) fs::remove_all(dir, ec);
+    }
+  } cleanup{keep.empty() ? work : fs::path()};
   std::ifstream in(list);
   nlohmann::json rows = nlohmann::json::array();
+  std::vector<double> reaches;  // per rig from the silhouette
   int n = 0, enough = 0, calm = 0, rested = 0, both = 0, calm_regions = 0, both_regions = 0;
   std::printf("%-8s %-52s %6s %6s %9s %9s %7s\n", "category", "drawing", "person", "found", "worst %", "by region", "rest");
   for (std::string line; std::getline(in, line);) {
@@ -170,7 +183,7 @@ int main(int argc, char** argv) {
       if (const std::string e = mar::write_rig_preview((work / (stem + ".png")).string(), *ch.value, ar); !e.empty())
         std::fprintf(stderr, "warning: %s\n", e.c_str());
     auto text = mar::starter_show(ar, *ch.value, rig.filename().string(), "nanokontrol2");
-    double worst = -1, away = -1, by_region = -1;
+    double worst = -1, away = -1, by_region = -1, reach_pct = -1;
     std::string worst_part, worst_piece;
     if (ar.rig.handles.empty() || !text.ok()) {
       row["error"] = ar.rig.handles.empty() ? "nothing to rig" : text.error;
@@ -209,8 +222,19 @@ int main(int argc, char** argv) {
           (void)r.run();
           bool limb = false;
           double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb);
+          // How far a handle is from its target at worst: a limb that lags its knob, or one too
+          // stiff to reach where it is turned to.
+          double reach = 0;
+          auto lag = [&] {
+            const std::span<const mar::Vec2> t = r.targets();
+            const mar::Solver& sv = *r.puppet().solver;
+            for (size_t h = 0; h < sv.handle_count() && h < t.size(); ++h)
+              if (t[h].allFinite()) reach = std::max(reach, (sv.handle_point(h) - t[h]).norm());
+          };
+          lag();
           for (long k = 1; k < base + 120; ++k) {
             r.frame(int64_t(double(k) * period * 1e9));
+            lag();
             whole = std::max(whole, reg.whole(rest, r.puppet().shapes));
             bool in_limb = false;
             if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb); d > pieces) {
@@ -225,6 +249,9 @@ int main(int argc, char** argv) {
           if (std::abs(100.0 * whole / height - worst) > 1e-3)
             std::fprintf(stderr, "warning: %s: played again, its worst part is %.4f %%, not %.4f %%\n", rel.c_str(), 100.0 * whole / height, worst);
           row["worst_by_region_pct"] = by_region;
+          reach_pct = 100.0 * reach / height;
+          reaches.push_back(reach_pct);
+          row["worst_reach_pct"] = reach_pct;
           row["worst_piece"] = worst_piece;
         } else {
           by_region = worst;
@@ -247,8 +274,10 @@ int main(int argc, char** argv) {
     calm_regions += ok_region;
     both_regions += ok_region && ok_rest;
     rows.push_back(row);
+    char reach_text[64] = "";
+    if (reach_pct >= 0) std::snprintf(reach_text, sizeof reach_text, "  (silhouette, reach %.2f %%)", reach_pct);
     std::printf("%-8s %-52s %6d %6d %9.2f %9.2f %7s%s%s\n", category.c_str(), rel.c_str(), person, limbs, worst, by_region,
-                away < 0 ? "-" : ok_rest ? "yes" : "no", ar.rig.solver == "rigid_grid" ? "  (silhouette)" : "",
+                away < 0 ? "-" : ok_rest ? "yes" : "no", reach_text,
                 worst > 1.5 ? ("  worst: " + worst_part + (by_region > 1.5 && !worst_piece.empty() ? ", by piece " + worst_piece : "")).c_str() : "");
     std::fflush(stdout);
   }
@@ -259,8 +288,17 @@ int main(int argc, char** argv) {
               n, pct(enough), pct(calm), pct(rested), pct(both));
   std::printf("by region (a limb inside one shape measured piece by piece): distortion <= 1.5%% on %.0f%%; both on %.0f%%\n",
               pct(calm_regions), pct(both_regions));
+  double reach_median = -1;
+  if (!reaches.empty()) {
+    std::sort(reaches.begin(), reaches.end());
+    const size_t m = reaches.size();
+    reach_median = m % 2 ? reaches[m / 2] : 0.5 * (reaches[m / 2 - 1] + reaches[m / 2]);
+    std::printf("rigs from the silhouette: reach (farthest handle from its target) median %.2f%%, worst %.2f%% of the height\n",
+                reach_median, reaches.back());
+  }
   if (!json_path.empty()) {
     nlohmann::json out{{"drawings", n},
+                       {"silhouette_reach_median_pct", reach_median},
                        {"limbs_at_least_person_pct", pct(enough)},
                        {"distortion_at_most_1_5_pct", pct(calm)},
                        {"back_at_rest_pct", pct(rested)},
