@@ -162,6 +162,15 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
     for (const RigJoint& j : rig.joints)
       for (size_t i = 0; i < n; ++i)
         if (ch.shapes[size_t(geo[i].shape)].id == j.part_a || (via[i][size_t(std::max(0, parent[i]))] >= 0 && parent[i] >= 0)) tied[i] = 1;
+    // An outline and its fill drawn as two shapes (one inside the other, at least half its
+    // area): one part. Tied to it by the spanning tree's one line and no hinge, the fill would
+    // turn about that line, half out of its outline: where that line meets it, per part.
+    auto twin = [&](size_t i) {
+      const int c = G.container[i];
+      return c >= 0 && c == parent[i] && geo[i].area >= 0.5 * geo[size_t(c)].area && geo[size_t(c)].area >= 0.5 * geo[i].area;
+    };
+    std::vector<Vec2> one_line(n, Vec2::Zero());
+    std::vector<char> by_one_line(n, 0);
     // The spanning tree's lines: the sewing lines right after the feature lines, one per
     // sub-frame but the first (welds made of its crossing lines come after them).
     size_t subframes = 0;
@@ -175,7 +184,12 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
       const int i = part_of[size_t(sa)], j = part_of[size_t(sb)];
       if (i < 0 || j < 0) continue;
       if (related(i, j)) {
-        tied[size_t(parent[size_t(i)] == j ? i : j)] = 1;
+        const size_t child = size_t(parent[size_t(i)] == j ? i : j);
+        if (!tied[child] && parent[child] >= 0 && twin(child)) {
+          by_one_line[child] = 1;
+          one_line[child] = f.rest[size_t(child == size_t(i) ? l.a : l.b)];
+        }
+        tied[child] = 1;
         continue;
       }
       RigSewing del;
@@ -186,7 +200,7 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
       out.notes_sewing.push_back(ch.shapes[size_t(sa)].id + " and " + ch.shapes[size_t(sb)].id + " touch but neither hangs from the other: not sewn");
     }
     for (size_t i = 0; i < n; ++i) {
-      if (tied[i] || parent[i] < 0 || rig.sewing.empty()) continue;
+      if ((tied[i] && !by_one_line[i]) || parent[i] < 0 || (rig.sewing.empty() && !by_one_line[i])) continue;
       // The closest frame vertices of the part and its parent; then a second pair, away from
       // the first, so the part cannot turn about it: with one line, a pen that dragged it round
       // left it there (the hardware show's neck on the shirt). (`away_from`: no point of the
@@ -207,10 +221,14 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
         return std::isfinite(best);
       };
       RigSewing nearest, other;
-      if (!closest(Vec2::Zero(), 0, nearest)) continue;
       const std::string names = ch.shapes[size_t(ps)].id + " sewn to " + ch.shapes[size_t(qs)].id;
-      rig.sewing.push_back(nearest);
-      out.notes_sewing.push_back(names + ", which it hangs from");
+      if (by_one_line[i]) {
+        nearest.from = one_line[i];  // (the solver's own line is the first)
+      } else {
+        if (!closest(Vec2::Zero(), 0, nearest)) continue;
+        rig.sewing.push_back(nearest);
+        out.notes_sewing.push_back(names + ", which it hangs from");
+      }
       if (closest(nearest.from, 0.5 * std::max(axes[i].half_major, axes[i].half_minor), other)) {
         rig.sewing.push_back(other);
         out.notes_sewing.push_back(names + " a second time, away from the first: it keeps its turn");
