@@ -514,32 +514,47 @@ TEST(AutoRig, AFlatPictureGetsItsLimbsFromItsSilhouette) {
   EXPECT_EQ(limbs, 4) << "two arms, two legs";
 }
 
+// A pen on a simulated tablet that hovers at `from`, drags to `to` (fractions of the canvas)
+// over a second and leaves, on `rig`, played headless for four seconds: every frame's shapes.
+std::vector<nlohmann::json> pen_drag(const std::string& name, const std::string& rig, int width, int height, const std::string& from,
+                                     const std::string& to) {
+  const auto dir = test::temp_dir(name);
+  const std::string show = (dir / "show.toml").string(), poses = (dir / "poses.jsonl").string();
+  std::ofstream(show) << "[show]\nrig = \"" << rig << "\"\nrate = 60\niterations = 8\n[display]\nwidth = " << width << "\nheight = " << height
+                      << "\n[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n0.3 hover " << from << "\n0.5 stroke " << from
+                      << " " << to
+                      << " over 1.0 pressure 0.7\n1.7 leave\n\"\"\"\n"
+                         "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\n";
+  auto r = test::run_cli("run '" + show + "' --headless --frames 240 --dump-poses '" + poses + "'");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  std::ifstream in(poses);
+  std::vector<nlohmann::json> frames;
+  for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
+  return frames;
+}
+
+// A shape's points in a frame of `--dump-poses`, and their centre.
+Points points_of(const nlohmann::json& frame, const std::string& id) {
+  Points out;
+  for (const auto& sh : frame["subshapes"])
+    if (sh["id"] == id)
+      for (const auto& q : sh["points"]) out.emplace_back(q[0].get<double>(), q[1].get<double>());
+  return out;
+}
+Vec2 centre_of(const Points& p) {
+  Vec2 c = Vec2::Zero();
+  for (const Vec2& q : p) c += q;
+  return Vec2(c / double(std::max<size_t>(1, p.size())));
+}
+
 // The hardware show's pen stroke, on the figure's neck: dragged down onto the shirt while the
 // pen holds it, back under the face once the pen leaves (a part sewn to what it hangs from by
 // one line turned about it and stayed; now by two).
 TEST(AutoRig, APenDragDoesNotLeaveTheNeckOnTheShirt) {
-  const auto dir = test::temp_dir("pen-neck");
-  const std::string show = (dir / "show.toml").string(), poses = (dir / "poses.jsonl").string();
-  std::ofstream(show) << "[show]\nrig = \"" << (test::source_dir() / "config/rigs/figure.toml").string()
-                      << "\"\nrate = 60\niterations = 8\n[display]\nwidth = 480\nheight = 640\n"
-                         "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n0.3 hover 0.5,0.3\n"
-                         "0.5 stroke 0.5,0.3 0.6,0.5 over 1.0 pressure 0.7\n1.7 leave\n\"\"\"\n"
-                         "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\n";
-  auto r = test::run_cli("run '" + show + "' --headless --frames 240 --dump-poses '" + poses + "'");
-  ASSERT_EQ(r.exit_code, 0) << r.err;
-  std::ifstream in(poses);
-  std::vector<nlohmann::json> frames;
-  for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
+  const auto frames = pen_drag("pen-neck", (test::source_dir() / "config/rigs/figure.toml").string(), 480, 640, "0.5,0.3", "0.6,0.5");
   ASSERT_GE(frames.size(), 200u);
-  auto neck_centre = [&](const nlohmann::json& f) {
-    for (const auto& sh : f["subshapes"])
-      if (sh["id"] == "neck") {
-        Vec2 c = Vec2::Zero();
-        for (const auto& q : sh["points"]) c += Vec2(q[0].get<double>(), q[1].get<double>());
-        return Vec2(c / double(sh["points"].size()));
-      }
-    return Vec2(Vec2::Constant(1e9));
-  };
+  ASSERT_FALSE(points_of(frames.front(), "neck").empty());
+  auto neck_centre = [&](const nlohmann::json& f) { return centre_of(points_of(f, "neck")); };
   const Vec2 rest = neck_centre(frames.front());
   double pulled = 0;
   for (size_t k = 0; k < 100; ++k) pulled = std::max(pulled, (neck_centre(frames[k]) - rest).norm());
@@ -554,7 +569,6 @@ TEST(AutoRig, APenDragDoesNotLeaveTheNeckOnTheShirt) {
 // outline and stayed there, and the legs with it. The rig now sews such a part a second time,
 // away from the first line, as it sews a part the solver left untied.)
 TEST(AutoRig, AFillInsetInItsOutlineStaysInItUnderAPenDrag) {
-  const auto dir = test::temp_dir("twin-fill");
   const std::string svg = test::write_temp(
       "twin-fill.svg",
       "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"240\"><rect id=\"rect1\" x=\"40\" y=\"60\" width=\"80\" "
@@ -564,49 +578,27 @@ TEST(AutoRig, AFillInsetInItsOutlineStaysInItUnderAPenDrag) {
       "fill=\"#c96\"/><circle id=\"circle5\" cx=\"80\" cy=\"40\" r=\"22\" fill=\"#fc9\"/></svg>");
   const Rigged r = rig_of(svg);
   EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"rect1"});
-  const std::string rig = (dir / "rig.toml").string(), show = (dir / "show.toml").string(), poses = (dir / "poses.jsonl").string();
-  std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
-  std::ofstream(show) << "[show]\nrig = \"" << rig
-                      << "\"\nrate = 60\niterations = 8\n[display]\nwidth = 200\nheight = 240\n"
-                         "[[device]]\nname = \"pen\"\nsim = \"pen_tablet\"\nscript = \"\"\"\n0.3 hover 0.85,0.32\n"
-                         "0.5 stroke 0.85,0.32 0.6,0.05 over 1.0 pressure 0.7\n1.7 leave\n\"\"\"\n"
-                         "[[binding]]\ndevice = \"pen\"\ncontrol = \"pointer\"\ntarget = \"grab\"\n";
-  auto run = test::run_cli("run '" + show + "' --headless --frames 240 --dump-poses '" + poses + "'");
-  ASSERT_EQ(run.exit_code, 0) << run.err;
-  std::ifstream in(poses);
-  std::vector<nlohmann::json> frames;
-  for (std::string line; std::getline(in, line);) frames.push_back(nlohmann::json::parse(line));
+  const std::string rig = test::write_temp("twin-fill.toml", write_auto_rig(r.ar, r.ch));
+  const auto frames = pen_drag("twin-fill", rig, 200, 240, "0.85,0.32", "0.6,0.05");
   ASSERT_GE(frames.size(), 200u);
-  auto points = [](const nlohmann::json& f, const std::string& id) {
-    Points out;
-    for (const auto& sh : f["subshapes"])
-      if (sh["id"] == id)
-        for (const auto& q : sh["points"]) out.emplace_back(q[0].get<double>(), q[1].get<double>());
-    return out;
-  };
-  auto centre = [](const Points& p) {
-    Vec2 c = Vec2::Zero();
-    for (const Vec2& q : p) c += q;
-    return Vec2(c / double(std::max<size_t>(1, p.size())));
-  };
-  const Points fill0 = points(frames.front(), "rect2"), outline0 = points(frames.front(), "rect1");
+  const Points fill0 = points_of(frames.front(), "rect2"), outline0 = points_of(frames.front(), "rect1");
   ASSERT_FALSE(fill0.empty());
   ASSERT_FALSE(outline0.empty());
-  const Vec2 inset0 = centre(fill0) - centre(outline0);
+  auto inset = [&](const nlohmann::json& f) { return Vec2(centre_of(points_of(f, "rect2")) - centre_of(points_of(f, "rect1"))); };
+  const Vec2 inset0 = inset(frames.front());
   double apart = 0, moved = 0;
   for (const nlohmann::json& f : frames) {
-    apart = std::max(apart, (centre(points(f, "rect2")) - centre(points(f, "rect1")) - inset0).norm());
-    moved = std::max(moved, (centre(points(f, "rect1")) - centre(outline0)).norm());
+    apart = std::max(apart, (inset(f) - inset0).norm());
+    moved = std::max(moved, (centre_of(points_of(f, "rect1")) - centre_of(outline0)).norm());
   }
-  const Vec2 inset_end = centre(points(frames.back(), "rect2")) - centre(points(frames.back(), "rect1"));
   EXPECT_GT(moved, 20) << "the pen swung the body";
   // (while the pen swings the body round, the sewing lets the fill slide by about 11 units;
   // before, it turned 33 units out and stayed there)
   EXPECT_LT(apart, 15.0) << "the fill does not turn out of its outline";
-  EXPECT_LT((inset_end - inset0).norm(), 1.0) << "and it is back in place once the pen has let go";
+  EXPECT_LT((inset(frames.back()) - inset0).norm(), 1.0) << "and it is back in place once the pen has let go";
   double away = 0;
   for (const std::string id : {"rect1", "rect2", "rect3", "rect4", "rect6", "circle5"}) {
-    const Points a = points(frames.front(), id), b = points(frames.back(), id);
+    const Points a = points_of(frames.front(), id), b = points_of(frames.back(), id);
     ASSERT_EQ(a.size(), b.size()) << id;
     for (size_t i = 0; i < a.size(); ++i) away = std::max(away, (b[i] - a[i]).norm());
   }
