@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -29,10 +30,14 @@ double now_us() {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// A display to open a window on: X, Wayland, or a video driver named (the kiosk unit names
+// kmsdrm, with neither X nor Wayland). SDL's offscreen and dummy drivers show nothing.
 bool display_present() {
   const char* x = std::getenv("DISPLAY");
   const char* wl = std::getenv("WAYLAND_DISPLAY");
-  return (x && *x) || (wl && *wl);
+  const char* driver = std::getenv("SDL_VIDEODRIVER");
+  const bool named = driver && *driver && !std::strstr(driver, "offscreen") && !std::strstr(driver, "dummy");
+  return (x && *x) || (wl && *wl) || named;
 }
 
 }  // namespace
@@ -103,6 +108,8 @@ bool LiveShow::open_output(std::string* err) {
     wo.screen_name = sh.kiosk.enabled ? std::string() : sh.screen_name;
     wo.transparent = background_.a < 1;
     wo.vsync = sh.vsync;
+    // A kiosk may start before its display answers (an X server still starting at boot).
+    wo.display_wait_s = sh.kiosk.enabled ? 10.0 : 1.0;
     // Blur, shadows, clip paths and masks are composited by the software rasterizer: a character
     // that has them is drawn there and uploaded, in a GPU window too (the GPU multiplies a
     // group's opacity into its shapes).
@@ -123,17 +130,28 @@ bool LiveShow::open_output(std::string* err) {
       hud_panel_ = std::make_unique<Hud>(show_);
       if (const std::string e = hud_panel_->load_font(canvas_->window_renderer()); !e.empty() && !opt_.quiet)
         std::cerr << "warning: the HUD has no text: " << e << "\n";
+    } else if (sh.kiosk.enabled) {
+      // A kiosk with no screen shows no one anything, and headless it would fill its disk with
+      // frames for weeks: it stops, and its service manager starts it again.
+      *err = sh.path + ": a kiosk needs a screen, and there is none (" + w.error + ")";
+      return false;
     } else if (!opt_.quiet) {
       std::cerr << "warning: no window (" << w.error << "); running headless\n";
     }
   }
   if (!canvas_) {
+    if (!opt_.headless && sh.kiosk.enabled) {
+      *err = sh.path + ": a kiosk needs a screen, and there is none (DISPLAY, WAYLAND_DISPLAY and SDL_VIDEODRIVER are unset)";
+      return false;
+    }
     if (!opt_.headless && opt_.dump_dir.empty() && opt_.replay_path.empty()) {
-      // Asked for a window but there is no display: run headless and keep every 10th
-      // frame so the performance can still be seen.
+      // Asked for a window but there is none: run headless and keep every 10th frame so the
+      // performance can still be seen.
       opt_.dump_dir = "marionette-frames";
       opt_.every = 10;
-      if (!opt_.quiet) std::cout << "no display found (DISPLAY/WAYLAND_DISPLAY unset): running headless" << std::endl;
+      if (!opt_.quiet)
+        std::cout << (display_present() ? "no window" : "no display found (DISPLAY/WAYLAND_DISPLAY unset)")
+                  << ": running headless, every 10th frame written to marionette-frames/" << std::endl;
     }
     opt_.headless = true;
     auto c = Canvas::offscreen(canvas_w * ss, canvas_h * ss);

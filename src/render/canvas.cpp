@@ -6,6 +6,10 @@
 #include <SDL2/SDL.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+#include <cstdio>
 #include <cstring>
 #include <cstdlib>
 #include <cctype>
@@ -76,6 +80,49 @@ std::vector<ScreenInfo> list_screens(std::string* error) {
   return out;
 }
 
+namespace {
+
+bool offscreen_driver() {
+  const char* d = SDL_GetCurrentVideoDriver();
+  return d && (std::strcmp(d, "offscreen") == 0 || std::strcmp(d, "dummy") == 0);
+}
+
+}  // namespace
+
+std::string start_video(double wait_s) {
+  // SDL falls back to its offscreen driver when it cannot reach the display it was given: a
+  // "window" there shows nothing (a kiosk ran a whole show so, saying it was in a window, when
+  // its X server did not answer at once). Unless that driver was asked for, it is no display:
+  // asked again every 0.2 s for wait_s, then said.
+  const char* asked = std::getenv("SDL_VIDEODRIVER");
+  const bool wants_offscreen = asked && (std::strstr(asked, "offscreen") || std::strstr(asked, "dummy"));
+  // Asked again, an X display is asked for by name: SDL's Wayland probe, when there is no
+  // Wayland, prints an error of its own each time.
+  const bool x_only = std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !(asked && *asked);
+  auto env = [](const char* name) {
+    const char* v = std::getenv(name);
+    return v && *v ? std::string(" ") + name + "=" + v : std::string();
+  };
+  const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::max(0.0, wait_s));
+  std::string why;
+  for (int attempt = 0;; ++attempt) {
+    if (attempt == 1 && x_only) SDL_SetHint(SDL_HINT_VIDEODRIVER, "x11");
+    const bool started = SDL_InitSubSystem(SDL_INIT_VIDEO) == 0;
+    if (started && (!offscreen_driver() || wants_offscreen)) break;
+    if (started) SDL_QuitSubSystem(SDL_INIT_VIDEO);
+    if (std::chrono::steady_clock::now() >= until) {
+      char secs[32];
+      std::snprintf(secs, sizeof secs, "%.1f", wait_s);
+      why = "no display: SDL could not reach" + env("DISPLAY") + env("WAYLAND_DISPLAY") + env("SDL_VIDEODRIVER") + " in " + secs + " s" +
+            (started ? std::string() : std::string(" (") + SDL_GetError() + ")");
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  if (x_only) SDL_ResetHint(SDL_HINT_VIDEODRIVER);
+  return why;
+}
+
 int pick_screen(const std::vector<ScreenInfo>& screens, int index, const std::string& name) {
   if (!name.empty()) {
     auto lower = [](std::string s) {
@@ -99,9 +146,7 @@ Result<std::unique_ptr<Canvas>> Canvas::window(const WindowOptions& o, int width
   // The screen: by name or index; one that is not there is said, and SDL's choice used.
   // Video first, then the screens: list_screens() alone would shut video down and start it again,
   // which on a busy machine found X "not available" (a kiosk then ran in no window at all).
-  if (SDL_InitSubSystem(SDL_INIT_VIDEO) != 0) {
-    return R::failure(std::string("no display: ") + SDL_GetError());
-  }
+  if (const std::string e = start_video(o.display_wait_s); !e.empty()) return R::failure(e);
   int screen = -1;
   if (o.screen >= 0 || !o.screen_name.empty()) {
     const auto screens = list_screens(nullptr);

@@ -47,6 +47,9 @@ struct WindowOptions {
   Rgba fallback{0, 1, 0, 1};
   /// present() waits for the display's refresh (no tearing); where the renderer cannot, `note` says so.
   bool vsync = false;
+  /// How long to keep asking for a display SDL cannot reach yet (an X server still starting at
+  /// boot, or one too busy to answer), in seconds, before window() fails and says so.
+  double display_wait_s = 1.0;
 };
 
 /// A screen SDL sees.
@@ -57,6 +60,10 @@ struct ScreenInfo {
 };
 /// The screens, or an empty list with `error` set when there is no display.
 std::vector<ScreenInfo> list_screens(std::string* error);
+/// Starts SDL's video (SDL_InitSubSystem): "" when a display is reached, else why not. A fall
+/// back to SDL's offscreen driver that was not asked for (SDL_VIDEODRIVER) is no display; it is
+/// asked again for up to `wait_s` seconds.
+std::string start_video(double wait_s);
 /// The screen a name or index picks among `screens` (-1: none matches).
 int pick_screen(const std::vector<ScreenInfo>& screens, int index, const std::string& name);
 

@@ -619,6 +619,52 @@ TEST(Live, KioskFillsTheScreenWithAndWithoutAWindowManager) {
   }
 }
 
+// A display that does not answer: SDL falls back to its offscreen driver, whose "window" shows
+// nothing. A kiosk ran a whole show so on CI (the screen stayed black, and the show said "in a
+// kiosk window"). A show asked for a window says there is none and runs headless; a kiosk,
+// which would show no one anything and fill its disk with frames, says why and stops, so its
+// service manager starts it again. So does a kiosk with no display at all.
+TEST(Live, NoScreenIsSaidAndAKioskWithoutOneStops) {
+  int n = 900 + ::getpid() % 90;  // a display number no X server is on
+  while (std::filesystem::exists("/tmp/.X11-unix/X" + std::to_string(n))) ++n;
+  const std::string nowhere = "env -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER XDG_RUNTIME_DIR= DISPLAY=:" + std::to_string(n);
+  const std::string kiosk = (test::source_dir() / "config/shows/kiosk.toml").string();
+  auto r = test::run_cli("run '" + kiosk + "' --kiosk --frames 30", nowhere);
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.err.find(kiosk + ": a kiosk needs a screen"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("SDL could not reach DISPLAY=:" + std::to_string(n)), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("in a kiosk window"), std::string::npos) << r.out;
+  r = test::run_cli("run '" + kiosk + "' --kiosk --frames 30", "env -u DISPLAY -u WAYLAND_DISPLAY -u SDL_VIDEODRIVER XDG_RUNTIME_DIR=");
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.err.find("a kiosk needs a screen, and there is none (DISPLAY, WAYLAND_DISPLAY and SDL_VIDEODRIVER are unset)"), std::string::npos)
+      << r.err;
+  // Headless, a kiosk plays as before.
+  r = test::run_cli("run '" + kiosk + "' --kiosk --headless --frames 5", nowhere);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("5 frames"), std::string::npos) << r.out;
+  // A show asked for a window runs headless and says why (its frames go to marionette-frames/ in
+  // the folder it runs in).
+  const auto dir = test::temp_dir("no_screen");
+  const std::string show = (test::source_dir() / "config/shows/nanokontrol2.toml").string();
+  r = test::run_cli("run '" + show + "' --frames 20", "cd '" + dir.string() + "' && " + nowhere);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("no window (no display: SDL could not reach DISPLAY=:" + std::to_string(n)), std::string::npos) << r.err;
+  EXPECT_NE(r.out.find("running headless"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("in a window"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::filesystem::exists(dir / "marionette-frames")) << r.out;
+}
+
+// The shipped kiosk unit names SDL_VIDEODRIVER=kmsdrm with neither X nor Wayland: the show asks
+// that driver for its screen (it ran headless before, as if there were no display at all).
+TEST(Live, AKioskOnANamedVideoDriverAsksThatDriver) {
+  if (std::filesystem::exists("/dev/dri")) GTEST_SKIP() << "this machine has /dev/dri: a kiosk there would take the console";
+  const std::string kiosk = (test::source_dir() / "config/shows/kiosk.toml").string();
+  auto r = test::run_cli("run '" + kiosk + "' --kiosk --frames 30", "env -u DISPLAY -u WAYLAND_DISPLAY XDG_RUNTIME_DIR= SDL_VIDEODRIVER=kmsdrm");
+  EXPECT_NE(r.exit_code, 0) << r.out;
+  EXPECT_NE(r.err.find(kiosk + ": a kiosk needs a screen, and there is none (no display: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("kmsdrm"), std::string::npos) << r.err;
+}
+
 // Every show shipped in config/shows/ reads and checks (show, rig, character, bindings, attract).
 TEST(Live, EveryShippedShowValidates) {
   int n = 0;
