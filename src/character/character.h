@@ -91,6 +91,9 @@ struct SubShape {
   /// (-1: none).
   std::string group;
   int group_key = -1;
+  /// Its innermost group is a layer (an Inkscape layer, or a <g> at the top of the file): an
+  /// artist's sheet of many parts, not one.
+  bool group_is_layer = false;
   /// An alternative the file hides (display: none inside a group with a visible child): drawn
   /// only when a swap set or trigger shows it; it deforms with the rest.
   bool hidden = false;

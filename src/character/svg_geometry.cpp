@@ -157,6 +157,7 @@ void SvgLoader::emit(const pugi::xml_node& n, const Ctx& ctx, const std::vector<
   s.label = n.attribute("inkscape:label").value();
   s.group = ctx.group;
   s.group_key = ctx.group_key;
+  s.group_is_layer = ctx.group_key >= 0 && ctx.group_key == ctx.layer_key;
   s.hidden = ctx.hidden;
   for (const svg::FlatContour& fc : flat) {
     Points pts = fc.points;

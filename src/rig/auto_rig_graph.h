@@ -39,6 +39,7 @@ struct PartGraph {
   std::vector<std::vector<Vec2>> overlap_at;   ///< where they overlap (or touch, or a connector ends)
   std::vector<char> scenery;                   ///< left out: a backdrop, a ground shadow
   std::vector<int> container;                  ///< the part a detail or twin rides on, else -1
+  std::vector<int> group_part;                 ///< a piece of a group drawn as one part: that part (its largest piece), else -1
   std::vector<std::vector<int>> nb;            ///< neighbours: overlapping, touching or joined by a stroke
   std::vector<char> is_part;                   ///< per character shape
   std::vector<std::vector<int>> via;           ///< the connector stroke's shape between two parts, else -1
@@ -59,6 +60,8 @@ struct PartGraph {
 // auto_rig_parts.cpp
 /// The closed, filled sub-shapes that are not swap or trigger members.
 void find_parts(PartGraph& g, const AutoRigOptions& options);
+/// Groups whose pieces make one region become one part (part of find_parts; G.group_part).
+void join_groups(PartGraph& g);
 /// Overlaps, scenery (into out.left_out), details and twins, neighbours and connectors.
 void relate_parts(PartGraph& g, AutoRig& out);
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 
 namespace mar {
 
@@ -53,6 +54,71 @@ void find_parts(PartGraph& G, const AutoRigOptions& options) {
     geo.push_back(std::move(g));
   }
   G.n = geo.size();
+  G.group_part.assign(G.n, -1);
+  if (options.silhouette) join_groups(G);  // (drawn and traced: the `rig` command's only, as pieces above)
+}
+
+void join_groups(PartGraph& G) {
+  // A group (`<g>`) whose pieces together make one region — a foot and its straps, a head
+  // drawn in patches of colour, a limb in light and shade — is one part: artists group a
+  // part's pieces. Its largest piece stands for it, with the outline of all its pieces as its
+  // own; the other pieces ride on it as details do (relate_parts). Not a layer, nor a group
+  // that holds most of the drawing (the whole character), nor one whose pieces are named parts of
+  // their own (an upper arm and a forearm), nor one in separate regions (two eyes, both wings).
+  const Character& ch = G.ch;
+  std::vector<PartGeo>& geo = G.geo;
+  Bounds all;
+  for (const PartGeo& g : geo) {
+    all.add(g.lo);
+    all.add(g.hi);
+  }
+  const double all_box = all.width() * all.height();
+  std::map<int, std::vector<size_t>> by_group;
+  for (size_t i = 0; i < G.n; ++i)
+    if (const SubShape& sh = ch.shapes[size_t(geo[i].shape)]; sh.group_key >= 0 && !sh.group_is_layer) by_group[sh.group_key].push_back(i);
+  int traced = 0;
+  for (const auto& [key, pieces] : by_group) {
+    if (pieces.size() < 2 || ++traced > 64) continue;  // (each is drawn and traced: at most 64)
+    Bounds box;
+    bool named_parts = false;
+    for (size_t i : pieces) {
+      box.add(geo[i].lo);
+      box.add(geo[i].hi);
+      named_parts = named_parts || geo[i].hint != Hint::None;
+    }
+    if (named_parts || box.width() * box.height() > 0.4 * all_box) continue;
+    std::vector<const SubShape*> shapes;
+    for (size_t i : pieces) shapes.push_back(&ch.shapes[size_t(geo[i].shape)]);
+    Points u = union_outline(shapes);
+    if (u.size() < 3) continue;
+    // One region: every piece inside the traced outline (within two of its pixels).
+    const double px = 2.0 * std::max(box.width(), box.height()) / 160.0;
+    bool one = true;
+    for (size_t i : pieces) {
+      size_t in = 0;
+      for (const Vec2& p : geo[i].ring) in += winding_number(u, p) != 0 || ring_distance(Points{p}, u) <= px;
+      one = one && in >= 0.9 * double(geo[i].ring.size());
+    }
+    if (!one) continue;
+    size_t rep = pieces[0];
+    for (size_t i : pieces)
+      if (geo[i].area > geo[rep].area) rep = i;
+    PartGeo& g = geo[rep];
+    g.ring = std::move(u);
+    g.area = std::abs(signed_area(g.ring));
+    g.lo = box.lo;
+    g.hi = box.hi;
+    g.centroid = ring_centroid(g.ring);
+    // (the group's own name, when the piece has none: a `<g id="wing-left">`)
+    const std::string& path = ch.shapes[size_t(g.shape)].group;
+    const std::string name = path.substr(path.rfind('/') == std::string::npos ? 0 : path.rfind('/') + 1);
+    if (!g.named && !name.empty() && !made_up(name)) {
+      g.named = true;
+      g.words = name_words(name);
+      g.hint = hint_of(g.words);
+    }
+    for (size_t i : pieces) G.group_part[i] = int(rep);
+  }
 }
 
 int PartGraph::part_at(const Vec2& q, bool with_details) const {
@@ -199,6 +265,28 @@ void relate_parts(PartGraph& G, AutoRig& out) {
       if (j == i || scenery[j] || geo[j].shape >= geo[i].shape || geo[i].shape - geo[j].shape > 2) continue;
       const double lo = std::min(geo[i].area, geo[j].area), hi = std::max(geo[i].area, geo[j].area);
       if (lo >= 0.5 * hi && overlap[i][j] >= 0.7 * lo) container[i] = int(j);
+    }
+  }
+  // A group's pieces ride on the part that stands for it (join_groups), and it on none of them.
+  {
+    std::string said;
+    int groups = 0;
+    for (size_t i = 0; i < n; ++i) {
+      if (G.group_part[i] != int(i)) continue;
+      const long pieces = std::count(G.group_part.begin(), G.group_part.end(), int(i));
+      const std::string& path = ch.shapes[size_t(geo[i].shape)].group;
+      if (++groups <= 4) said += (said.empty() ? "" : "; ") + path.substr(path.rfind('/') + 1) + " (" + std::to_string(pieces) + " pieces, " + G.id(i) + ")";
+    }
+    if (groups > 4) said += "; and " + std::to_string(groups - 4) + " more";
+    if (groups > 0) out.notes.push_back(std::to_string(groups) + (groups == 1 ? " group makes" : " groups make") + " one region, one part: " + said);
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const int rep = G.group_part[i];
+    if (rep < 0 || scenery[i] || scenery[size_t(rep)]) continue;
+    if (size_t(rep) == i) {
+      if (container[i] >= 0 && G.group_part[size_t(container[i])] == rep) container[i] = -1;
+    } else {
+      container[i] = rep;
     }
   }
   for (size_t i = 0; i < n; ++i) {

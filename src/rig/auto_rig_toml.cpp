@@ -41,7 +41,9 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   }
   if (!r.joints.empty()) o << "\n# ---- hinges, where each limb goes into its parent (the drawn joint) ----\n";
   for (const RigJoint& j : r.joints) {
-    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [" << q(j.part_a) << ", " << q(j.part_b) << "]\nkind = \"hinge\"\n";
+    if (j.weld) o << "\n# " << j.part_a << " and " << j.part_b << ": pieces of one group, welded: they move as one part";
+    o << "\n[[joint]]\nat = " << point_toml(j.at) << "\nparts = [" << q(j.part_a) << ", " << q(j.part_b) << "]\nkind = \""
+      << (j.weld ? "weld" : "hinge") << "\"\n";
   }
   if (!r.stiffness.empty()) o << "\n# ---- softer where each limb joins and bends: it turns there ----\n";
   for (const RigStiffness& s : r.stiffness)

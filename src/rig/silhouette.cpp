@@ -6,6 +6,7 @@
 #include "render/tessellate.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -296,20 +297,29 @@ std::string largest_region(const Character& sub, int long_side, Points& outline,
 
 }  // namespace
 
-Points union_outline(const SubShape& shape, int long_side) {
-  const Bounds b = shape.bounds();
+Points union_outline(const SubShape& shape, int long_side) { return union_outline(std::span<const SubShape* const>(std::array{&shape}), long_side); }
+
+Points union_outline(std::span<const SubShape* const> shapes, int long_side) {
+  Bounds b;
+  double stroke = 0;
+  for (const SubShape* sh : shapes) {
+    b.add(sh->bounds());
+    if (sh->stroke.enabled) stroke = std::max(stroke, sh->stroke.width);
+  }
   if (b.empty()) return {};
-  const double pad = 0.02 * std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) + (shape.stroke.enabled ? shape.stroke.width : 0.0);
+  const double pad = 0.02 * std::max(b.hi.x() - b.lo.x(), b.hi.y() - b.lo.y()) + stroke;
   Character sub;
   sub.width = b.hi.x() - b.lo.x() + 2 * pad;
   sub.height = b.hi.y() - b.lo.y() + 2 * pad;
   sub.layers.push_back("shape");
-  SubShape s = shape;
-  s.hidden = false;
-  s.role = ShapeRole::Paint;
-  opaque(s);
-  for (Vec2& p : s.points) p -= b.lo - Vec2(pad, pad);
-  sub.shapes.push_back(std::move(s));
+  for (const SubShape* sh : shapes) {
+    SubShape s = *sh;
+    s.hidden = false;
+    s.role = ShapeRole::Paint;
+    opaque(s);
+    for (Vec2& p : s.points) p -= b.lo - Vec2(pad, pad);
+    sub.shapes.push_back(std::move(s));
+  }
   Points outline;
   std::vector<Points> holes;
   if (!largest_region(sub, long_side, outline, holes).empty()) return {};

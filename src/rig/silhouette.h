@@ -43,6 +43,8 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
 /// outline drawn as many small filled pieces), traced at `long_side` pixels over its bounds;
 /// empty when it draws nothing.
 Points union_outline(const SubShape& shape, int long_side = 160);
+/// The same of several shapes together: the outline of the largest region they cover.
+Points union_outline(std::span<const SubShape* const> shapes, int long_side = 160);
 
 /// The silhouette of the given shapes of `ch` together (fills and strokes, drawn opaque, then
 /// traced: their union), its largest region, limbs found; drawn `long_side` pixels long.

@@ -605,6 +605,58 @@ TEST(AutoRig, AFillInsetInItsOutlineStaysInItUnderAPenDrag) {
   EXPECT_LT(away, 0.01 * 240) << "back at rest once the pen has let go";
 }
 
+// A creature whose left leg is a group of two pieces side by side (its light and its shaded
+// half, as artists draw a limb's light and shade), inside a group of the whole creature in a
+// layer, with two eyes in a group of their own. The leg's group makes one region: one part, one
+// limb, not two limbs hinged down its length; its halves stay together under a pen drag. The
+// eyes' group is two regions and the creature's group most of the drawing: neither is one part.
+// (A layer is none either: the robot's back layer holds its arms and legs.)
+TEST(AutoRig, AGroupWhosePiecesMakeOneRegionIsOnePart) {
+  const std::string svg = test::write_temp(
+      "group-leg.svg",
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"240\"><g id=\"layer1\"><g id=\"g1\">"
+      "<ellipse id=\"ellipse1\" cx=\"100\" cy=\"120\" rx=\"60\" ry=\"45\" fill=\"#8a6\"/>"
+      "<g id=\"g2\"><rect id=\"rect1\" x=\"62\" y=\"150\" width=\"9\" height=\"80\" fill=\"#c96\"/>"
+      "<rect id=\"rect2\" x=\"71\" y=\"150\" width=\"10\" height=\"80\" fill=\"#a74\"/></g>"
+      "<rect id=\"rect3\" x=\"120\" y=\"150\" width=\"19\" height=\"80\" fill=\"#c96\"/>"
+      "<circle id=\"circle1\" cx=\"100\" cy=\"50\" r=\"30\" fill=\"#fc9\"/>"
+      "<g id=\"g3\"><circle id=\"circle2\" cx=\"90\" cy=\"45\" r=\"4\" fill=\"#000\"/>"
+      "<circle id=\"circle3\" cx=\"110\" cy=\"45\" r=\"4\" fill=\"#000\"/></g></g></g></svg>");
+  const Rigged r = rig_of(svg);
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"ellipse1"});
+  const std::set<std::string> limbs = ids_of(r, AutoRigPart::Limb);
+  EXPECT_EQ(limbs.count("rect1") + limbs.count("rect2"), 1u) << "the leg's two halves are one limb";
+  EXPECT_EQ(limbs.count("rect3"), 1u);
+  EXPECT_EQ(limbs.size(), 2u);
+  const std::set<std::string> details = ids_of(r, AutoRigPart::Detail);
+  EXPECT_EQ(details.count("rect1") + details.count("rect2"), 1u) << "the other half rides on it";
+  EXPECT_TRUE(details.count("circle2") && details.count("circle3")) << "the eyes ride on the head, each";
+  bool said = false;
+  for (const std::string& n : r.ar.notes) said = said || n.find("1 group makes one region, one part: g2 (2 pieces") != std::string::npos;
+  EXPECT_TRUE(said) << "the rig says so";
+  // A pen drags the grouped leg's foot out sideways and lets go.
+  const std::string rig = test::write_temp("group-leg.toml", write_auto_rig(r.ar, r.ch));
+  const auto frames = pen_drag("group-leg", rig, 200, 240, "0.355,0.93", "0.1,0.8");
+  ASSERT_GE(frames.size(), 200u);
+  ASSERT_FALSE(points_of(frames.front(), "rect1").empty());
+  auto between = [&](const nlohmann::json& f) { return Vec2(centre_of(points_of(f, "rect2")) - centre_of(points_of(f, "rect1"))); };
+  const Vec2 between0 = between(frames.front());
+  double apart = 0, swung = 0;
+  for (const nlohmann::json& f : frames) {
+    apart = std::max(apart, (between(f) - between0).norm());
+    swung = std::max(swung, (centre_of(points_of(f, "rect1")) - centre_of(points_of(frames.front(), "rect1"))).norm());
+  }
+  EXPECT_GT(swung, 10) << "the pen swung the leg";
+  EXPECT_LT(apart, 3.0) << "its halves stay side by side";
+  double away = 0;
+  for (const std::string id : {"ellipse1", "rect1", "rect2", "rect3", "circle1"}) {
+    const Points a = points_of(frames.front(), id), b = points_of(frames.back(), id);
+    ASSERT_EQ(a.size(), b.size()) << id;
+    for (size_t i = 0; i < a.size(); ++i) away = std::max(away, (b[i] - a[i]).norm());
+  }
+  EXPECT_LT(away, 0.01 * 240) << "back at rest once the pen has let go";
+}
+
 // A head of hair drawn in twenty strokes: the eight longest are limbs with handles, not twenty.
 TEST(AutoRig, AHeadOfHairInManyStrokesGivesEightStrandsNotAll) {
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">"
