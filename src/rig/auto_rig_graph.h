@@ -35,6 +35,7 @@ struct PartGraph {
   std::set<int> members;         ///< shapes in swap sets and triggers: not parts of the tree
   std::vector<PartGeo> geo;
   size_t n = 0;                  ///< geo.size()
+  size_t left_small = 0;         ///< filled shapes past the most parts there may be (the smallest)
   std::vector<std::vector<double>> overlap;    ///< area both parts cover
   std::vector<std::vector<Vec2>> overlap_at;   ///< where they overlap (or touch, or a connector ends)
   std::vector<char> scenery;                   ///< left out: a backdrop, a ground shadow

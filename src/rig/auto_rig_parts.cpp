@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 
@@ -53,6 +54,22 @@ void find_parts(PartGraph& G, const AutoRigOptions& options) {
     g.hint = hint_of(g.words);
     geo.push_back(std::move(g));
   }
+  // At most the 1,000 biggest are parts (in drawing order): the phases below weigh every pair,
+  // and a file of 140,000 small shapes ran the rig out of memory. The others ride along.
+  if (constexpr size_t kMaxParts = 1000; geo.size() > kMaxParts) {
+    std::vector<double> areas;
+    for (const PartGeo& g : geo) areas.push_back(g.area);
+    std::nth_element(areas.begin(), areas.begin() + long(kMaxParts - 1), areas.end(), std::greater<>());
+    const double least = areas[kMaxParts - 1];
+    std::vector<PartGeo> kept;
+    for (PartGeo& g : geo)
+      if (g.area > least && kept.size() < kMaxParts) kept.push_back(std::move(g));
+    for (PartGeo& g : geo)  // (ties at the least area, in drawing order)
+      if (g.shape >= 0 && g.area == least && kept.size() < kMaxParts) kept.push_back(std::move(g));
+    std::sort(kept.begin(), kept.end(), [](const PartGeo& a, const PartGeo& b) { return a.shape < b.shape; });
+    G.left_small = geo.size() - kept.size();
+    geo = std::move(kept);
+  }
   G.n = geo.size();
   G.group_part.assign(G.n, -1);
   if (options.silhouette) join_groups(G);  // (drawn and traced: the `rig` command's only, as pieces above)
@@ -78,7 +95,9 @@ void join_groups(PartGraph& G) {
     if (const SubShape& sh = ch.shapes[size_t(geo[i].shape)]; sh.group_key >= 0 && !sh.group_is_layer) by_group[sh.group_key].push_back(i);
   int traced = 0;
   for (const auto& [key, pieces] : by_group) {
-    if (pieces.size() < 2 || ++traced > 64) continue;  // (each is drawn and traced: at most 64)
+    // (each is drawn and traced: at most 64 groups, of at most 256 pieces; hair in a thousand
+    // strands is no one part)
+    if (pieces.size() < 2 || pieces.size() > 256 || ++traced > 64) continue;
     Bounds box;
     bool named_parts = false;
     for (size_t i : pieces) {
@@ -91,13 +110,16 @@ void join_groups(PartGraph& G) {
     for (size_t i : pieces) shapes.push_back(&ch.shapes[size_t(geo[i].shape)]);
     Points u = union_outline(shapes);
     if (u.size() < 3) continue;
-    // One region: every piece inside the traced outline (within two of its pixels).
+    // One region: every piece inside the traced outline (within two of its pixels), judged on
+    // at most 32 points of its outline.
     const double px = 2.0 * std::max(box.width(), box.height()) / 160.0;
     bool one = true;
     for (size_t i : pieces) {
-      size_t in = 0;
-      for (const Vec2& p : geo[i].ring) in += winding_number(u, p) != 0 || ring_distance(Points{p}, u) <= px;
-      one = one && in >= 0.9 * double(geo[i].ring.size());
+      const Points& ring = geo[i].ring;
+      const size_t step = std::max<size_t>(1, ring.size() / 32);
+      size_t in = 0, seen = 0;
+      for (size_t k = 0; k < ring.size(); k += step, ++seen) in += winding_number(u, ring[k]) != 0 || ring_distance(Points{ring[k]}, u) <= px;
+      one = one && in >= 0.9 * double(seen);
     }
     if (!one) continue;
     size_t rep = pieces[0];
@@ -267,6 +289,8 @@ void relate_parts(PartGraph& G, AutoRig& out) {
       if (lo >= 0.5 * hi && overlap[i][j] >= 0.7 * lo) container[i] = int(j);
     }
   }
+  if (G.left_small > 0)
+    out.notes.push_back(std::to_string(G.left_small) + " small filled shapes are not parts (only the 1000 biggest are): they ride along");
   // A group's pieces ride on the part that stands for it (join_groups), and it on none of them.
   {
     std::string said;

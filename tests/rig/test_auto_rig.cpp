@@ -657,6 +657,22 @@ TEST(AutoRig, AGroupWhosePiecesMakeOneRegionIsOnePart) {
   EXPECT_LT(away, 0.01 * 240) << "back at rest once the pen has let go";
 }
 
+// A file of many small shapes (here 1,200 squares apart) is rigged on its 1,000 biggest: the
+// rig weighs every pair of parts, and 140,000 ran it out of memory. It says so.
+TEST(AutoRig, AtMostTheThousandBiggestShapesAreParts) {
+  std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"1200\" height=\"1200\">";
+  for (int k = 0; k < 1200; ++k)
+    svg += "<rect x=\"" + std::to_string((k % 40) * 30) + "\" y=\"" + std::to_string((k / 40) * 40) + "\" width=\"" +
+           std::to_string(k < 200 ? 8 : 10) + "\" height=\"10\"/>";
+  svg += "</svg>";
+  const Rigged r = rig_of(test::write_temp("many.svg", svg));
+  EXPECT_EQ(r.ar.parts.size(), 1000u);
+  for (const AutoRigPart& p : r.ar.parts) EXPECT_GE(p.shape, 200) << "a smaller square is a part";
+  bool said = false;
+  for (const std::string& n : r.ar.notes) said = said || n.find("200 small filled shapes are not parts (only the 1000 biggest are)") != std::string::npos;
+  EXPECT_TRUE(said);
+}
+
 // A head of hair drawn in twenty strokes: the eight longest are limbs with handles, not twenty.
 TEST(AutoRig, AHeadOfHairInManyStrokesGivesEightStrandsNotAll) {
   std::string svg = "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"200\">"
