@@ -15,7 +15,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <thread>
@@ -28,16 +27,6 @@ uint64_t allocations() { return g_counter ? g_counter() : 0; }
 
 double now_us() {
   return std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-
-// A display to open a window on: X, Wayland, or a video driver named (the kiosk unit names
-// kmsdrm, with neither X nor Wayland). SDL's offscreen and dummy drivers show nothing.
-bool display_present() {
-  const char* x = std::getenv("DISPLAY");
-  const char* wl = std::getenv("WAYLAND_DISPLAY");
-  const char* driver = std::getenv("SDL_VIDEODRIVER");
-  const bool named = driver && *driver && !std::strstr(driver, "offscreen") && !std::strstr(driver, "dummy");
-  return (x && *x) || (wl && *wl) || named;
 }
 
 }  // namespace
@@ -98,7 +87,7 @@ bool LiveShow::open_output(std::string* err) {
   // box-filtered back down).
   const auto [canvas_w, canvas_h] = canvas_size(opt_, sh);
   const int ss = std::clamp(opt_.supersample, 1, 8);
-  if (!opt_.headless && display_present()) {
+  if (!opt_.headless && display_named()) {
     WindowOptions wo;
     wo.title = "marionette - " + std::filesystem::path(sh.path).stem().string();
     wo.width = sh.width;
@@ -150,7 +139,7 @@ bool LiveShow::open_output(std::string* err) {
       opt_.dump_dir = "marionette-frames";
       opt_.every = 10;
       if (!opt_.quiet)
-        std::cout << (display_present() ? "no window" : "no display found (DISPLAY/WAYLAND_DISPLAY unset)")
+        std::cout << (display_named() ? "no window" : "no display found (DISPLAY/WAYLAND_DISPLAY unset)")
                   << ": running headless, every 10th frame written to marionette-frames/" << std::endl;
     }
     opt_.headless = true;

@@ -6,13 +6,13 @@
 #include <SDL2/SDL.h>
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
-#include <thread>
 #include <cstdio>
-#include <cstring>
 #include <cstdlib>
-#include <cctype>
+#include <cstring>
+#include <thread>
 
 namespace mar {
 
@@ -46,11 +46,28 @@ Result<std::unique_ptr<Canvas>> Canvas::offscreen(int width, int height) {
   return R::success(std::move(c));
 }
 
+namespace {
+
+bool offscreen_driver() {
+  const char* d = SDL_GetCurrentVideoDriver();
+  return d && (std::strcmp(d, "offscreen") == 0 || std::strcmp(d, "dummy") == 0);
+}
+
+}  // namespace
+
+bool display_named() {
+  const char* x = std::getenv("DISPLAY");
+  const char* wl = std::getenv("WAYLAND_DISPLAY");
+  const char* driver = std::getenv("SDL_VIDEODRIVER");
+  const bool named = driver && *driver && !std::strstr(driver, "offscreen") && !std::strstr(driver, "dummy");
+  return (x && *x) || (wl && *wl) || named;
+}
+
 std::vector<ScreenInfo> list_screens(std::string* error) {
   std::vector<ScreenInfo> out;
   // No display to ask (and no driver named, as a KMS/DRM kiosk names kmsdrm): SDL is not asked,
   // since its Wayland probe prints an error of its own about XDG_RUNTIME_DIR.
-  if (!std::getenv("DISPLAY") && !std::getenv("WAYLAND_DISPLAY") && !std::getenv("SDL_VIDEODRIVER")) {
+  if (!display_named()) {
     if (error) *error = "no display (DISPLAY and WAYLAND_DISPLAY are unset)";
     return out;
   }
@@ -59,7 +76,7 @@ std::vector<ScreenInfo> list_screens(std::string* error) {
     return out;
   }
   // With no display SDL falls back to its offscreen driver, whose "screen" shows nothing.
-  if (const char* d = SDL_GetCurrentVideoDriver(); d && (std::string(d) == "offscreen" || std::string(d) == "dummy")) {
+  if (offscreen_driver()) {
     if (error) *error = "no display (DISPLAY and WAYLAND_DISPLAY are unset)";
     SDL_QuitSubSystem(SDL_INIT_VIDEO);
     return out;
@@ -79,15 +96,6 @@ std::vector<ScreenInfo> list_screens(std::string* error) {
   if (SDL_WasInit(SDL_INIT_EVERYTHING) == 0) SDL_Quit();  // (and SDL's D-Bus connection)
   return out;
 }
-
-namespace {
-
-bool offscreen_driver() {
-  const char* d = SDL_GetCurrentVideoDriver();
-  return d && (std::strcmp(d, "offscreen") == 0 || std::strcmp(d, "dummy") == 0);
-}
-
-}  // namespace
 
 std::string start_video(double wait_s) {
   // SDL falls back to its offscreen driver when it cannot reach the display it was given: a

@@ -60,6 +60,10 @@ struct ScreenInfo {
 };
 /// The screens, or an empty list with `error` set when there is no display.
 std::vector<ScreenInfo> list_screens(std::string* error);
+/// Whether there is a display to open a window on: X, Wayland, or a video driver named
+/// (SDL_VIDEODRIVER, as the kiosk unit names kmsdrm with neither); SDL's offscreen and dummy
+/// drivers show nothing.
+bool display_named();
 /// Starts SDL's video (SDL_InitSubSystem): "" when a display is reached, else why not. A fall
 /// back to SDL's offscreen driver that was not asked for (SDL_VIDEODRIVER) is no display; it is
 /// asked again for up to `wait_s` seconds.

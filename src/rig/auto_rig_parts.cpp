@@ -9,9 +9,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 #include <limits>
 #include <map>
+#include <numeric>
 
 namespace mar {
 
@@ -57,16 +57,13 @@ void find_parts(PartGraph& G, const AutoRigOptions& options) {
   // At most the 1,000 biggest are parts (in drawing order): the phases below weigh every pair,
   // and a file of 140,000 small shapes ran the rig out of memory. The others ride along.
   if (constexpr size_t kMaxParts = 1000; geo.size() > kMaxParts) {
-    std::vector<double> areas;
-    for (const PartGeo& g : geo) areas.push_back(g.area);
-    std::nth_element(areas.begin(), areas.begin() + long(kMaxParts - 1), areas.end(), std::greater<>());
-    const double least = areas[kMaxParts - 1];
+    std::vector<size_t> order(geo.size());
+    std::iota(order.begin(), order.end(), size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return geo[a].area > geo[b].area; });
+    order.resize(kMaxParts);
+    std::sort(order.begin(), order.end());
     std::vector<PartGeo> kept;
-    for (PartGeo& g : geo)
-      if (g.area > least && kept.size() < kMaxParts) kept.push_back(std::move(g));
-    for (PartGeo& g : geo)  // (ties at the least area, in drawing order)
-      if (g.shape >= 0 && g.area == least && kept.size() < kMaxParts) kept.push_back(std::move(g));
-    std::sort(kept.begin(), kept.end(), [](const PartGeo& a, const PartGeo& b) { return a.shape < b.shape; });
+    for (size_t k : order) kept.push_back(std::move(geo[k]));
     G.left_small = geo.size() - kept.size();
     geo = std::move(kept);
   }
@@ -74,6 +71,13 @@ void find_parts(PartGraph& G, const AutoRigOptions& options) {
   G.group_part.assign(G.n, -1);
   if (options.silhouette) join_groups(G);  // (drawn and traced: the `rig` command's only, as pieces above)
 }
+
+namespace {
+
+// The innermost group's name ("head/Mouth" -> "Mouth").
+std::string innermost_group(const SubShape& sh) { return sh.group.substr(sh.group.rfind('/') == std::string::npos ? 0 : sh.group.rfind('/') + 1); }
+
+}  // namespace
 
 void join_groups(PartGraph& G) {
   // A group (`<g>`) whose pieces together make one region — a foot and its straps, a head
@@ -132,8 +136,7 @@ void join_groups(PartGraph& G) {
     g.hi = box.hi;
     g.centroid = ring_centroid(g.ring);
     // (the group's own name, when the piece has none: a `<g id="wing-left">`)
-    const std::string& path = ch.shapes[size_t(g.shape)].group;
-    const std::string name = path.substr(path.rfind('/') == std::string::npos ? 0 : path.rfind('/') + 1);
+    const std::string name = innermost_group(ch.shapes[size_t(g.shape)]);
     if (!g.named && !name.empty() && !made_up(name)) {
       g.named = true;
       g.words = name_words(name);
@@ -298,8 +301,7 @@ void relate_parts(PartGraph& G, AutoRig& out) {
     for (size_t i = 0; i < n; ++i) {
       if (G.group_part[i] != int(i)) continue;
       const long pieces = std::count(G.group_part.begin(), G.group_part.end(), int(i));
-      const std::string& path = ch.shapes[size_t(geo[i].shape)].group;
-      if (++groups <= 4) said += (said.empty() ? "" : "; ") + path.substr(path.rfind('/') + 1) + " (" + std::to_string(pieces) + " pieces, " + G.id(i) + ")";
+      if (++groups <= 4) said += (said.empty() ? "" : "; ") + innermost_group(ch.shapes[size_t(geo[i].shape)]) + " (" + std::to_string(pieces) + " pieces, " + G.id(i) + ")";
     }
     if (groups > 4) said += "; and " + std::to_string(groups - 4) + " more";
     if (groups > 0) out.notes.push_back(std::to_string(groups) + (groups == 1 ? " group makes" : " groups make") + " one region, one part: " + said);

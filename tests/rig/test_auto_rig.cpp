@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include <fstream>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -546,6 +547,32 @@ Vec2 centre_of(const Points& p) {
   for (const Vec2& q : p) c += q;
   return Vec2(c / double(std::max<size_t>(1, p.size())));
 }
+// Over the frames: how far shape `a`'s centre went from where it started; how far `b`'s place
+// beside `a` (the step between their centres) strayed from its first; and the farthest any
+// point of `ids` ends from where it began (infinite when a shape's points are not all there).
+double most_moved(const std::vector<nlohmann::json>& frames, const std::string& a) {
+  const Vec2 c0 = centre_of(points_of(frames.front(), a));
+  double most = 0;
+  for (const nlohmann::json& f : frames) most = std::max(most, (centre_of(points_of(f, a)) - c0).norm());
+  return most;
+}
+double most_apart(const std::vector<nlohmann::json>& frames, const std::string& a, const std::string& b) {
+  auto step = [&](const nlohmann::json& f) { return Vec2(centre_of(points_of(f, b)) - centre_of(points_of(f, a))); };
+  const Vec2 step0 = step(frames.front());
+  double most = 0;
+  for (const nlohmann::json& f : frames) most = std::max(most, (step(f) - step0).norm());
+  return most;
+}
+double end_from_rest(const std::vector<nlohmann::json>& frames, std::initializer_list<const char*> ids) {
+  double away = 0;
+  for (const char* id : ids) {
+    const Points a = points_of(frames.front(), id), b = points_of(frames.back(), id);
+    EXPECT_EQ(a.size(), b.size()) << id;
+    if (a.size() != b.size() || a.empty()) return std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < a.size(); ++i) away = std::max(away, (b[i] - a[i]).norm());
+  }
+  return away;
+}
 
 // The hardware show's pen stroke, on the figure's neck: dragged down onto the shirt while the
 // pen holds it, back under the face once the pen leaves (a part sewn to what it hangs from by
@@ -585,24 +612,13 @@ TEST(AutoRig, AFillInsetInItsOutlineStaysInItUnderAPenDrag) {
   ASSERT_FALSE(fill0.empty());
   ASSERT_FALSE(outline0.empty());
   auto inset = [&](const nlohmann::json& f) { return Vec2(centre_of(points_of(f, "rect2")) - centre_of(points_of(f, "rect1"))); };
-  const Vec2 inset0 = inset(frames.front());
-  double apart = 0, moved = 0;
-  for (const nlohmann::json& f : frames) {
-    apart = std::max(apart, (inset(f) - inset0).norm());
-    moved = std::max(moved, (centre_of(points_of(f, "rect1")) - centre_of(outline0)).norm());
-  }
-  EXPECT_GT(moved, 20) << "the pen swung the body";
+  EXPECT_GT(most_moved(frames, "rect1"), 20) << "the pen swung the body";
   // (while the pen swings the body round, the sewing lets the fill slide by about 11 units;
   // before, it turned 33 units out and stayed there)
-  EXPECT_LT(apart, 15.0) << "the fill does not turn out of its outline";
-  EXPECT_LT((inset(frames.back()) - inset0).norm(), 1.0) << "and it is back in place once the pen has let go";
-  double away = 0;
-  for (const std::string id : {"rect1", "rect2", "rect3", "rect4", "rect6", "circle5"}) {
-    const Points a = points_of(frames.front(), id), b = points_of(frames.back(), id);
-    ASSERT_EQ(a.size(), b.size()) << id;
-    for (size_t i = 0; i < a.size(); ++i) away = std::max(away, (b[i] - a[i]).norm());
-  }
-  EXPECT_LT(away, 0.01 * 240) << "back at rest once the pen has let go";
+  EXPECT_LT(most_apart(frames, "rect1", "rect2"), 15.0) << "the fill does not turn out of its outline";
+  EXPECT_LT((inset(frames.back()) - inset(frames.front())).norm(), 1.0) << "and it is back in place once the pen has let go";
+  EXPECT_LT(end_from_rest(frames, {"rect1", "rect2", "rect3", "rect4", "rect6", "circle5"}), 0.01 * 240)
+      << "back at rest once the pen has let go";
 }
 
 // A creature whose left leg is a group of two pieces side by side (its light and its shaded
@@ -639,22 +655,9 @@ TEST(AutoRig, AGroupWhosePiecesMakeOneRegionIsOnePart) {
   const auto frames = pen_drag("group-leg", rig, 200, 240, "0.355,0.93", "0.1,0.8");
   ASSERT_GE(frames.size(), 200u);
   ASSERT_FALSE(points_of(frames.front(), "rect1").empty());
-  auto between = [&](const nlohmann::json& f) { return Vec2(centre_of(points_of(f, "rect2")) - centre_of(points_of(f, "rect1"))); };
-  const Vec2 between0 = between(frames.front());
-  double apart = 0, swung = 0;
-  for (const nlohmann::json& f : frames) {
-    apart = std::max(apart, (between(f) - between0).norm());
-    swung = std::max(swung, (centre_of(points_of(f, "rect1")) - centre_of(points_of(frames.front(), "rect1"))).norm());
-  }
-  EXPECT_GT(swung, 10) << "the pen swung the leg";
-  EXPECT_LT(apart, 3.0) << "its halves stay side by side";
-  double away = 0;
-  for (const std::string id : {"ellipse1", "rect1", "rect2", "rect3", "circle1"}) {
-    const Points a = points_of(frames.front(), id), b = points_of(frames.back(), id);
-    ASSERT_EQ(a.size(), b.size()) << id;
-    for (size_t i = 0; i < a.size(); ++i) away = std::max(away, (b[i] - a[i]).norm());
-  }
-  EXPECT_LT(away, 0.01 * 240) << "back at rest once the pen has let go";
+  EXPECT_GT(most_moved(frames, "rect1"), 10) << "the pen swung the leg";
+  EXPECT_LT(most_apart(frames, "rect1", "rect2"), 3.0) << "its halves stay side by side";
+  EXPECT_LT(end_from_rest(frames, {"ellipse1", "rect1", "rect2", "rect3", "circle1"}), 0.01 * 240) << "back at rest once the pen has let go";
 }
 
 // A file of many small shapes (here 1,200 squares apart) is rigged on its 1,000 biggest: the
