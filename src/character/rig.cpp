@@ -217,6 +217,36 @@ void read_joint(const std::string& path, const toml::node* js, Rig& r) {
   }
 }
 
+// The rig's `rider` (its [[rider]] tables): parts riding on the rigid grid.
+void read_rider(const std::string& path, const toml::node* rs, Rig& r) {
+  const toml::array* a = rs->as_array();
+  if (!a) throw RigError{at(path, *rs) + ": use [[rider]] tables"};
+  if (a->size() > 4096) throw RigError{at(path, *rs) + ": at most 4096 riders"};
+  auto text = [&](const toml::table& t, const char* key) -> std::string {
+    const toml::node* n = t.get(key);
+    if (!n) return {};
+    if (!n->is_string() || n->value<std::string>()->empty()) throw RigError{at(path, *n) + ": " + key + " must be a sub-shape id or handle name"};
+    return *n->value<std::string>();
+  };
+  for (const toml::node& rn : *a) {
+    const toml::table* t = rn.as_table();
+    if (!t) throw RigError{at(path, rn) + ": a rider must be a table"};
+    check_keys(path, *t, {"part", "on", "at", "handle", "with"}, "[[rider]]");
+    RigRider d;
+    d.line = static_cast<int>(rn.source().begin.line);
+    d.part = text(*t, "part");
+    d.on = text(*t, "on");
+    d.handle = text(*t, "handle");
+    const toml::node* n = t->get("at");
+    if (d.part.empty() || !n) throw RigError{at(path, rn) + ": a rider needs part = \"sub-shape id\" and at = [x, y] (its hinge)"};
+    d.at = point(path, *n, "at");
+    if (const toml::node* w = t->get("with")) d.with = id_list(path, *w, "with");
+    for (const RigRider& o : r.riders)
+      if (o.part == d.part) throw RigError{at(path, rn) + ": part '" + d.part + "' rides twice"};
+    r.riders.push_back(std::move(d));
+  }
+}
+
 // The rig's `part` (its [[part]] tables, or its [part] table).
 void read_part(const std::string& path, const toml::node* ps, Rig& r) {
   const toml::array* a = ps->as_array();
@@ -393,7 +423,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part", "grid", "stiffness", "key", "swap", "trigger", "physics"},
+                            "part", "grid", "stiffness", "rider", "key", "swap", "trigger", "physics"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -425,6 +455,12 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     if (const toml::node* sn = root.get("swap")) read_swap(path, sn, r);
     if (const toml::node* tn = root.get("trigger")) read_trigger(path, tn, r);
     if (const toml::node* pn = root.get("physics")) parse_rig_physics(path, *pn, r);
+    if (const toml::node* rn = root.get("rider")) read_rider(path, rn, r);
+    for (const RigRider& d : r.riders) {
+      if (r.solver != "rigid_grid") throw RigError{path + ":" + std::to_string(d.line) + ": a [[rider]] rides on the rigid grid: it needs solver = \"rigid_grid\""};
+      if (!d.handle.empty() && r.find_handle(d.handle) < 0)
+        throw RigError{path + ":" + std::to_string(d.line) + ": rider '" + d.part + "' names handle '" + d.handle + "', which the rig does not have"};
+    }
     return Result<Rig>::success(std::move(r));
   } catch (const RigError& e) {
     return Result<Rig>::failure(e.message);
@@ -524,6 +560,13 @@ std::string write_rig(const Rig& r) {
       << "\ndefault = " << toml_string(sw.members[size_t(sw.default_member)]) << "\n";
   for (const RigTrigger& tr : r.triggers)
     o << "\n[[trigger]]\nname = " << toml_string(tr.name) << "\nshapes = " << ids(tr.shapes) << "\n";
+  for (const RigRider& rd : r.riders) {
+    o << "\n[[rider]]\npart = " << toml_string(rd.part) << "\n";
+    if (!rd.on.empty()) o << "on = " << toml_string(rd.on) << "\n";
+    o << "at = " << pt(rd.at) << "\n";
+    if (!rd.handle.empty()) o << "handle = " << toml_string(rd.handle) << "\n";
+    if (!rd.with.empty()) o << "with = " << ids(rd.with) << "\n";
+  }
   for (const RigStiffness& s : r.stiffness) {
     o << "\n[[stiffness]]\n";
     if (!s.name.empty()) o << "name = " << toml::value<std::string>(s.name) << "\n";

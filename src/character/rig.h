@@ -65,6 +65,22 @@ struct RigStiffness {
   int line = 0;
 };
 
+/// A part that rides on the rigid grid (`[[rider]]`, solver = "rigid_grid"): taken out of the
+/// grid's mesh, it turns whole about its hinge `at`, which follows what it hangs from (`on`: a
+/// part of another rider, or else the grid under `at`); its handle, if any, and those on what
+/// hangs on it turn it toward their targets, and the shapes `with` it (details, outlines, a
+/// hand) ride along. A rig mixes parts and
+/// silhouette this way: a limb drawn as a part of its own stays rigid and hinged, a limb inside
+/// one shape bends in the grid.
+struct RigRider {
+  std::string part;               ///< sub-shape id
+  std::string on;                 ///< sub-shape id it hangs from ("" : the grid)
+  Vec2 at = Vec2::Zero();         ///< the hinge
+  std::string handle;             ///< a [[handle]] name ("" : it keeps the turn of what it hangs from)
+  std::vector<std::string> with;  ///< sub-shape ids riding on it
+  int line = 0;
+};
+
 /// A key pose (`[[key]]`): handle targets solved once at load, or a saved frame (the
 /// `frame_vertices` of `pose --dump`, a path relative to the rig).
 /// How far apart a sculpted character's frame points may be along an outline, a fraction of its
@@ -157,6 +173,7 @@ struct Rig {
   /// (mean-value coordinates + rest lengths along the current directions).
   std::string grid_junction_term = "triangles";
   std::vector<RigStiffness> stiffness;
+  std::vector<RigRider> riders;  ///< parts riding on the rigid grid
   std::vector<RigKey> keys;
   std::vector<RigSwap> swaps;
   std::vector<RigTrigger> triggers;

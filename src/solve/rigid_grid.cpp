@@ -3,6 +3,8 @@
 // rigid_grid_prepare.cpp.
 #include "solve/rigid_grid.h"
 
+#include "geom/polygon.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -123,12 +125,91 @@ bool RigidGrid::set_parameters(std::span<const double> v, std::string* error) {
     weigh_regions();
   }
   grab_active_ = false;  // the caller grabs again
+  grab_rider_ = -1;
   return factorise(error);
 }
 
-void RigidGrid::reset_to_rest() { rigid_pose({}, {}, rest_, x_, rc_, rs_); }
+void RigidGrid::reset_to_rest() {
+  rigid_pose({}, {}, rest_, x_, rc_, rs_);
+  for (Rider& d : riders_) d.c = 1, d.s = 0, d.t = d.hinge, d.angle = 0, d.rel = 0;
+}
 
-void RigidGrid::initial_guess(std::span<const Vec2> targets) { rigid_pose(handle_rest_, targets, rest_, x_, rc_, rs_); }
+void RigidGrid::initial_guess(std::span<const Vec2> targets) {
+  rigid_pose(handle_rest_, targets, rest_, x_, rc_, rs_);
+  place_riders(targets);
+}
+
+void RigidGrid::place_riders(std::span<const Vec2> targets) {
+  // Where each hangs now, turned as drawn against what it hangs on (the grid's turn at its
+  // hinge, or its parent rider's). Every frame starts so: the pose is the targets' alone, so
+  // targets back where they began bring every rider back as drawn (kept from the last frame,
+  // a chain swung far could settle folded, each link pointing at its target).
+  for (Rider& d : riders_) {
+    double base = 0;
+    if (d.parent >= 0) {
+      const Rider& p = riders_[size_t(d.parent)];
+      base = p.angle;
+      d.t = p.apply(d.hinge);
+    } else {
+      // (a hinge off the grid's figure is extrapolated, not exactly itself at rest: its moves)
+      const Vec2 at = eval(d.at);
+      d.t = d.hinge + (at - d.at0);
+      if (d.ref >= 0) {
+        const Vec2 a = rest_[size_t(d.ref)] - d.at0, b = x_[size_t(d.ref)] - at;
+        const double cs = a.dot(b), sn = cross(a, b);
+        if (std::isfinite(cs) && std::isfinite(sn) && (cs != 0 || sn != 0)) base = std::atan2(sn, cs);
+      }
+    }
+    if (!d.t.allFinite() || !std::isfinite(base)) d.t = d.hinge, base = 0;
+    d.rel = 0;
+    d.turn(base);
+  }
+  // Then a few sweeps, the outermost first: each turns, with all that hangs on it, about its
+  // hinge to bring the handles on them (and a pen holding one) nearest their targets (least
+  // squares: a hand's target swings the arm too, held back by the arm's own).
+  const bool pen = grab_rider_ >= 0 && targets.size() > handles_.size() && targets[handles_.size()].allFinite();
+  for (int sweep = 0; sweep < kRiderSweeps; ++sweep)
+    for (size_t k = riders_.size(); k-- > 0;) {
+      Rider& d = riders_[k];
+      double cs = 0, sn = 0;
+      auto pull = [&](const Vec2& now, const Vec2& target, double w) {
+        const Vec2 a = now - d.t, b = target - d.t;
+        cs += w * a.dot(b);
+        sn += w * cross(a, b);
+      };
+      for (int q = pull_start_[k]; q < pull_start_[k + 1]; ++q) {
+        const size_t h = size_t(pull_h_[size_t(q)]);
+        if (h < targets.size() && targets[h].allFinite())
+          pull(riders_[size_t(pull_r_[size_t(q)])].apply(handle_rest_[h]), targets[h], h < handle_w_.size() ? handle_w_[h] : 1.0);
+      }
+      if (pen)
+        for (int q = grab_rider_; q >= 0; q = riders_[size_t(q)].parent)
+          if (q == int(k)) pull(riders_[size_t(grab_rider_)].apply(grab_rest_), targets[handles_.size()], 1.0);
+      // One with no handle of its own: a weak spring toward its drawn turn against what it hangs
+      // on, so a chain its handles leave free (an upper arm under its hand's) bends at each
+      // joint rather than at the one the sweeps happen to turn most.
+      const double spring = d.handle < 0 ? kRiderSpring * d.reach * d.reach : 0.0;
+      cs += spring * std::cos(-d.rel);
+      sn += spring * std::sin(-d.rel);
+      if (!std::isfinite(cs) || !std::isfinite(sn) || (cs == 0 && sn == 0)) continue;
+      const double delta = std::atan2(sn, cs);
+      if (delta == 0) continue;
+      const double c = std::cos(delta), s = std::sin(delta);
+      for (int q = desc_start_[k]; q < desc_start_[k + 1]; ++q) {
+        Rider& e = riders_[size_t(desc_[size_t(q)])];
+        const Vec2 v = e.t - d.t;
+        e.t = d.t + Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+        e.turn(e.angle + delta);
+      }
+      d.rel += delta;
+      d.turn(d.angle + delta);
+    }
+}
+
+Vec2 RigidGrid::handle_point(size_t h) const {
+  if (h < handle_rider_.size() && handle_rider_[h] >= 0) return riders_[size_t(handle_rider_[h])].apply(handle_rest_[h]);
+  return eval(handles_[h]);
+}
 
 void RigidGrid::local_step() {
   // Each region's best rotation: the angle of Σ_j (q_j − q_c)(p_j − p_c)^T, from the region sums of
@@ -227,7 +308,7 @@ void RigidGrid::global_step(std::span<const Vec2> targets) {
     for (int k = 0; k < h.n; ++k) add(h.v[k], w * h.w[k] * at);
   };
   for (size_t h = 0; h < m; ++h) handle(handles_[h], targets[h], w_p_ * handle_w(h));
-  const bool grab = grab_active_ && targets.size() > handles_.size();
+  const bool grab = grab_active_ && grab_rider_ < 0 && targets.size() > handles_.size();
   if (grab) handle(grab_, targets[handles_.size()], w_p_);
   factor_.solve_permuted(bx_.data(), by_.data());
   if (grab) grab_update_.correct(factor_, bx_.data(), by_.data());
@@ -242,9 +323,20 @@ void RigidGrid::solve(std::span<const Vec2> targets, int iterations) {
     local_step();
     global_step(targets);
   }
+  place_riders(targets);
 }
 
 void RigidGrid::grab(const Vec2& rest_point) {
+  grab_rider_ = -1;  // on a rider (the last drawn of those under the pen): the pen turns it
+  for (size_t r = 0; r < riders_.size(); ++r)
+    if (riders_[r].ring.size() >= 3 && winding_number(riders_[r].ring, rest_point) != 0 &&
+        (grab_rider_ < 0 || riders_[r].shapes.front() > riders_[size_t(grab_rider_)].shapes.front()))
+      grab_rider_ = int(r);
+  if (grab_rider_ >= 0) {
+    grab_rest_ = rest_point;
+    grab_active_ = true;
+    return;
+  }
   grab_ = embed(rest_point);
   grab_update_.set(factor_, grab_.v, grab_.w, grab_.n, w_p_);
   grab_active_ = true;
@@ -253,6 +345,12 @@ void RigidGrid::grab(const Vec2& rest_point) {
 void RigidGrid::shape_points(std::vector<Points>& out) const {
   for (size_t s = 0; s < binds_.size() && s < out.size(); ++s)
     for (size_t k = 0; k < binds_[s].size() && k < out[s].size(); ++k) out[s][k] = eval(binds_[s][k]);
+  for (const Rider& d : riders_)
+    for (int si : d.shapes) {
+      const Points& rest = rider_rest_[size_t(si)];
+      if (size_t(si) >= out.size()) continue;
+      for (size_t k = 0; k < rest.size() && k < out[size_t(si)].size(); ++k) out[size_t(si)][k] = d.apply(rest[k]);
+    }
 }
 
 double RigidGrid::energy(std::span<const Vec2> targets) const {
@@ -296,7 +394,7 @@ double RigidGrid::energy(std::span<const Vec2> targets) const {
     e += w_s_ * s.squaredNorm();
   }
   for (size_t h = 0; h < std::min(targets.size(), handles_.size()); ++h)
-    e += w_p_ * handle_w(h) * (eval(handles_[h]) - targets[h]).squaredNorm();
+    e += w_p_ * (h < handle_rider_.size() && handle_rider_[h] >= 0 ? 1.0 : handle_w(h)) * (handle_point(h) - targets[h]).squaredNorm();
   return e;
 }
 

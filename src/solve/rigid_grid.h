@@ -41,9 +41,19 @@
 // share its node: a stick figure (Eq. 6). Handles are soft constraints at their rest points
 // (bilinear in a cell, or barycentric in a mesh triangle). The system matrix depends on the rest
 // shape only: factorised once.
+//
+// Riders (a rig's [[rider]] tables): parts taken out of the mesh that turn whole about a hinge.
+// The hinge follows the grid under it (or the rider it hangs from), turned as drawn against it;
+// then eight sweeps, outermost first, turn each (with what hangs on it) to bring the handles on
+// them and a pen nearest their targets, least squares (one with no handle of its own has a weak
+// spring to its drawn turn). From the drawn turns every frame: the pose is the targets' alone. Their points are set after each solve: no term of
+// the energy, nothing factorised.
+// Where a drawing's limbs are parts of their own they ride rigid and hinged, while a limb inside
+// one shape bends in the grid (the automatic rig's parts and silhouette, region by region).
 #pragma once
 
 #include <array>
+#include <cmath>
 
 #include "solve/ldlt.h"
 #include "solve/solver.h"
@@ -65,10 +75,13 @@ class RigidGrid final : public Solver {
   void initial_guess(std::span<const Vec2> targets) override;
   void reset_to_rest() override;
   void shape_points(std::vector<Points>& out) const override;
-  Vec2 handle_point(size_t h) const override { return eval(handles_[h]); }
+  Vec2 handle_point(size_t h) const override;
   size_t handle_count() const override { return handles_.size(); }
   void grab(const Vec2& rest_point) override;
-  void release() override { grab_active_ = false; }
+  void release() override {
+    grab_active_ = false;
+    grab_rider_ = -1;
+  }
   bool grabbing() const override { return grab_active_; }
 
   // --- views for tests, inspect and overlays ---
@@ -100,6 +113,8 @@ class RigidGrid final : public Solver {
   std::vector<std::array<int, 2>> grid_edges() const;
   /// The junction triangles, for overlays.
   std::vector<std::array<int, 3>> junction_triangles() const;
+  /// Parts riding on the grid ([[rider]]).
+  size_t riders() const { return riders_.size(); }
   /// Where a rest point of the character is now (embedded as a handle would
   /// be).
   Vec2 point_at(const Vec2& rest_point) const { return eval(embed(rest_point)); }
@@ -136,6 +151,33 @@ class RigidGrid final : public Solver {
     return p;
   }
   Embed embed(const Vec2& p) const;
+  bool prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w, std::string* error);
+  bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);
+  void place_riders(std::span<const Vec2> targets);  ///< after the grid
+  struct Rider {
+    std::vector<int> shapes;  ///< its part first, then the shapes riding with it
+    int parent = -1;          ///< a rider (earlier in riders_), or -1: the grid
+    Vec2 hinge = Vec2::Zero();
+    Embed at;                 ///< the hinge on the grid (parent -1)
+    Vec2 at0 = Vec2::Zero();  ///< where `at` is on the grid at rest
+    int ref = -1;             ///< a node near the hinge: the grid's turn there (no handle)
+    int handle = -1;
+    Points ring;              ///< its part's outline (for a pen's grab)
+    double c = 1, s = 0;      ///< now: x = t + R(c, s) (p − hinge)
+    double angle = 0;         ///< of R
+    double rel = 0;           ///< its turn against what it hangs on (this frame's sweeps)
+    double reach = 0;         ///< from its hinge to the farthest point of its part
+    Vec2 t = Vec2::Zero();
+    void turn(double a) {
+      angle = a;
+      c = std::cos(a);
+      s = std::sin(a);
+    }
+    Vec2 apply(const Vec2& p) const {
+      const Vec2 d = p - hinge;
+      return t + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
+    }
+  };
   bool cell_inside(int ci, int cj) const {
     return ci >= 0 && cj >= 0 && ci < nx_ && cj < ny_ && cell_in_[size_t(cj) * size_t(nx_) + size_t(ci)];
   }
@@ -168,7 +210,10 @@ class RigidGrid final : public Solver {
   double w_r_ = 6, w_s_ = 1, w_p_ = 100;
   /// Per handle, a scale of w_p (SolverWeights::handle_weights: a chain's end is a soft target).
   std::vector<double> handle_w_;
-  double handle_w(size_t h) const { return h < handle_w_.size() ? handle_w_[h] : 1.0; }
+  double handle_w(size_t h) const {
+    if (h < handle_rider_.size() && handle_rider_[h] >= 0) return 0.0;  // (it turns a rider, not the grid)
+    return h < handle_w_.size() ? handle_w_[h] : 1.0;
+  }
   bool fast_ = true, plain_ = false, tri_mode_ = false;
   struct Stiff {
     std::string name;
@@ -226,6 +271,17 @@ class RigidGrid final : public Solver {
   std::vector<double> bx_, by_;
   bool grab_active_ = false;
   Embed grab_;
+  // riders
+  std::vector<Rider> riders_;
+  std::vector<int> rider_of_;        ///< per shape: its rider, or -1
+  std::vector<Points> rider_rest_;   ///< per shape: its rest points, for a riding shape
+  std::vector<int> handle_rider_;    ///< per handle: the rider it turns, or -1
+  std::vector<int> pull_start_, pull_h_, pull_r_;  ///< per rider: the handles on it and on what hangs on it, and the rider carrying each
+  std::vector<int> desc_start_, desc_;             ///< per rider: the riders hanging on it, through others too
+  static constexpr int kRiderSweeps = 8;
+  static constexpr double kRiderSpring = 0.05;  ///< against a handle's pull at the rider's reach
+  int grab_rider_ = -1;              ///< a pen holding a rider
+  Vec2 grab_rest_ = Vec2::Zero();
   RankOneUpdate grab_update_;
 };
 

@@ -124,6 +124,134 @@ Key key(const Vec2& p, double q) { return {int64_t(std::llround(p.x() / q)), int
 
 bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
                         std::string* error) {
+  riders_.clear();
+  rider_of_.assign(ch.shapes.size(), -1);
+  rider_rest_.assign(ch.shapes.size(), {});
+  handle_rider_.assign(handle_rest.size(), -1);
+  grab_rider_ = -1;
+  if (!prepare_riders(ch, rig, error)) return false;
+  for (size_t h = 0; h < rig.handles.size() && h < handle_rest.size(); ++h)
+    for (size_t r = 0; r < riders_.size(); ++r)
+      if (riders_[r].handle == int(h)) handle_rider_[h] = int(r);
+  // The riding shapes are out of the mesh while it is built (their points stay theirs).
+  std::vector<std::vector<Contour>> contours(ch.shapes.size());
+  for (size_t si = 0; si < ch.shapes.size(); ++si)
+    if (rider_of_[si] >= 0) {
+      std::swap(rider_rest_[si], ch.shapes[si].points);
+      std::swap(contours[si], ch.shapes[si].contours);
+    }
+  const bool ok = prepare_grid(ch, rig, handle_rest, w, error);
+  for (size_t si = 0; si < ch.shapes.size(); ++si)
+    if (rider_of_[si] >= 0) {
+      ch.shapes[si].points = rider_rest_[si];
+      std::swap(contours[si], ch.shapes[si].contours);
+    }
+  if (!ok) return false;
+  for (Rider& d : riders_) {
+    if (d.parent >= 0) continue;
+    d.at = embed(d.hinge);
+    d.at0 = eval(d.at);  // (x_ is the rest)
+    double best = INFINITY;  // the grid's turn at the hinge: a node one to three cells from it
+    for (size_t k = 0; k < rest_.size(); ++k) {
+      const double r = (rest_[k] - d.hinge).norm();
+      if (r >= 1.5 * h_ && r < best) best = r, d.ref = int(k);
+    }
+  }
+  // Per rider, the handles on it and on all that hangs on it (riders are parents first).
+  pull_start_.assign(1, 0);
+  desc_start_.assign(1, 0);
+  pull_h_.clear(), pull_r_.clear(), desc_.clear();
+  for (size_t r = 0; r < riders_.size(); ++r) {
+    for (size_t q = r; q < riders_.size(); ++q) {
+      bool on = false;
+      for (int a = int(q); a >= 0 && !on; a = riders_[size_t(a)].parent) on = a == int(r);
+      if (!on) continue;
+      if (q != r) desc_.push_back(int(q));
+      if (riders_[q].handle >= 0 && size_t(riders_[q].handle) < handle_rest_.size()) pull_h_.push_back(riders_[q].handle), pull_r_.push_back(int(q));
+    }
+    pull_start_.push_back(int(pull_h_.size()));
+    desc_start_.push_back(int(desc_.size()));
+  }
+  place_riders({});
+  return true;
+}
+
+bool RigidGrid::prepare_riders(const Character& ch, const Rig& rig, std::string* error) {
+  auto at = [&](const RigRider& d) { return rig.path + ":" + std::to_string(d.line) + ": rider '" + d.part + "'"; };
+  auto shape_of = [&](const std::string& id) {
+    for (size_t k = 0; k < ch.shapes.size(); ++k)
+      if (ch.shapes[k].id == id) return int(k);
+    return -1;
+  };
+  std::vector<int> part(rig.riders.size()), on(rig.riders.size(), -1);
+  for (size_t r = 0; r < rig.riders.size(); ++r) {
+    const RigRider& d = rig.riders[r];
+    part[r] = shape_of(d.part);
+    if (part[r] < 0) {
+      if (error) *error = at(d) + " is not a sub-shape of the character (inspect lists them)";
+      return false;
+    }
+  }
+  for (size_t r = 0; r < rig.riders.size(); ++r) {
+    const RigRider& d = rig.riders[r];
+    if (d.on.empty()) continue;
+    if (shape_of(d.on) < 0) {
+      if (error) *error = at(d) + " hangs on '" + d.on + "', which is not a sub-shape of the character";
+      return false;
+    }
+    for (size_t q = 0; q < rig.riders.size(); ++q)
+      if (rig.riders[q].part == d.on) on[r] = int(q);
+  }
+  // Parents first; a rider hanging (through others) on itself is refused.
+  std::vector<int> order, placed(rig.riders.size(), -1);
+  while (order.size() < rig.riders.size()) {
+    const size_t before = order.size();
+    for (size_t r = 0; r < rig.riders.size(); ++r)
+      if (placed[r] < 0 && (on[r] < 0 || placed[size_t(on[r])] >= 0)) {
+        placed[r] = int(order.size());
+        order.push_back(int(r));
+      }
+    if (order.size() == before) {
+      for (size_t r = 0; r < rig.riders.size(); ++r)
+        if (placed[r] < 0) {
+          if (error) *error = at(rig.riders[r]) + " hangs, through riders, on itself";
+          return false;
+        }
+    }
+  }
+  for (int r : order) {
+    const RigRider& d = rig.riders[size_t(r)];
+    Rider x;
+    x.parent = on[size_t(r)] >= 0 ? placed[size_t(on[size_t(r)])] : -1;
+    x.hinge = d.at;
+    x.t = d.at;
+    x.handle = d.handle.empty() ? -1 : rig.find_handle(d.handle);
+    x.ring = ch.shapes[size_t(part[size_t(r)])].largest_ring();
+    for (const Vec2& q : ch.shapes[size_t(part[size_t(r)])].points) x.reach = std::max(x.reach, (q - x.hinge).norm());
+    std::vector<int> shapes{part[size_t(r)]};
+    for (const std::string& id : d.with) {
+      const int k = shape_of(id);
+      if (k < 0) {
+        if (error) *error = at(d) + ": '" + id + "' (with) is not a sub-shape of the character";
+        return false;
+      }
+      shapes.push_back(k);
+    }
+    for (int k : shapes) {
+      if (rider_of_[size_t(k)] >= 0) {
+        if (error) *error = at(d) + ": '" + ch.shapes[size_t(k)].id + "' rides on two riders";
+        return false;
+      }
+      rider_of_[size_t(k)] = int(riders_.size());
+    }
+    x.shapes = std::move(shapes);
+    riders_.push_back(std::move(x));
+  }
+  return true;
+}
+
+bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
+                             std::string* error) {
   const Bounds bb = ch.bounds();
   if (bb.empty()) {
     if (error) *error = "rigid_grid: the character has no points";
@@ -422,6 +550,13 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   handle_node_.clear();
   handle_rest_.assign(handle_rest.begin(), handle_rest.end());
   for (const Vec2& p : handle_rest) {
+    if (handle_rider_[handles_.size()] >= 0) {  // it turns a rider: no term of the grid's
+      Embed none;
+      none.w[0] = 0;
+      handles_.push_back(none);
+      handle_node_.push_back(-1);
+      continue;
+    }
     handles_.push_back(embed(p));
     const Embed& e = handles_.back();
     handle_node_.push_back(e.v[std::max_element(e.w, e.w + e.n) - e.w]);
@@ -590,7 +725,8 @@ void RigidGrid::build_regions() {
   }
   // Eq. 2: a region holding a handle turns about it (the handle nearest the region's node).
   std::vector<char> is_handle(rest_.size(), 0);
-  for (int hn : handle_node_) is_handle[size_t(hn)] = 1;
+  for (int hn : handle_node_)
+    if (hn >= 0) is_handle[size_t(hn)] = 1;
   for (size_t r = 0; r < R; ++r) {
     const int own = reg_center_[r];
     double best = INFINITY;
@@ -734,9 +870,9 @@ bool RigidGrid::factorise(std::string* error) {
   for (size_t v = 0; v + 1 < mvc_start_.size(); ++v)
     for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a) join(mvc_node_[size_t(a)], mvc_node_[size_t(mvc_start_[v])]);
   std::vector<char> held(n, 0);
-  for (const Embed& h : handles_)
-    for (int a = 0; a < h.n; ++a)
-      if (h.w[a] != 0) held[size_t(find(h.v[a]))] = 1;
+  for (size_t k = 0; k < handles_.size(); ++k)
+    for (int a = 0; a < handles_[k].n; ++a)
+      if (handles_[k].w[a] != 0 && handle_rider_[k] < 0) held[size_t(find(handles_[k].v[a]))] = 1;
   pull_.assign(n, 0.0);
   for (size_t i = 0; i < n; ++i) {
     if (!held[size_t(find(int(i)))]) pull_[i] = kFreePull * (1 + diag[i]);

@@ -250,6 +250,60 @@ weight = 0.5
   }
 }
 
+TEST(parse_rig, RidersRoundTripAndErrorsNameTheLine) {
+  const char* text = R"toml(character = "c.svg"
+solver = "rigid_grid"
+[[handle]]
+name = "hand"
+rest = [40, 5]
+
+[[rider]]
+part = "upper"
+on = "body"
+at = [10, 5]
+handle = "hand"
+with = ["sleeve", "cuff"]
+
+[[rider]]
+part = "lower"
+on = "upper"
+at = [30, 5]
+)toml";
+  auto a = parse_rig(text, "d.toml");
+  ASSERT_TRUE(a.ok()) << a.error;
+  const Rig& r = *a.value;
+  ASSERT_EQ(r.riders.size(), 2u);
+  EXPECT_EQ(r.riders[0].part, "upper");
+  EXPECT_EQ(r.riders[0].on, "body");
+  EXPECT_EQ(r.riders[0].at, Vec2(10, 5));
+  EXPECT_EQ(r.riders[0].handle, "hand");
+  EXPECT_EQ(r.riders[0].with, (std::vector<std::string>{"sleeve", "cuff"}));
+  EXPECT_EQ(r.riders[1].line, 14);
+  EXPECT_TRUE(r.riders[1].handle.empty());
+  auto back = parse_rig(write_rig(r), "d.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
+  EXPECT_EQ(write_rig(*back.value), write_rig(r));
+  struct Case {
+    const char* text;
+    const char* expect;
+  };
+  const Case cases[] = {
+      {"character = \"a.svg\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n", "r.toml:2: a [[rider]] rides on the rigid grid"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\n", "r.toml:3: a rider needs part"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nhandle = \"hand\"\n",
+       "r.toml:3: rider 'arm' names handle 'hand'"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n[[rider]]\npart = \"arm\"\nat = [3, 4]\n",
+       "r.toml:6: part 'arm' rides twice"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nwith = \"cuff\"\n", "r.toml:6: with must be a list"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nspin = 1\n", "r.toml:6: unknown key 'spin'"},
+  };
+  for (const Case& c : cases) {
+    auto e = parse_rig(c.text, "r.toml");
+    ASSERT_FALSE(e.ok()) << c.text;
+    EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
+  }
+}
+
 TEST(parse_rig, KeyPosesRoundTripAndErrorsNameTheLine) {
   const char* text = R"toml(character = "c.svg"
 [[handle]]

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "character/load.h"
+#include "geom/polygon.h"
 #include "solve/rigid_grid.h"
 #include "test_util.h"
 
@@ -477,6 +478,158 @@ TEST(RigidGrid, HalfWidthAndNamedStiffnessAreLiveParameters) {
   v[0] = 0;
   EXPECT_FALSE(s.set_parameters(v, &err));
   EXPECT_NE(err.find("half_width"), std::string::npos);
+}
+
+// Riders: a body in the grid, an arm riding on it (no handle: it keeps the grid's turn at its
+// shoulder), a hand riding on the arm and turned by its handle, a dot riding with the hand.
+struct RiderFigure {
+  Character c;
+  RigidGrid s;
+  Rig r = grid_rig(10, 2);
+  std::vector<Vec2> rest{{50, 100}, {210, 30}};
+  static SubShape box(const char* id, double x0, double y0, double x1, double y1) {
+    SubShape s;
+    s.id = id;
+    s.points = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    s.contours.push_back({0, 4, true});
+    s.fill.enabled = true;
+    return s;
+  }
+  RiderFigure() {
+    c.shapes = {box("body", 0, 0, 100, 200), box("arm", 90, 20, 190, 40), box("hand", 185, 15, 215, 45), box("dot", 200, 28, 204, 32),
+                box("hat", 120, 104, 140, 114), SubShape{}};
+    c.shapes.back().id = "string";  // an open stroke from the body's side: the hat hangs beside it
+    c.shapes.back().points = {{100, 100}, {160, 100}};
+    c.shapes.back().contours.push_back({0, 2, false});
+    c.shapes.back().stroke.enabled = true;
+    c.width = 215;
+    c.height = 200;
+    r.path = "r.toml";
+    r.handles = {{"body", rest[0]}, {"hand", rest[1]}};
+    RigRider arm;
+    arm.part = "arm", arm.on = "body", arm.at = Vec2(100, 30), arm.line = 7;
+    RigRider hand;
+    hand.part = "hand", hand.on = "arm", hand.at = Vec2(190, 30), hand.handle = "hand", hand.with = {"dot"}, hand.line = 12;
+    RigRider hat;  // hinged beside a stroke, off the grid's figure: its point there is the stroke's nearest
+    hat.part = "hat", hat.on = "string", hat.at = Vec2(130, 103), hat.line = 17;
+    r.riders = {hand, arm, hat};  // (in any order: a rider is placed after what it hangs on)
+  }
+  std::vector<Points> shapes() const {
+    std::vector<Points> out;
+    for (const SubShape& sh : c.shapes) out.push_back(sh.points);
+    s.shape_points(out);
+    return out;
+  }
+};
+
+TEST(RigidGrid, RidersTurnWholeAboutTheirHingesAndFollowWhatTheyHangOn) {
+  RiderFigure f;
+  std::string err;
+  ASSERT_TRUE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(f.s.riders(), 3u);
+  const std::vector<Points> rest = f.shapes();
+  for (size_t k = 0; k < 5; ++k)
+    for (size_t i = 0; i < 4; ++i) ASSERT_LT((rest[k][i] - f.c.shapes[k].points[i]).norm(), 1e-9) << k << " " << i;
+  // The hand's handle turned a quarter about the wrist: the hand and its dot turn whole, the
+  // arm and the body stay.
+  auto turn = [](const Vec2& p) { return Vec2(Vec2(190, 30) + Vec2(-(p.y() - 30), p.x() - 190)); };
+  std::vector<Vec2> t{f.rest[0], turn(f.rest[1])};
+  f.s.solve(t, 4);
+  std::vector<Points> now = f.shapes();
+  for (size_t i = 0; i < 4; ++i) {
+    EXPECT_LT((now[0][i] - rest[0][i]).norm(), 1e-9) << "the body stays";
+    EXPECT_LT((now[1][i] - rest[1][i]).norm(), 1e-9) << "the arm stays";
+    EXPECT_LT((now[2][i] - turn(rest[2][i])).norm(), 1e-9) << "the hand turns about its wrist";
+    EXPECT_LT((now[3][i] - turn(rest[3][i])).norm(), 1e-9) << "the dot with it";
+  }
+  EXPECT_LT((f.s.handle_point(1) - t[1]).norm(), 1e-9);
+  // The body moved 20 to the right (its one handle): the arm goes with it, and the hand's
+  // wrist with the arm; the hand turns toward its target, here moved with the body.
+  t = {f.rest[0] + Vec2(20, 0), f.rest[1] + Vec2(20, 0)};
+  f.s.solve(t, 30);
+  now = f.shapes();
+  for (size_t k = 0; k < 5; ++k)
+    for (size_t i = 0; i < 4; ++i) EXPECT_LT((now[k][i] - rest[k][i] - Vec2(20, 0)).norm(), 1e-6) << k << " " << i;
+  // A pen on the hand pulls it, with the arm it hangs on (the pen and the hand's handle, least
+  // squares), and nothing of the grid's; let go, both settle back: the hand to its handle, the
+  // arm (no handle of its own) as drawn.
+  f.s.grab(Vec2(205, 40));
+  EXPECT_TRUE(f.s.grabbing());
+  t.push_back(Vec2(230, 110));
+  auto grabbed = [&] {  // where the pen's point of the hand is
+    const Points h = f.shapes()[2];
+    const Vec2 a = h[1] - h[0];
+    const double c = a.x() / a.norm(), s = a.y() / a.norm();
+    const Vec2 d = Vec2(205, 40) - rest[2][0];
+    return Vec2(h[0] + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y()));
+  };
+  const double before = (grabbed() - t.back()).norm();
+  f.s.solve(t, 4);
+  now = f.shapes();
+  EXPECT_LT((grabbed() - t.back()).norm(), 0.6 * before) << "the pen pulls the hand";
+  EXPECT_GT((now[1][1] - rest[1][1] - Vec2(20, 0)).norm(), 5.0) << "and the arm with it";
+  EXPECT_LT(rigid_fit_rms(rest[1], now[1]), 1e-9) << "each whole";
+  EXPECT_LT(rigid_fit_rms(rest[2], now[2]), 1e-9);
+  for (size_t i = 0; i < 4; ++i) EXPECT_LT((now[0][i] - rest[0][i] - Vec2(20, 0)).norm(), 1e-6) << "the body stays";
+  f.s.release();
+  t.pop_back();
+  for (int k = 0; k < 60; ++k) f.s.solve(t, 4);  // (a second of frames)
+  now = f.shapes();
+  for (size_t k = 1; k < 5; ++k)
+    for (size_t i = 0; i < 4; ++i) EXPECT_LT((now[k][i] - rest[k][i] - Vec2(20, 0)).norm(), 0.01) << "back as drawn " << k << " " << i;
+  f.s.reset_to_rest();
+  now = f.shapes();
+  for (size_t i = 0; i < 4; ++i) EXPECT_LT((now[2][i] - rest[2][i]).norm(), 1e-9) << "at rest";
+}
+
+// A chain of two riders, each with its handle, swung far (the hand's target across the body,
+// out of reach) and back: every rider back as drawn. (Kept from frame to frame, such a chain
+// settled folded, each link pointing at its target.)
+TEST(RigidGrid, RidersComeBackAsDrawnWhenTheirTargetsDo) {
+  RiderFigure f;
+  f.r.handles.push_back({"elbow", Vec2(150, 30)});
+  f.rest.push_back(Vec2(150, 30));
+  f.r.riders[1].handle = "elbow";
+  std::string err;
+  ASSERT_TRUE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err)) << err;
+  const std::vector<Points> rest = f.shapes();
+  std::vector<Vec2> t = f.rest;
+  double swung = 0;
+  for (int k = 0; k <= 120; ++k) {  // out and back over two seconds
+    const double a = 3.0 * std::sin(M_PI * k / 120.0);
+    t[1] = Vec2(100, 30) + Vec2(110 * std::cos(a), 110 * std::sin(a)) * (1 + 0.5 * std::sin(M_PI * k / 120.0));
+    t[2] = Vec2(100, 30) + Vec2(50 * std::cos(0.5 * a), 50 * std::sin(0.5 * a));
+    f.s.solve(t, 4);
+    swung = std::max(swung, (f.shapes()[2][0] - rest[2][0]).norm());
+  }
+  EXPECT_GT(swung, 100) << "the hand went far";
+  const std::vector<Points> now = f.shapes();
+  for (size_t k = 0; k < now.size(); ++k)
+    for (size_t i = 0; i < now[k].size(); ++i) EXPECT_LT((now[k][i] - rest[k][i]).norm(), 1e-6) << k << " " << i;
+}
+
+TEST(RigidGrid, ARiderNamingNoShapeOrHangingOnItselfIsRefusedWithItsLine) {
+  {
+    RiderFigure f;
+    f.r.riders[0].with = {"cuff"};
+    std::string err;
+    EXPECT_FALSE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err));
+    EXPECT_NE(err.find("r.toml:12: rider 'hand': 'cuff' (with) is not a sub-shape"), std::string::npos) << err;
+  }
+  {
+    RiderFigure f;
+    f.r.riders[1].on = "hand";  // the arm on the hand, the hand on the arm
+    std::string err;
+    EXPECT_FALSE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err));
+    EXPECT_NE(err.find("hangs, through riders, on itself"), std::string::npos) << err;
+  }
+  {
+    RiderFigure f;
+    f.r.riders[1].with = {"hand"};  // the hand rides on the arm and is a rider of its own
+    std::string err;
+    EXPECT_FALSE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err));
+    EXPECT_NE(err.find("rides on two riders"), std::string::npos) << err;
+  }
 }
 
 }  // namespace

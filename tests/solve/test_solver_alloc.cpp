@@ -81,5 +81,26 @@ TEST(RigidGrid, SteadyStateSolveAndGrabAllocateNothing) {
   }
 }
 
+// With riders: the left arm rides on the grid and its hand's handle turns it; a pen on the arm
+// (a rider) and on the body (the grid).
+TEST(RigidGrid, RidersAllocateNothing) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  const std::vector<Vec2> rest{{150, 60}, {110, 395}, {190, 395}, {55, 250}};
+  Rig r = default_rig();
+  r.solver = "rigid_grid";
+  r.handles = {{"head", rest[0]}, {"left-foot", rest[1]}, {"right-foot", rest[2]}, {"left-hand", rest[3]}};
+  RigRider arm;
+  arm.part = "arm-left", arm.on = "torso", arm.at = Vec2(105, 150), arm.handle = "left-hand", arm.with = {"sleeve-left"};
+  r.riders = {arm};
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, r, rest, SolverWeights{}, &err)) << err;
+  ASSERT_EQ(s.riders(), 1u);
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(60, 240)), 0) << "a pen on the arm";
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(150, 200)), 0) << "a pen on the body";
+}
+
 }  // namespace
 }  // namespace mar
