@@ -68,7 +68,16 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
   }
   for (const AutoRigPart& p : ar.parts) {
     // (a limb of the silhouette inside the part it hangs from: said so)
-    const std::string where = id(p.shape) == parent_id(p) ? " inside " + id(p.shape) : " " + id(p.shape) + " on " + parent_id(p);
+    // (a part riding whole on the rigid grid, turning at its hinge: said so)
+    bool rider = false;
+    for (const RigRider& d : ar.rig.riders) rider = rider || d.part == id(p.shape);
+    const std::string where = id(p.shape) == parent_id(p) ? " inside " + id(p.shape)
+                              : rider                     ? " " + id(p.shape) + " rides whole on " + parent_id(p)
+                                                          : " " + id(p.shape) + " on " + parent_id(p);
+    if (p.kind == AutoRigPart::Detail && rider) {
+      out.push_back("part" + where + ", off the silhouette: hinge at " + point_text(p.joint));
+      continue;
+    }
     if (p.kind == AutoRigPart::Head)
       out.push_back("head:" + where + (p.has_joint ? ", hinge at " + point_text(p.joint) : "") +
                     (p.handle.empty() ? "" : ", handle " + p.handle));

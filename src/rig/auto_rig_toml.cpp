@@ -49,6 +49,19 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   for (const RigStiffness& s : r.stiffness)
     o << "\n[[stiffness]]\nname = " << q(s.name) << "\ncenter = " << point_toml(s.center) << "\nradius = " << toml_number(s.radius)
       << "\nweight = " << toml_number(s.weight) << "\n";
+  if (!r.riders.empty())
+    o << "\n# ---- parts that ride whole on the grid, turning at their drawn joint (toward their handle) ----\n";
+  for (const RigRider& d : r.riders) {
+    o << "\n[[rider]]\npart = " << q(d.part) << "\n";
+    if (!d.on.empty()) o << "on = " << q(d.on) << "\n";
+    o << "at = " << point_toml(d.at) << "\n";
+    if (!d.handle.empty()) o << "handle = " << q(d.handle) << "\n";
+    if (!d.with.empty()) {
+      o << "with = [";
+      for (size_t k = 0; k < d.with.size(); ++k) o << (k ? ", " : "") << q(d.with[k]);
+      o << "]\n";
+    }
+  }
   if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
   for (size_t k = 0; k < r.sewing.size(); ++k) {
     const RigSewing& e = r.sewing[k];

@@ -660,6 +660,90 @@ TEST(AutoRig, AGroupWhosePiecesMakeOneRegionIsOnePart) {
   EXPECT_LT(end_from_rest(frames, {"ellipse1", "rect1", "rect2", "rect3", "circle1"}), 0.01 * 240) << "back at rest once the pen has let go";
 }
 
+// Parts and silhouette region by region: a figure whose arms are parts of their own and whose
+// legs are inside its body's one shape. The silhouette gives the legs, so the grid poses it; the
+// arms ride on the grid whole, each turning at its drawn shoulder, and only the legs bend in
+// the grid. A pen swings an arm: it stays rigid and on its shoulder and the body does not move
+// (the grid bent the arm, and the body under it, before); a pen swings a leg: it bends at its
+// hip. Both come back to rest.
+TEST(AutoRig, PartsAndSilhouetteAreChosenRegionByRegion) {
+  const std::string svg = test::write_temp(
+      "regions.svg",
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"240\"><path id=\"path1\" fill=\"#468\" "
+      "d=\"M60 60 L140 60 L140 230 L112 230 L112 130 L88 130 L88 230 L60 230 Z\"/>"
+      "<rect id=\"rect1\" x=\"132\" y=\"64\" width=\"60\" height=\"14\" fill=\"#c96\"/>"
+      "<rect id=\"rect2\" x=\"8\" y=\"64\" width=\"60\" height=\"14\" fill=\"#c96\"/>"
+      "<circle id=\"circle1\" cx=\"100\" cy=\"34\" r=\"24\" fill=\"#fc9\"/></svg>");
+  const Rigged r = rig_of(svg);
+  ASSERT_EQ(r.ar.rig.solver, "rigid_grid") << "the legs are the silhouette's";
+  std::map<std::string, const RigRider*> riders;
+  for (const RigRider& d : r.ar.rig.riders) riders[d.part] = &d;
+  ASSERT_TRUE(riders.count("rect1") && riders.count("rect2")) << "the arms ride";
+  EXPECT_FALSE(riders.count("path1")) << "the body is the grid's";
+  ASSERT_TRUE(riders.count("circle1")) << "the head, drawn a little above the body (off its region), rides on it";
+  EXPECT_TRUE(riders["circle1"]->handle.empty());
+  EXPECT_EQ(riders["circle1"]->on, "path1");
+  for (const char* arm : {"rect1", "rect2"}) {
+    EXPECT_FALSE(riders[arm]->handle.empty()) << arm << " turns toward its handle";
+    EXPECT_GT(riders[arm]->at.x(), 56) << arm << ": hinged at its shoulder, inside the body";
+    EXPECT_LT(riders[arm]->at.x(), 144) << arm;
+  }
+  int legs = 0;
+  for (const AutoRigPart& p : r.ar.parts) legs += p.kind == AutoRigPart::Limb && !riders.count(r.ch.shapes[size_t(p.shape)].id);
+  EXPECT_EQ(legs, 2) << "two legs from the silhouette";
+  bool said = false;
+  for (const std::string& n : r.ar.notes) said = said || n.find("region by region") != std::string::npos;
+  EXPECT_TRUE(said) << "the rig says so";
+  const std::string rig = test::write_temp("regions.toml", write_auto_rig(r.ar, r.ch));
+  auto loaded = load_rig(rig);
+  ASSERT_TRUE(loaded.ok()) << loaded.error;
+  EXPECT_EQ(loaded.value->riders.size(), r.ar.rig.riders.size());
+
+  // The right arm's hand, swung up.
+  const auto arm = pen_drag("regions-arm", rig, 200, 240, "0.93,0.3", "0.75,0.02");
+  ASSERT_GE(arm.size(), 200u);
+  ASSERT_FALSE(points_of(arm.front(), "rect1").empty());
+  EXPECT_GT(most_moved(arm, "rect1"), 20) << "the pen swung the arm";
+  double bent = 0, shoulder = 0;
+  const Points arm0 = points_of(arm.front(), "rect1");
+  const Vec2 hinge = riders["rect1"]->at;
+  for (const nlohmann::json& f : arm) {
+    const Points now = points_of(f, "rect1");
+    ASSERT_EQ(now.size(), arm0.size());
+    bent = std::max(bent, rigid_fit_rms(arm0, now));
+    // where its hinge went: the turn of its top edge, about its first corner
+    const Vec2 a = arm0[1] - arm0[0], b = now[1] - now[0];
+    const double c = a.dot(b) / (a.norm() * b.norm()), s = (a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
+    const Vec2 d = hinge - arm0[0];
+    shoulder = std::max(shoulder, (now[0] + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y()) - hinge).norm());
+  }
+  EXPECT_LT(bent, 0.01) << "it turns whole (to the dump's rounding)";
+  EXPECT_LT(shoulder, 0.5) << "about its shoulder, which stays on the body";
+  EXPECT_LT(most_moved(arm, "path1"), 0.5) << "and the body stays";
+  EXPECT_LT(end_from_rest(arm, {"path1", "rect1", "rect2", "circle1"}), 0.01 * 240) << "back at rest once the pen has let go";
+
+  // The left leg's foot, swung out.
+  const auto leg = pen_drag("regions-leg", rig, 200, 240, "0.37,0.94", "0.1,0.85");
+  ASSERT_GE(leg.size(), 200u);
+  double foot = 0, top = 0, head = 0;
+  const Points body0 = points_of(leg.front(), "path1");
+  const Vec2 neck0 = centre_of(points_of(leg.front(), "circle1")) - 0.5 * (body0[0] + body0[1]);
+  for (const nlohmann::json& f : leg) {
+    const Points now = points_of(f, "path1");
+    ASSERT_EQ(now.size(), body0.size());
+    foot = std::max(foot, (now[7] - body0[7]).norm());                        // (the left leg's outer foot corner)
+    top = std::max(top, (now[0] + now[1] - body0[0] - body0[1]).norm() / 2);  // (the shoulders)
+    const Vec2 a = body0[1] - body0[0], b = now[1] - now[0];  // (the turn of the shoulders' edge)
+    const double c = a.dot(b) / (a.norm() * b.norm()), s = (a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
+    const Vec2 neck(c * neck0.x() - s * neck0.y(), s * neck0.x() + c * neck0.y());
+    head = std::max(head, (centre_of(points_of(f, "circle1")) - 0.5 * (now[0] + now[1]) - neck).norm());
+  }
+  EXPECT_GT(foot, 15) << "the leg swings inside the body's shape";
+  EXPECT_LT(top, 0.5 * foot) << "at its hip: the shoulders move far less";
+  EXPECT_LT(head, 2.0) << "and the head stays on its shoulders";
+  EXPECT_LT(end_from_rest(leg, {"path1", "rect1", "rect2", "circle1"}), 0.01 * 240) << "back at rest once the pen has let go";
+}
+
 // A file of many small shapes (here 1,200 squares apart) is rigged on its 1,000 biggest: the
 // rig weighs every pair of parts, and 140,000 ran it out of memory. It says so.
 TEST(AutoRig, AtMostTheThousandBiggestShapesAreParts) {
