@@ -221,7 +221,8 @@ void read_joint(const std::string& path, const toml::node* js, Rig& r) {
 void read_rider(const std::string& path, const toml::node* rs, Rig& r) {
   const toml::array* a = rs->as_array();
   if (!a) throw RigError{at(path, *rs) + ": use [[rider]] tables"};
-  if (a->size() > 4096) throw RigError{at(path, *rs) + ": at most 4096 riders"};
+  // (each rider's sweep weighs the handles of all that hangs on it: a chain of n costs n² a frame)
+  if (a->size() > 256) throw RigError{at(path, *rs) + ": at most 256 riders"};
   auto text = [&](const toml::table& t, const char* key) -> std::string {
     const toml::node* n = t.get(key);
     if (!n) return {};

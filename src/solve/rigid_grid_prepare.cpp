@@ -161,13 +161,14 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   pull_start_.assign(1, 0);
   desc_start_.assign(1, 0);
   pull_h_.clear(), pull_r_.clear(), desc_.clear();
+  std::vector<std::vector<int>> below(riders_.size());  // (each rider, up its ancestors: n times the depth)
+  for (size_t q = 0; q < riders_.size(); ++q)
+    for (int a = int(q); a >= 0; a = riders_[size_t(a)].parent) below[size_t(a)].push_back(int(q));
   for (size_t r = 0; r < riders_.size(); ++r) {
-    for (size_t q = r; q < riders_.size(); ++q) {
-      bool on = false;
-      for (int a = int(q); a >= 0 && !on; a = riders_[size_t(a)].parent) on = a == int(r);
-      if (!on) continue;
-      if (q != r) desc_.push_back(int(q));
-      if (riders_[q].handle >= 0 && size_t(riders_[q].handle) < handle_rest_.size()) pull_h_.push_back(riders_[q].handle), pull_r_.push_back(int(q));
+    for (int q : below[r]) {
+      if (q != int(r)) desc_.push_back(q);
+      const int h = riders_[size_t(q)].handle;
+      if (h >= 0 && size_t(h) < handle_rest_.size()) pull_h_.push_back(h), pull_r_.push_back(q);
     }
     pull_start_.push_back(int(pull_h_.size()));
     desc_start_.push_back(int(desc_.size()));

@@ -302,6 +302,12 @@ at = [30, 5]
     ASSERT_FALSE(e.ok()) << c.text;
     EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
   }
+  // (a chain of riders costs the square of its length a frame: at most 256)
+  std::string many = "character = \"a.svg\"\nsolver = \"rigid_grid\"\n";
+  for (int k = 0; k < 257; ++k) many += "[[rider]]\npart = \"p" + std::to_string(k) + "\"\nat = [0, 0]\n";
+  auto e = parse_rig(many, "r.toml");
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error.find("at most 256 riders"), std::string::npos) << e.error;
 }
 
 TEST(parse_rig, KeyPosesRoundTripAndErrorsNameTheLine) {
