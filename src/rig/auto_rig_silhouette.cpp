@@ -186,19 +186,13 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   // Shapes no part holds (an outline drawn as a stroke, a swap set's mouths, a small piece past
   // the parts' cap) ride on the rider they lie on: 85 % of their points (32 at most) inside its
   // outline or within 1 % of the height of it.
-  std::vector<Points> rings(old.size());
-  std::vector<Bounds> boxes(old.size());
-  for (size_t i = 0; i < old.size(); ++i)
-    if (rides[i]) {
-      rings[i] = ch.shapes[size_t(old[i].shape)].largest_ring();
-      for (const Vec2& q : rings[i]) boxes[i].add(q);
-    }
   const double tol = 0.01 * height;
   auto on_ring = [&](size_t i, const Vec2& q) {
-    if (rings[i].size() < 3) return false;
-    if (winding_number(rings[i], q) != 0) return true;
-    for (size_t a = 0; a < rings[i].size(); ++a)
-      if (point_segment_distance(q, rings[i][a], rings[i][(a + 1) % rings[i].size()]) <= tol) return true;
+    const Points& r = outline[i];
+    if (r.size() < 3) return false;
+    if (winding_number(r, q) != 0) return true;
+    for (size_t a = 0; a < r.size(); ++a)
+      if (point_segment_distance(q, r[a], r[(a + 1) % r.size()]) <= tol) return true;
     return false;
   };
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
@@ -208,13 +202,13 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     int best = -1;
     double best_area = 0;
     for (size_t i = 0; i < old.size(); ++i) {
-      if (!rides[i] || boxes[i].empty()) continue;
-      const Bounds& r = boxes[i];
+      if (!rides[i] || box[i].empty()) continue;
+      const Bounds& r = box[i];
       if (b.lo.x() < r.lo.x() - tol || b.lo.y() < r.lo.y() - tol || b.hi.x() > r.hi.x() + tol || b.hi.y() > r.hi.y() + tol) continue;
       const size_t step = std::max<size_t>(1, sh.points.size() / 32);
       size_t in = 0, all = 0;
       for (size_t k = 0; k < sh.points.size(); k += step, ++all) in += on_ring(i, sh.points[k]);
-      const double area = std::abs(signed_area(rings[i]));
+      const double area = std::abs(signed_area(outline[i]));
       if (in >= 0.85 * double(all) && (best < 0 || area < best_area)) best = int(i), best_area = area;
     }
     if (best >= 0) with[size_t(best)].push_back(int(s));
