@@ -46,8 +46,8 @@
 // The hinge follows the grid under it (or the rider it hangs from), turned as drawn against it;
 // then eight sweeps, outermost first, turn each (with what hangs on it) to bring the handles on
 // them and a pen nearest their targets, least squares (one with no handle of its own has a weak
-// spring to its drawn turn). From the drawn turns every frame: the pose is the targets' alone. Their points are set after each solve: no term of
-// the energy, nothing factorised.
+// spring to its drawn turn). From the drawn turns every frame: the pose is the targets' alone.
+// Their points are set after each solve: no term of the energy, nothing factorised.
 // Where a drawing's limbs are parts of their own they ride rigid and hinged, while a limb inside
 // one shape bends in the grid (the automatic rig's parts and silhouette, region by region).
 #pragma once
@@ -152,7 +152,8 @@ class RigidGrid final : public Solver {
   }
   Embed embed(const Vec2& p) const;
   bool prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w, std::string* error);
-  bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);
+  bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);  ///< rigid_grid_riders.cpp, as the two below
+  void link_riders();
   void place_riders(std::span<const Vec2> targets);  ///< after the grid
   struct Rider {
     std::vector<int> shapes;  ///< its part first, then the shapes riding with it

@@ -563,6 +563,11 @@ double most_apart(const std::vector<nlohmann::json>& frames, const std::string& 
   for (const nlohmann::json& f : frames) most = std::max(most, (step(f) - step0).norm());
   return most;
 }
+// `v` turned as much as the direction `from` turned to become `to`.
+Vec2 turned_as(const Vec2& from, const Vec2& to, const Vec2& v) {
+  const double n = from.norm() * to.norm(), c = from.dot(to) / n, s = (from.x() * to.y() - from.y() * to.x()) / n;
+  return Vec2(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+}
 double end_from_rest(const std::vector<nlohmann::json>& frames, std::initializer_list<const char*> ids) {
   double away = 0;
   for (const char* id : ids) {
@@ -712,10 +717,7 @@ TEST(AutoRig, PartsAndSilhouetteAreChosenRegionByRegion) {
     ASSERT_EQ(now.size(), arm0.size());
     bent = std::max(bent, rigid_fit_rms(arm0, now));
     // where its hinge went: the turn of its top edge, about its first corner
-    const Vec2 a = arm0[1] - arm0[0], b = now[1] - now[0];
-    const double c = a.dot(b) / (a.norm() * b.norm()), s = (a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
-    const Vec2 d = hinge - arm0[0];
-    shoulder = std::max(shoulder, (now[0] + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y()) - hinge).norm());
+    shoulder = std::max(shoulder, (now[0] + turned_as(arm0[1] - arm0[0], now[1] - now[0], hinge - arm0[0]) - hinge).norm());
   }
   EXPECT_LT(bent, 0.01) << "it turns whole (to the dump's rounding)";
   EXPECT_LT(shoulder, 0.5) << "about its shoulder, which stays on the body";
@@ -733,9 +735,7 @@ TEST(AutoRig, PartsAndSilhouetteAreChosenRegionByRegion) {
     ASSERT_EQ(now.size(), body0.size());
     foot = std::max(foot, (now[7] - body0[7]).norm());                        // (the left leg's outer foot corner)
     top = std::max(top, (now[0] + now[1] - body0[0] - body0[1]).norm() / 2);  // (the shoulders)
-    const Vec2 a = body0[1] - body0[0], b = now[1] - now[0];  // (the turn of the shoulders' edge)
-    const double c = a.dot(b) / (a.norm() * b.norm()), s = (a.x() * b.y() - a.y() * b.x()) / (a.norm() * b.norm());
-    const Vec2 neck(c * neck0.x() - s * neck0.y(), s * neck0.x() + c * neck0.y());
+    const Vec2 neck = turned_as(body0[1] - body0[0], now[1] - now[0], neck0);  // (as the shoulders' edge turned)
     head = std::max(head, (centre_of(points_of(f, "circle1")) - 0.5 * (now[0] + now[1]) - neck).norm());
   }
   EXPECT_GT(foot, 15) << "the leg swings inside the body's shape";

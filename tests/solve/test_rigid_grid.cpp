@@ -34,6 +34,14 @@ Rig grid_rig(double cell, int w) {
   return r;
 }
 
+// Every shape of `c` as `s` has posed it.
+std::vector<Points> posed(const Character& c, const RigidGrid& s) {
+  std::vector<Points> out;
+  for (const SubShape& sh : c.shapes) out.push_back(sh.points);
+  s.shape_points(out);
+  return out;
+}
+
 struct Figure {
   Character c;
   std::vector<Vec2> rest{{150, 60}, {150, 190}, {150, 280}, {55, 250}, {245, 250}, {95, 395}, {205, 395}};
@@ -50,12 +58,7 @@ struct Figure {
     ok = s.prepare(c, r, rest, SolverWeights{}, &err);
     EXPECT_TRUE(ok) << err;
   }
-  std::vector<Points> shapes() const {
-    std::vector<Points> out;
-    for (const SubShape& sh : c.shapes) out.push_back(sh.points);
-    s.shape_points(out);
-    return out;
-  }
+  std::vector<Points> shapes() const { return posed(c, s); }
 };
 
 TEST(RigidGrid, GridCurvesAndJunctionOverTheCharacterWithEveryPointBound) {
@@ -514,12 +517,7 @@ struct RiderFigure {
     hat.part = "hat", hat.on = "string", hat.at = Vec2(130, 103), hat.line = 17;
     r.riders = {hand, arm, hat};  // (in any order: a rider is placed after what it hangs on)
   }
-  std::vector<Points> shapes() const {
-    std::vector<Points> out;
-    for (const SubShape& sh : c.shapes) out.push_back(sh.points);
-    s.shape_points(out);
-    return out;
-  }
+  std::vector<Points> shapes() const { return posed(c, s); }
 };
 
 TEST(RigidGrid, RidersTurnWholeAboutTheirHingesAndFollowWhatTheyHangOn) {
