@@ -119,6 +119,7 @@ struct RigArgs {
   std::string character_name;  ///< studio: the cast's character of `show` to open (its rig and drawing)
   std::string device = "nanokontrol2";  ///< the starter show's device
   std::string preview;  ///< a picture of what was found (rig_preview.h)
+  bool bones = false;   ///< a limb inside one shape turns whole at its joint (AutoRigOptions::bones)
   // The rig studio (no `output`):
   std::string rig;         ///< the rig to edit and save (default: <character stem>.toml here)
   std::string size;        ///< the canvas, "WxH" (default 960x720)

@@ -114,6 +114,7 @@ int main(int argc, char** argv) {
   rig_cmd->add_option("--show", rigargs.show, "Also write a starter show that binds the rig to --device (needs -o); with --character, the show whose character the studio opens");
   rig_cmd->add_option("--character", rigargs.character_name, "Studio: open this character of --show's cast ([[character]] name), its rig and drawing");
   rig_cmd->add_option("--preview", rigargs.preview, "Also draw what was found into this PNG: body, limbs, hinges, handles, what was left out");
+  rig_cmd->add_flag("--bones", rigargs.bones, "A long, straight limb inside one shape turns whole at its joint ([[bone]]) instead of bending in the grid");
   rig_cmd->add_option("--device", rigargs.device, "The starter show's device: nanokontrol2 (default), gamepad, pen_tablet, knob_box");
   rig_cmd->add_option("--rig", rigargs.rig, "Studio: the rig to edit and save (default: <character>.toml in this folder; the automatic rig if it does not exist)");
   rig_cmd->add_option("--size", rigargs.size, "Studio: canvas size WxH (default 960x720)");

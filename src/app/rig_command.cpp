@@ -150,7 +150,9 @@ int cmd_rig(const RigArgs& a) {
     const fs::path r = fs::relative(fs::absolute(p), dir, ec);
     return ec || r.empty() ? fs::absolute(p).string() : r.generic_string();
   };
-  const AutoRig ar = auto_rig(*ch.value, relative(a.input), relative(a.mask));
+  AutoRigOptions options;
+  options.bones = a.bones;
+  const AutoRig ar = auto_rig(*ch.value, relative(a.input), relative(a.mask), options);
   if (ar.rig.handles.empty()) {  // nothing to perform with: say why and what to change
     std::cerr << "error: " << a.input << ": nothing to rig";
     for (const std::string& n : ar.notes) std::cerr << ": " << n;

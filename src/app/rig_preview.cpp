@@ -78,12 +78,16 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
       out.push_back("part" + where + ", off the silhouette: hinge at " + point_text(p.joint));
       continue;
     }
+    // (a limb inside one shape turning whole at its joint, a [[bone]]: said so)
+    bool bone = false;
+    for (const RigBone& b : ar.rig.bones) bone = bone || (!p.handle.empty() && b.handle == p.handle);
+    const std::string turns = bone ? " (it turns whole there)" : "";
     if (p.kind == AutoRigPart::Head)
-      out.push_back("head:" + where + (p.has_joint ? ", hinge at " + point_text(p.joint) : "") +
+      out.push_back("head:" + where + (p.has_joint ? ", hinge at " + point_text(p.joint) + turns : "") +
                     (p.handle.empty() ? "" : ", handle " + p.handle));
     if (p.kind == AutoRigPart::Limb) {
       ++limbs;
-      out.push_back("limb" + where + (p.has_joint ? ": hinge at " + point_text(p.joint) : "") +
+      out.push_back("limb" + where + (p.has_joint ? ": hinge at " + point_text(p.joint) + turns : "") +
                     (p.handle.empty() ? "" : ", handle " + p.handle));
     }
     if (p.kind == AutoRigPart::Detail) {

@@ -4,6 +4,7 @@
 #include "base/read_file.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -248,6 +249,49 @@ void read_rider(const std::string& path, const toml::node* rs, Rig& r) {
   }
 }
 
+// The rig's `bone` (its [[bone]] tables): limbs inside one shape turning whole on the rigid grid.
+// (each bone weighs every point of the drawing against its axis when the rig is prepared:
+// bounded by the counts below)
+void read_bone(const std::string& path, const toml::node* bs, Rig& r) {
+  const toml::array* a = bs->as_array();
+  if (!a) throw RigError{at(path, *bs) + ": use [[bone]] tables"};
+  if (a->size() > 64) throw RigError{at(path, *bs) + ": at most 64 bones"};
+  for (const toml::node& bn : *a) {
+    const toml::table* t = bn.as_table();
+    if (!t) throw RigError{at(path, bn) + ": a bone must be a table"};
+    check_keys(path, *t, {"handle", "at", "axis", "band"}, "[[bone]]");
+    RigBone b;
+    b.line = static_cast<int>(bn.source().begin.line);
+    if (const toml::node* h = t->get("handle")) {
+      if (!h->is_string() || h->value<std::string>()->empty()) throw RigError{at(path, *h) + ": handle must be a handle name"};
+      b.handle = *h->value<std::string>();
+    }
+    const toml::node* n = t->get("at");
+    const toml::node* ax = t->get("axis");
+    if (!n || !ax) throw RigError{at(path, bn) + ": a bone needs at = [x, y] (its joint) and axis = [[x, y, half-width], ...]"};
+    b.at = point(path, *n, "at");
+    const toml::array* pts = ax->as_array();
+    if (!pts || pts->size() < 2 || pts->size() > 1024)
+      throw RigError{at(path, *ax) + ": axis must be 2 to 1024 points [x, y, half-width], from the free end to the joint"};
+    for (const toml::node& e : *pts) {
+      const toml::array* q = e.as_array();
+      if (!q || q->size() != 3) throw RigError{at(path, e) + ": an axis point must be [x, y, half-width]"};
+      const double rad = number(path, *q->get(2), "a half-width");
+      if (!(rad > 0)) throw RigError{at(path, e) + ": an axis point's half-width must be above 0"};
+      b.axis.emplace_back(number(path, *q->get(0), "axis"), number(path, *q->get(1), "axis"));
+      b.radius.push_back(rad);
+    }
+    if (const toml::node* bd = t->get("band")) {
+      b.band = number(path, *bd, "band");
+      if (b.band < 0) throw RigError{at(path, *bd) + ": band must be 0 (the half-width at the joint) or more"};
+    }
+    r.bones.push_back(std::move(b));
+  }
+  size_t points = 0;
+  for (const RigBone& b : r.bones) points += b.axis.size();
+  if (points > 4096) throw RigError{at(path, *bs) + ": at most 4,096 axis points in all the bones (each is weighed against every point of the drawing)"};
+}
+
 // The rig's `part` (its [[part]] tables, or its [part] table).
 void read_part(const std::string& path, const toml::node* ps, Rig& r) {
   const toml::array* a = ps->as_array();
@@ -424,7 +468,7 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     Rig r = default_rig();
     r.path = path;
     check_keys(path, root, {"character", "mask", "solver", "iterations", "weights", "sampling", "handle", "sewing", "feature_frame", "joint",
-                            "part", "grid", "stiffness", "rider", "key", "swap", "trigger", "physics"},
+                            "part", "grid", "stiffness", "rider", "bone", "key", "swap", "trigger", "physics"},
                "the rig");
     const toml::node* ch = root.get("character");
     if (!ch || !ch->is_string()) throw RigError{path + ":1: 'character' (path of the character file) is required"};
@@ -457,6 +501,13 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     if (const toml::node* tn = root.get("trigger")) read_trigger(path, tn, r);
     if (const toml::node* pn = root.get("physics")) parse_rig_physics(path, *pn, r);
     if (const toml::node* rn = root.get("rider")) read_rider(path, rn, r);
+    if (const toml::node* bn = root.get("bone")) read_bone(path, bn, r);
+    if (r.riders.size() + r.bones.size() > 256) throw RigError{path + ":1: at most 256 riders and bones together"};
+    for (const RigBone& b : r.bones) {
+      if (r.solver != "rigid_grid") throw RigError{path + ":" + std::to_string(b.line) + ": a [[bone]] turns on the rigid grid: it needs solver = \"rigid_grid\""};
+      if (!b.handle.empty() && r.find_handle(b.handle) < 0)
+        throw RigError{path + ":" + std::to_string(b.line) + ": the bone names handle '" + b.handle + "', which the rig does not have"};
+    }
     for (const RigRider& d : r.riders) {
       if (r.solver != "rigid_grid") throw RigError{path + ":" + std::to_string(d.line) + ": a [[rider]] rides on the rigid grid: it needs solver = \"rigid_grid\""};
       if (!d.handle.empty() && r.find_handle(d.handle) < 0)
@@ -492,6 +543,25 @@ std::string key_toml(const RigKey& k) {
       << k.targets[i].second.y() << "]";
   o << " }\n";
   return o.str();
+}
+
+namespace {
+std::string shortest(double v) {  // (the shortest text that reads back as v)
+  char b[32];
+  const auto r = std::to_chars(b, b + sizeof b, v);
+  return std::string(b, r.ptr);
+}
+}  // namespace
+
+void write_bone(std::ostream& o, const RigBone& b) {
+  o << "\n[[bone]]\n";
+  if (!b.handle.empty()) o << "handle = " << toml::value<std::string>(b.handle) << "\n";
+  o << "at = [" << shortest(b.at.x()) << ", " << shortest(b.at.y()) << "]\naxis = [";
+  for (size_t k = 0; k < b.axis.size(); ++k)
+    o << (k ? ", " : "") << "[" << shortest(b.axis[k].x()) << ", " << shortest(b.axis[k].y()) << ", "
+      << shortest(k < b.radius.size() ? b.radius[k] : 1.0) << "]";
+  o << "]\n";
+  if (b.band > 0) o << "band = " << shortest(b.band) << "\n";
 }
 
 std::string write_rig(const Rig& r) {
@@ -568,6 +638,7 @@ std::string write_rig(const Rig& r) {
     if (!rd.handle.empty()) o << "handle = " << toml_string(rd.handle) << "\n";
     if (!rd.with.empty()) o << "with = " << ids(rd.with) << "\n";
   }
+  for (const RigBone& b : r.bones) write_bone(o, b);
   for (const RigStiffness& s : r.stiffness) {
     o << "\n[[stiffness]]\n";
     if (!s.name.empty()) o << "name = " << toml::value<std::string>(s.name) << "\n";

@@ -13,6 +13,9 @@
 //   [[joint]]   at = [x, y]   parts = ["arm", "body"]   stiffness = 0.3   kind = "hinge" | "weld"
 //               (a hinge needs `at` or `parts`; a weld needs `parts`)
 //   [[part]]    id = "torso"   stiffness = 4.0
+//   [[rider]]   part = "arm"   on = "torso"   at = [x, y]   handle = "hand"   with = ["sleeve"]
+//   [[bone]]    handle = "leg"   at = [x, y]   axis = [[x, y, half-width], ...]   band = 0
+//               (rider and bone: solver = "rigid_grid"; solve/rigid_grid.h)
 //   [[swap]]    name = "mouth"   members = ["mouth-a", "mouth-o"]   default = "mouth-a"
 //   [[trigger]] name = "blink"   shapes = ["eyes-shut"]
 //   [[physics]] name = "hair"   parts = ["hair-1", "hair-2"]   from = "head"   model = "pendulum" | "spring"
@@ -23,6 +26,7 @@
 
 #include "character/character.h"
 
+#include <iosfwd>
 #include <string>
 #include <vector>
 
@@ -78,6 +82,21 @@ struct RigRider {
   Vec2 at = Vec2::Zero();         ///< the hinge
   std::string handle;             ///< a [[handle]] name ("" : it keeps the turn of what it hangs from)
   std::vector<std::string> with;  ///< sub-shape ids riding on it
+  int line = 0;
+};
+
+/// A limb inside one shape that turns whole (`[[bone]]`, solver = "rigid_grid"): the points of
+/// the drawing within the limb's half-width of its medial axis (from its free end to its joint)
+/// turn as one about the joint `at`, toward its handle's target, while the grid carries the
+/// joint and the rest of the figure; across `band` on each side of the joint they turn part
+/// of the way. A leg inside its body's shape then turns at its hip as a leg drawn as a part of
+/// its own does, where the grid alone bends it like a beam.
+struct RigBone {
+  std::string handle;           ///< a [[handle]] name ("" : it keeps the turn of the grid at its joint)
+  Vec2 at = Vec2::Zero();       ///< the joint
+  std::vector<Vec2> axis;       ///< its medial axis, from the free end to the joint
+  std::vector<double> radius;   ///< its half-width at each point of `axis`
+  double band = 0;              ///< half the blend's length along the axis (0: the half-width at the joint)
   int line = 0;
 };
 
@@ -174,6 +193,7 @@ struct Rig {
   std::string grid_junction_term = "triangles";
   std::vector<RigStiffness> stiffness;
   std::vector<RigRider> riders;  ///< parts riding on the rigid grid
+  std::vector<RigBone> bones;    ///< limbs inside one shape turning whole on the rigid grid
   std::vector<RigKey> keys;
   std::vector<RigSwap> swaps;
   std::vector<RigTrigger> triggers;
@@ -203,6 +223,8 @@ inline double sculpt_spacing(const Rig& r) {
 Result<Rig> load_rig(const std::string& path);
 Result<Rig> parse_rig(std::string_view text, const std::string& path);
 
+/// A [[bone]] table (both rig writers).
+void write_bone(std::ostream& o, const RigBone& b);
 /// TOML text of a rig; parse_rig(write_rig(r)) gives r back.
 std::string write_rig(const Rig& rig);
 /// One [[key]] table as TOML (what `pose --save-key` appends to a rig).

@@ -168,7 +168,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   find_parts(G, options);
   const size_t n = G.n;
   if (n == 0) {
-    if (!options.silhouette || !rig_from_silhouette(ch, members, height, out))
+    if (!options.silhouette || !rig_from_silhouette(ch, members, height, out, options.bones))
       out.notes.push_back("no filled part to rig, and no limb in its silhouette");
     return out;
   }
@@ -183,7 +183,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   std::set<std::string> used = place_handles(G, out);
   hang_strands(G, out, used);
   // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
-  if (options.silhouette && rig_from_silhouette(ch, members, height, out)) return out;
+  if (options.silhouette && rig_from_silhouette(ch, members, height, out, options.bones)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;

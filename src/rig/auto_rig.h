@@ -32,6 +32,7 @@ struct AutoRigPart {
   bool has_joint = false;  ///< a limb's hinge
   Vec2 joint = Vec2::Zero();
   std::vector<Vec2> path;  ///< a limb's medial axis, from its free end
+  std::vector<double> path_radius;  ///< its half-width at each point of `path` (a limb of the silhouette; else empty)
   std::string handle;      ///< the handle it carries ("" for none)
   std::string why;         ///< one line for the rig's comments
 };
@@ -56,6 +57,11 @@ struct AutoRigOptions {
   /// shape drawn in pieces is rigged by their outline together (both draw and trace).
   bool silhouette = true;
   bool head_hinge = true;  ///< a head hanging from the body turns about its neck
+  /// A long, straight, free limb the silhouette finds inside one shape turns whole at its joint
+  /// ([[bone]]; `rig --bones`); else the grid bends it. Off unless asked: measured on the
+  /// benchmark's drawings it helps figures' straight limbs and does not help as many others
+  /// (docs/auto-rig.md).
+  bool bones = false;
 };
 
 /// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).

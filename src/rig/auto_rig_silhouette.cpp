@@ -37,9 +37,64 @@ int smallest_holding(const Character& ch, const std::vector<int>& shapes, const 
   return best;
 }
 
+// Whether a limb of the silhouette turns whole at its joint (a [[bone]]): one and a half of the
+// grid's cells wide at least, three times as long as wide and straight (its ends 85 % of its
+// length apart; a head: on a neck), and free along its length, the silhouette's outside on both
+// sides of its axis at 1.6 half-widths for 70 % of it. An arm drawn down the side of a body in
+// one shape, a bust read as a branch of a head, hair lying on a shoulder are not: the grid bends
+// them, as it bends every limb without a bone.
+bool turns_whole(const SilhouetteLimb& l, const Silhouette& sil, bool head, double cell) {
+  if (l.axis.size() < 2 || l.radius.size() != l.axis.size() || sil.outline.size() < 3) return false;
+  // (narrower than one and a half of the grid's cells, it has hardly a cell inside it: its outline
+  // is its mesh, and its two sides came apart turning whole (a dolphin's tail); the grid bends it)
+  if (l.width < 1.5 * cell) return false;
+  // (one rigid piece from its joint: long and straight, as an arm, a leg, a neck is; a lock of
+  // hair, a wing or a curled tail bends along its length, and the grid bends it)
+  const bool necked = head && l.narrowest <= 0.7 * l.end_radius;
+  double arc = 0;
+  for (size_t k = 1; k < l.axis.size(); ++k) arc += (l.axis[k] - l.axis[k - 1]).norm();
+  const bool straight = arc > 0 && (l.axis.back() - l.axis.front()).norm() >= 0.85 * arc;
+  if (!necked && (l.length < 3 * l.width || !straight)) return false;
+  auto outside = [&](const Vec2& q) {
+    if (winding_number(sil.outline, q) == 0) return true;
+    for (const Points& h : sil.holes)
+      if (h.size() >= 3 && winding_number(h, q) != 0) return true;
+    return false;
+  };
+  size_t free = 0, all = 0;
+  for (size_t k = 0; k + 1 < l.axis.size(); ++k) {
+    const Vec2 d = l.axis[k + 1] - l.axis[k];
+    if (!(d.norm() > 0)) continue;
+    const Vec2 across = 1.6 * l.radius[k] * Vec2(-d.y(), d.x()) / d.norm();
+    ++all;
+    free += outside(l.axis[k] + across) && outside(l.axis[k] - across);
+  }
+  return all > 0 && double(free) >= 0.7 * double(all);
+}
+
+// A limb inside one shape as a [[bone]]: its axis every half-width (1 % of the height at
+// least), to a hundredth of a unit.
+RigBone bone_of(const SilhouetteLimb& l, const std::string& handle, double height) {
+  RigBone b;
+  b.handle = handle;
+  auto round = [](double v) { return std::round(v * 100) / 100; };
+  b.at = Vec2(round(l.joint.x()), round(l.joint.y()));
+  double since = INFINITY;
+  for (size_t k = 0; k < l.axis.size(); ++k) {
+    if (k > 0) since += (l.axis[k] - l.axis[k - 1]).norm();
+    const double r = k < l.radius.size() ? l.radius[k] : 0.5 * l.width;
+    if (k + 1 < l.axis.size() && since < std::max(0.5 * r, 0.01 * height)) continue;
+    b.axis.emplace_back(round(l.axis[k].x()), round(l.axis[k].y()));
+    b.radius.push_back(std::max(0.01, round(r)));
+    since = 0;
+  }
+  if (b.axis.size() < 2) b.axis.assign({b.at, b.at + Vec2(0.01, 0)}), b.radius.assign(2, std::max(0.01, round(0.5 * l.width)));
+  return b;
+}
+
 }  // namespace
 
-bool rig_from_silhouette(const Character& ch, const std::set<int>& members, double height, AutoRig& out) {
+bool rig_from_silhouette(const Character& ch, const std::set<int>& members, double height, AutoRig& out, bool bones) {
   std::vector<int> drawn;
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
     const SubShape& sh = ch.shapes[s];
@@ -228,6 +283,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   rig.handles.clear();
   rig.stiffness.clear();
   rig.riders.clear();
+  rig.bones.clear();
   out.notes_sewing.clear();
   out.parts.clear();
   size_t riders = 0;
@@ -235,12 +291,14 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   if (riders == 0)
     out.notes.push_back("its parts give " + std::to_string(part_tips.size()) + " limb" + (part_tips.size() == 1 ? "" : "s") +
                         " and its silhouette " + std::to_string(sil.limbs.size()) +
-                        ": rigged from the silhouette, posed by the rigid grid (a limb bends inside one shape)");
+                        (bones ? ": rigged from the silhouette, posed by the rigid grid (a limb inside one shape turns whole at its joint)"
+                              : ": rigged from the silhouette, posed by the rigid grid (a limb bends inside one shape)"));
   else
     out.notes.push_back("its parts give " + std::to_string(part_tips.size()) + " limb" + (part_tips.size() == 1 ? "" : "s") +
                         " and its silhouette " + std::to_string(sil.limbs.size()) + ": region by region, " + std::to_string(riders) +
                         " part" + (riders == 1 ? "" : "s") + " ride" + (riders == 1 ? "s" : "") +
-                        " whole on the rigid grid, each turning at its joint, and the grid bends the silhouette's other limbs inside their shape");
+                        (bones ? " whole on the rigid grid, each turning at its joint, and the silhouette's other limbs turn whole at theirs inside their shape"
+                                 : " whole on the rigid grid, each turning at its joint, and the grid bends the silhouette's other limbs inside their shape"));
   std::set<std::string> used;
   auto unique = [&](const std::string& base) { return unique_name(used, base); };
   auto name_at = [&](int shape, const std::string& fallback) {
@@ -250,6 +308,8 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     const std::string base = named ? handle_name(s.label.empty() ? s.id : s.label) : "";
     return base.empty() ? fallback : base;
   };
+  const Bounds cb = ch.bounds();  // (the grid's cell, as the rig leaves it: the diagonal / 40)
+  const double cell = cb.empty() ? 0.0 : (cb.hi - cb.lo).norm() / 40;
   const int core_shape = smallest_holding(ch, drawn, sil.core);
   AutoRigPart body;
   body.shape = core_shape >= 0 ? core_shape : drawn.front();
@@ -287,6 +347,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     p.has_joint = true;
     p.joint = l.joint;
     p.path = l.axis;
+    p.path_radius = l.radius;
     const std::string side = l.tip.x() < sil.core.x() ? "left" : "right";
     p.handle = unique(int(k) == head ? name_at(at, "head") : name_at(at == body.shape ? -1 : at, "limb-" + side));
     p.why = int(k) == head ? "a head: a branch of the silhouette wide at its end, turning at its neck"
@@ -296,6 +357,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     rig.stiffness.push_back({p.handle + "-joint", l.joint, std::max(0.6 * l.width, 0.01 * height), 0.25, 0});
     for (size_t b = 0; b < l.bends.size(); ++b)
       rig.stiffness.push_back({p.handle + "-bend", l.bends[b], std::max(0.6 * l.width, 0.01 * height), 0.35, 0});
+    if (bones && turns_whole(l, sil, int(k) == head, cell)) rig.bones.push_back(bone_of(l, p.handle, height));
     out.parts.push_back(p);
   }
   // The riders, parents first (a forearm on its upper arm), each with its own handle.

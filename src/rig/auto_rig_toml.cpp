@@ -23,8 +23,11 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   if (!r.mask.empty()) o << "mask = " << q(r.mask) << "\n";
   o << "iterations = " << r.iterations << "\n";
   if (r.solver != "feature_frame")
-    o << "# Posed by the topology-aware rigid grid (seed 003): a limb bends inside one shape, softest\n"
-         "# at the [[stiffness]] regions below (its joints and bends).\nsolver = " << q(r.solver) << "\n";
+    o << (r.bones.empty() ? "# Posed by the topology-aware rigid grid (seed 003): a limb bends inside one shape, softest\n"
+                            "# at the [[stiffness]] regions below (its joints and bends).\n"
+                          : "# Posed by the topology-aware rigid grid (seed 003); a limb inside one shape turns whole at its\n"
+                            "# joint (its [[bone]] below), softest there.\n")
+      << "solver = " << q(r.solver) << "\n";
   auto part_of_handle = [&](const std::string& h) -> const AutoRigPart* {
     for (const AutoRigPart& p : a.parts)
       if (p.handle == h) return &p;
@@ -62,6 +65,9 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
       o << "]\n";
     }
   }
+  if (!r.bones.empty())
+    o << "\n# ---- limbs inside one shape, turning whole at their joint (toward their handle); the grid carries the rest ----\n";
+  for (const RigBone& b : r.bones) write_bone(o, b);
   if (!r.sewing.empty()) o << "\n# ---- sewing that follows the parts' tree ----\n";
   for (size_t k = 0; k < r.sewing.size(); ++k) {
     const RigSewing& e = r.sewing[k];

@@ -220,6 +220,7 @@ Silhouette silhouette_limbs(const Points& outline, std::span<const Points> holes
     limb.narrowest = s.r[ek];
     for (size_t k = ek; k <= jk; ++k) limb.narrowest = std::min(limb.narrowest, s.r[k]);
     limb.axis.assign(s.p.begin(), s.p.begin() + long(jk) + 1);
+    limb.radius.assign(s.r.begin(), s.r.begin() + long(jk) + 1);
     // the handle: inside the free end, halfway from the end circle's centre to the outline
     const Vec2 inward = s.p[at_arc(s, std::min(s.r[0], s.arc[jk]))] - s.p[0];
     limb.tip = s.p[0] - (inward.norm() > 1e-12 ? Vec2(inward.normalized() * 0.5 * s.r[0]) : Vec2(Vec2::Zero()));

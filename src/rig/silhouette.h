@@ -17,6 +17,7 @@ namespace mar {
 
 struct SilhouetteLimb {
   std::vector<Vec2> axis;  ///< its medial axis, from the free end to the joint
+  std::vector<double> radius;  ///< its half-width at each point of `axis`
   Vec2 tip{0, 0};          ///< inside its free end: where its handle goes
   Vec2 joint{0, 0};        ///< where it leaves what it hangs from
   std::vector<Vec2> bends; ///< where its axis bends along the way (an elbow, a knee)

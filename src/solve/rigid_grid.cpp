@@ -265,6 +265,7 @@ void RigidGrid::grab(const Vec2& rest_point) {
     if (riders_[r].ring.size() >= 3 && winding_number(riders_[r].ring, rest_point) != 0 &&
         (grab_rider_ < 0 || riders_[r].shapes.front() > riders_[size_t(grab_rider_)].shapes.front()))
       grab_rider_ = int(r);
+  if (grab_rider_ < 0) grab_rider_ = bone_at(rest_point);  // on a bone's limb: the pen turns the bone
   if (grab_rider_ >= 0) {
     grab_rest_ = rest_point;
     grab_active_ = true;
@@ -278,6 +279,17 @@ void RigidGrid::grab(const Vec2& rest_point) {
 void RigidGrid::shape_points(std::vector<Points>& out) const {
   for (size_t s = 0; s < binds_.size() && s < out.size(); ++s)
     for (size_t k = 0; k < binds_[s].size() && k < out[s].size(); ++k) out[s][k] = eval(binds_[s][k]);
+  for (const Skin& k : skin_) {  // a bone's limb: turned w of the bone's turn about its hinge
+    if (size_t(k.shape) >= out.size() || size_t(k.point) >= out[size_t(k.shape)].size()) continue;
+    const Rider& b = riders_[size_t(k.bone)];
+    const Vec2 d = k.rest - b.hinge;
+    const double a = b.base + k.w * (b.angle - b.base), c = std::cos(a), s = std::sin(a);
+    const double c0 = std::cos(b.base), s0 = std::sin(b.base);
+    const Vec2 turned = b.t + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
+    const Vec2 grid_rigid = b.t + Vec2(c0 * d.x() - s0 * d.y(), s0 * d.x() + c0 * d.y());
+    Vec2& q = out[size_t(k.shape)][size_t(k.point)];
+    q = turned + (1 - k.w) * (q - grid_rigid);
+  }
   for (const Rider& d : riders_)
     for (int si : d.shapes) {
       const Points& rest = rider_rest_[size_t(si)];

@@ -48,8 +48,20 @@
 // them and a pen nearest their targets, least squares (one with no handle of its own has a weak
 // spring to its drawn turn). From the drawn turns every frame: the pose is the targets' alone.
 // Their points are set after each solve: no term of the energy, nothing factorised.
-// Where a drawing's limbs are parts of their own they ride rigid and hinged, while a limb inside
-// one shape bends in the grid (the automatic rig's parts and silhouette, region by region).
+// Where a drawing's limbs are parts of their own they ride rigid and hinged (the automatic rig's
+// parts and silhouette, region by region).
+//
+// Bones (a rig's [[bone]] tables): a limb inside one shape, given by its medial axis, turning
+// whole about its joint as a rider does (its hinge and the grid's turn there from the grid, its
+// handle's target, eight sweeps), with no shape of its own. Its limb: the mesh nodes reached
+// from its axis through the mesh (so across no gap), never across a cut through the joint
+// across the axis, within 2 half-widths of the axis. A point is on the limb when a node it is
+// embedded in is; from where the point itself is, it takes all of the turn beyond 2·band from
+// the joint and part of it nearer (smoothstep, 0 at the joint), and past 1.5 half-widths of
+// the axis less, none at 2. A point of weight w is the grid's point turned by w of the bone's
+// turn about the hinge: A_w(p) + (1 − w)(grid(p) − G(p)), G the grid's rigid turn at the
+// joint. So a leg inside its body's shape turns at its hip like a leg drawn apart, where the
+// grid alone bends it like a beam toward a handle at its foot.
 #pragma once
 
 #include <array>
@@ -152,7 +164,13 @@ class RigidGrid final : public Solver {
   }
   Embed embed(const Vec2& p) const;
   bool prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w, std::string* error);
-  bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);  ///< rigid_grid_riders.cpp, as the two below
+  bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);  ///< rigid_grid_riders.cpp, as the ones below
+  void prepare_bones(const Rig& rig);
+  void skin_bones(const Character& ch);  ///< after the grid: each node's bone and weight, and the points they carry
+  /// How much of a bone's turn an embedded point takes (through its nodes), and which bone (-1: none).
+  double bone_weight(const Embed& e, int* bone) const;
+  /// The bone carrying a rest point at least half way (-1: none), through its embedding.
+  int bone_at(const Vec2& rest_point) const;
   void link_riders();
   void place_riders(std::span<const Vec2> targets);  ///< after the grid
   struct Rider {
@@ -169,6 +187,14 @@ class RigidGrid final : public Solver {
     double rel = 0;           ///< its turn against what it hangs on (this frame's sweeps)
     double reach = 0;         ///< from its hinge to the farthest point of its part
     Vec2 t = Vec2::Zero();
+    // A bone ([[bone]]): a limb inside one shape. No shape of its own: the grid's points along
+    // its limb take its turn (skin_), fully beyond its band, part of the way across it.
+    bool bone = false;
+    Points axis;                  ///< from the free end to the joint
+    std::vector<double> radius;   ///< its half-width at each axis point
+    double band = 0;              ///< the blend's length on the limb's side of the joint, halved
+    std::vector<int> refs;        ///< grid nodes beside the joint, off the limb: the grid's turn there
+    double base = 0;              ///< this frame: the grid's turn at the joint
     void turn(double a) {
       angle = a;
       c = std::cos(a);
@@ -281,6 +307,16 @@ class RigidGrid final : public Solver {
   std::vector<int> desc_start_, desc_;             ///< per rider: the riders hanging on it, through others too
   static constexpr int kRiderSweeps = 8;
   static constexpr double kRiderSpring = 0.05;  ///< against a handle's pull at the rider's reach
+  /// How much of bone d's turn a rest point takes, from where it is against the bone's axis.
+  static double limb_weight(const Rider& d, const Vec2& q);
+  struct Skin {  ///< a grid point a bone carries: out = A_w(p) + (1 − w)(grid(p) − G(p))
+    int shape, point, bone;
+    double w;
+    Vec2 rest;
+  };
+  std::vector<Skin> skin_;
+  std::vector<int> node_bone_;       ///< per node: the bone carrying it, or -1
+  std::vector<double> node_bone_w_;  ///< per node: how much of its turn
   int grab_rider_ = -1;              ///< a pen holding a rider
   Vec2 grab_rest_ = Vec2::Zero();
   RankOneUpdate grab_update_;

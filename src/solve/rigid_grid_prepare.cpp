@@ -129,6 +129,8 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
   rider_rest_.assign(ch.shapes.size(), {});
   handle_rider_.assign(handle_rest.size(), -1);
   grab_rider_ = -1;
+  skin_.clear();
+  prepare_bones(rig);
   if (!prepare_riders(ch, rig, error)) return false;
   for (size_t h = 0; h < rig.handles.size() && h < handle_rest.size(); ++h)
     for (size_t r = 0; r < riders_.size(); ++r)
@@ -147,6 +149,7 @@ bool RigidGrid::prepare(Character& ch, const Rig& rig, std::span<const Vec2> han
       std::swap(contours[si], ch.shapes[si].contours);
     }
   if (!ok) return false;
+  skin_bones(ch);
   link_riders();
   place_riders({});
   return true;

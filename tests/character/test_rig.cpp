@@ -310,6 +310,78 @@ at = [30, 5]
   EXPECT_NE(e.error.find("at most 256 riders"), std::string::npos) << e.error;
 }
 
+TEST(parse_rig, BonesRoundTripAndErrorsNameTheLine) {
+  const char* text = R"toml(character = "c.svg"
+solver = "rigid_grid"
+[[handle]]
+name = "foot"
+rest = [40, 95]
+
+[[bone]]
+handle = "foot"
+at = [40, 50]
+axis = [[40, 95, 6], [40.25, 70, 7.5], [40, 50, 9]]
+band = 4.5
+
+[[bone]]
+at = [10, 50]
+axis = [[0, 50, 3], [10, 50, 3]]
+)toml";
+  auto a = parse_rig(text, "d.toml");
+  ASSERT_TRUE(a.ok()) << a.error;
+  const Rig& r = *a.value;
+  ASSERT_EQ(r.bones.size(), 2u);
+  EXPECT_EQ(r.bones[0].handle, "foot");
+  EXPECT_EQ(r.bones[0].at, Vec2(40, 50));
+  EXPECT_EQ(r.bones[0].axis, (std::vector<Vec2>{{40, 95}, {40.25, 70}, {40, 50}}));
+  EXPECT_EQ(r.bones[0].radius, (std::vector<double>{6, 7.5, 9}));
+  EXPECT_EQ(r.bones[0].band, 4.5);
+  EXPECT_EQ(r.bones[1].line, 13);
+  EXPECT_TRUE(r.bones[1].handle.empty());
+  EXPECT_EQ(r.bones[1].band, 0);
+  auto back = parse_rig(write_rig(r), "d.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
+  EXPECT_EQ(write_rig(*back.value), write_rig(r));
+  EXPECT_EQ(back.value->bones[0].axis, r.bones[0].axis);
+  const std::string grid = "character = \"a.svg\"\nsolver = \"rigid_grid\"\n";
+  const std::string cases[][2] = {
+      {"character = \"a.svg\"\n[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\n", "r.toml:2: a [[bone]] turns on the rigid grid"},
+      {grid + "[[bone]]\nat = [1, 2]\n", "r.toml:3: a bone needs at = [x, y] (its joint) and axis"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1]]\n", "r.toml:5: axis must be 2 to 1024 points"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2]]\n", "r.toml:5: an axis point must be [x, y, half-width]"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 0]]\n", "r.toml:5: an axis point's half-width must be above 0"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, nan]]\n", "r.toml:5: a half-width must be a finite number"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\nband = -1\n", "r.toml:6: band must be 0"},
+      {grid + "[[bone]]\nhandle = \"foot\"\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\n", "r.toml:3: the bone names handle 'foot'"},
+      {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\nspin = 1\n", "r.toml:6: unknown key 'spin'"},
+  };
+  for (const auto& c : cases) {
+    auto e = parse_rig(c[0], "r.toml");
+    ASSERT_FALSE(e.ok()) << c[0];
+    EXPECT_NE(e.error.find(c[1]), std::string::npos) << e.error;
+  }
+  // (each bone weighs every point of the drawing when the rig is prepared: at most 64)
+  std::string many = grid;
+  for (int k = 0; k < 65; ++k) many += "[[bone]]\nat = [0, 0]\naxis = [[0, 0, 1], [1, 0, 1]]\n";
+  auto e = parse_rig(many, "r.toml");
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error.find("at most 64 bones"), std::string::npos) << e.error;
+  std::string long_axis = grid + "[[bone]]\nat = [0, 0]\naxis = [";
+  for (int k = 0; k < 1025; ++k) long_axis += std::string(k ? ", " : "") + "[" + std::to_string(k) + ", 0, 1]";
+  e = parse_rig(long_axis + "]\n", "r.toml");
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error.find("axis must be 2 to 1024 points"), std::string::npos) << e.error;
+  std::string axes = grid;  // five bones of 1,000 points: more than 4,096 in all
+  for (int b = 0; b < 5; ++b) {
+    axes += "[[bone]]\nat = [0, 0]\naxis = [";
+    for (int k = 0; k < 1000; ++k) axes += std::string(k ? ", " : "") + "[" + std::to_string(k) + ", 0, 1]";
+    axes += "]\n";
+  }
+  e = parse_rig(axes, "r.toml");
+  ASSERT_FALSE(e.ok());
+  EXPECT_NE(e.error.find("at most 4,096 axis points in all the bones"), std::string::npos) << e.error;
+}
+
 TEST(parse_rig, KeyPosesRoundTripAndErrorsNameTheLine) {
   const char* text = R"toml(character = "c.svg"
 [[handle]]

@@ -9,6 +9,7 @@
 #include "rig/auto_rig.h"
 #include "rig/limb_geometry.h"
 #include "rig/starter_show.h"
+#include "solve/make_solver.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -365,18 +366,110 @@ TEST(AutoRig, LimbsInsideOneShapeComeFromTheSilhouette) {
     const auto dir = test::temp_dir(std::string("creature-pose-") + name);
     const std::string rig = (dir / "rig.toml").string(), dump = (dir / "pose.json").string();
     std::ofstream(rig) << write_auto_rig(r.ar, r.ch);
-    // the front leg's handle (its foot, near (69, 195)), lifted forward
+    // the front leg's handle (its foot, near (69, 195)), lifted forward: turned 40° about its hip
+    // near (69, 128) (a limb that turns whole at its joint does not shorten to a nearer target)
     std::string leg;
     for (const RigHandle& h : r.ar.rig.handles)
       if ((h.rest - Vec2(69, 195)).norm() < 15) leg = h.name;
     ASSERT_FALSE(leg.empty()) << name;
-    auto p = test::run_cli("pose '" + path + "' --rig '" + rig + "' --target " + leg + "=30,160 -o '" + (dir / "p.png").string() + "' --dump '" + dump + "'");
+    auto p = test::run_cli("pose '" + path + "' --rig '" + rig + "' --target " + leg + "=26,179 -o '" + (dir / "p.png").string() + "' --dump '" + dump + "'");
     ASSERT_EQ(p.exit_code, 0) << p.err;
     std::ifstream in(dump);
     const auto j = nlohmann::json::parse(in);
     EXPECT_LT(j["handle_residuals"][leg].get<double>(), 8.0) << name << ": the foot follows";
     EXPECT_LT(j["handle_residuals"]["body"].get<double>(), 3.0) << name << ": the body keeps its place";
   }
+}
+
+// A creature whose legs, tail and head are inside its body's one shape, a spot on its front
+// leg: each limb of its silhouette turns whole at its joint ([[bone]]), so a leg turned at its
+// hip carries its spot rigidly, as far from the hip as drawn, and the body stays; without bones
+// the grid bends the leg like a beam and the spot turns short of the handle's turn.
+TEST(AutoRig, ALimbInsideOneShapeTurnsWholeAtItsJoint) {
+  const std::string svg =
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#864\" d=\""
+      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
+      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/>"
+      "<circle id=\"circle3\" cx=\"69\" cy=\"175\" r=\"4\" fill=\"#fff\"/></svg>";
+  const std::string path = test::write_temp("creature-bones.svg", svg);
+  for (const bool bones : {true, false}) {  // (`rig --bones`, and without)
+    auto ch = load_character(path);
+    ASSERT_TRUE(ch.ok()) << ch.error;
+    Character c = *ch.value;
+    AutoRigOptions o;
+    o.bones = bones;
+    const AutoRig ar = auto_rig(c, path, "", o);
+    ASSERT_EQ(ar.rig.solver, "rigid_grid");
+    if (bones) EXPECT_GE(ar.rig.bones.size(), 4u) << "the four legs at least";
+    else EXPECT_TRUE(ar.rig.bones.empty());
+    auto rig = parse_rig(write_auto_rig(ar, c), (test::temp_dir("creature-bones") / "rig.toml").string());
+    ASSERT_TRUE(rig.ok()) << rig.error;
+    EXPECT_EQ(rig.value->bones.size(), ar.rig.bones.size()) << "written and read back";
+    int leg = -1;
+    for (size_t h = 0; h < ar.rig.handles.size(); ++h)
+      if ((ar.rig.handles[h].rest - Vec2(69, 195)).norm() < 15) leg = int(h);
+    ASSERT_GE(leg, 0);
+    Vec2 hip(0, 0);
+    for (const AutoRigPart& p : ar.parts)
+      if (p.handle == ar.rig.handles[size_t(leg)].name) hip = p.joint;
+    EXPECT_LT((hip - Vec2(69, 128)).norm(), 20) << hip.transpose();
+    std::vector<Vec2> rest;
+    for (const RigHandle& h : rig.value->handles) rest.push_back(h.rest);
+    auto solver = make_solver(rig.value->solver);
+    ASSERT_TRUE(solver);
+    std::string err;
+    ASSERT_TRUE(solver->prepare(c, *rig.value, rest, SolverWeights{}, &err)) << err;
+    const double a = 0.7;  // (40°, forward)
+    auto turn = [&](const Vec2& p) {
+      const Vec2 d = p - hip;
+      return Vec2(hip + Vec2(std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y()));
+    };
+    std::vector<Vec2> t = rest;
+    t[size_t(leg)] = turn(rest[size_t(leg)]);
+    for (int k = 0; k < 10; ++k) solver->solve(t, rig.value->iterations);
+    std::vector<Points> now;
+    for (const SubShape& sh : c.shapes) now.push_back(sh.points);
+    solver->shape_points(now);
+    size_t spot = 0;
+    while (spot < c.shapes.size() && c.shapes[spot].id != "circle3") ++spot;
+    ASSERT_LT(spot, c.shapes.size());
+    const Points& was = c.shapes[spot].points;
+    double off = 0;
+    for (size_t i = 0; i < was.size(); ++i) off = std::max(off, (now[spot][i] - turn(was[i])).norm());
+    if (bones) {
+      EXPECT_LT(off, 0.5) << "the spot turns with the leg about the hip, rigidly";
+      EXPECT_LT((solver->handle_point(size_t(leg)) - t[size_t(leg)]).norm(), 0.5) << "the foot where it is turned";
+    } else {
+      EXPECT_GT(off, 2.0) << "bent by the grid, the spot is not where the leg's turn puts it";
+    }
+    const int body = rig.value->find_handle("body");
+    ASSERT_GE(body, 0);
+    EXPECT_LT((solver->handle_point(size_t(body)) - rest[size_t(body)]).norm(), 3.0) << "the body keeps its place";
+    // back at rest when the foot's target is
+    for (int k = 0; k < 10; ++k) solver->solve(rest, rig.value->iterations);
+    solver->shape_points(now);
+    double away = 0;
+    for (size_t k = 0; k < c.shapes.size(); ++k)
+      for (size_t i = 0; i < c.shapes[k].points.size(); ++i) away = std::max(away, (now[k][i] - c.shapes[k].points[i]).norm());
+    EXPECT_LT(away, 0.5) << "back at rest";
+  }
+  // From the command line: `rig --bones` says which limbs turn whole, and its starter show plays.
+  const auto dir = test::temp_dir("creature-bones-cli");
+  const std::string rig = (dir / "rig.toml").string(), show = (dir / "show.toml").string();
+  auto r = test::run_cli("rig '" + path + "' --bones -o '" + rig + "' --show '" + show + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("(it turns whole there)"), std::string::npos) << r.out;
+  std::ifstream in(rig);
+  const std::string text((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(text.find("[[bone]]"), std::string::npos);
+  auto plain = test::run_cli("rig '" + path + "' -o '" + (dir / "plain.toml").string() + "'");
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(plain.out.find("(it turns whole there)"), std::string::npos) << "bones only when asked";
+  auto run = test::run_cli("run '" + show + "' --headless --stats '" + (dir / "s.json").string() + "'");
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  std::ifstream st(dir / "s.json");
+  const auto j = nlohmann::json::parse(st);
+  EXPECT_EQ(j["heap_allocations_after_warmup"], 0);
 }
 
 // A sun behind the figure (the torso crosses its edge) and a shadow under its feet: scenery,

@@ -583,6 +583,140 @@ TEST(RigidGrid, RidersTurnWholeAboutTheirHingesAndFollowWhatTheyHangOn) {
 // A chain of two riders, each with its handle, swung far (the hand's target across the body,
 // out of reach) and back: every rider back as drawn. (Kept from frame to frame, such a chain
 // settled folded, each link pointing at its target.)
+// Bones: a body and its arm drawn as one shape (an outline every 5 units), a spot on the arm
+// and a button on the body; a [[bone]] along the arm, jointed at the body's side.
+struct BoneFigure {
+  Character c;
+  RigidGrid s;
+  Rig r = grid_rig(10, 2);
+  std::vector<Vec2> rest{{50, 100}, {210, 30}};
+  static SubShape outline(const char* id, const Points& corners) {
+    SubShape s;
+    s.id = id;
+    for (size_t k = 0; k < corners.size(); ++k) {
+      const Vec2 a = corners[k], b = corners[(k + 1) % corners.size()];
+      const int n = std::max(1, int(std::lround((b - a).norm() / 5)));
+      for (int i = 0; i < n; ++i) s.points.push_back(a + (double(i) / n) * (b - a));
+    }
+    s.contours.push_back({0, int(s.points.size()), true});
+    s.fill.enabled = true;
+    return s;
+  }
+  explicit BoneFigure(bool bone = true) {
+    c.shapes = {outline("figure", {{0, 0}, {100, 0}, {100, 20}, {220, 20}, {220, 40}, {100, 40}, {100, 200}, {0, 200}}),
+                outline("spot", {{180, 26}, {190, 26}, {190, 34}, {180, 34}}), outline("button", {{40, 90}, {50, 90}, {50, 100}, {40, 100}})};
+    c.width = 220;
+    c.height = 200;
+    r.path = "r.toml";
+    r.handles = {{"body", rest[0]}, {"hand", rest[1]}};
+    if (bone) {
+      RigBone b;
+      b.handle = "hand", b.at = Vec2(100, 30), b.axis = {{215, 30}, {160, 30}, {100, 30}}, b.radius = {10, 10, 10}, b.line = 9;
+      r.bones = {b};
+    }
+  }
+  std::vector<Points> shapes() const { return posed(c, s); }
+};
+
+TEST(RigidGrid, BonesTurnALimbInsideOneShapeWholeAtItsJoint) {
+  BoneFigure f;
+  std::string err;
+  ASSERT_TRUE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(f.s.riders(), 1u);
+  const std::vector<Points> rest = f.shapes();
+  for (size_t k = 0; k < rest.size(); ++k)
+    for (size_t i = 0; i < rest[k].size(); ++i) ASSERT_LT((rest[k][i] - f.c.shapes[k].points[i]).norm(), 1e-9) << k << " " << i;
+  // The hand's handle turned 60° up about the joint: the arm beyond its band (x >= 120) and its
+  // spot turn whole, the band part of the way (each point as far from the joint as drawn), the
+  // body and its button stay.
+  const Vec2 joint(100, 30);
+  const double a = -M_PI / 3;
+  auto turn = [&](const Vec2& p) {
+    const Vec2 d = p - joint;
+    return Vec2(joint + Vec2(std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y()));
+  };
+  std::vector<Vec2> t{f.rest[0], turn(f.rest[1])};
+  f.s.solve(t, 4);
+  std::vector<Points> now = f.shapes();
+  int whole = 0, band = 0;
+  for (size_t i = 0; i < rest[0].size(); ++i) {
+    const Vec2 p = rest[0][i], q = now[0][i];
+    if (p.x() <= 100 + 1e-9 && !(p.y() > 20 && p.y() < 40)) {
+      EXPECT_LT((q - p).norm(), 1e-6) << "the body stays " << p.transpose();
+    } else if (p.x() >= 120) {
+      EXPECT_LT((q - turn(p)).norm(), 1e-6) << "the arm turns whole " << p.transpose();
+      ++whole;
+    } else {
+      EXPECT_NEAR((q - joint).norm(), (p - joint).norm(), 1e-6) << "the band bends about the joint " << p.transpose();
+      band += (q - p).norm() > 0.5 && (q - turn(p)).norm() > 0.5;
+    }
+  }
+  EXPECT_GT(whole, 40);
+  EXPECT_GT(band, 4) << "part of the way across the band";
+  for (size_t i = 0; i < rest[1].size(); ++i) EXPECT_LT((now[1][i] - turn(rest[1][i])).norm(), 1e-6) << "the spot rides";
+  for (size_t i = 0; i < rest[2].size(); ++i) EXPECT_LT((now[2][i] - rest[2][i]).norm(), 1e-6) << "the button stays";
+  EXPECT_LT((f.s.handle_point(1) - t[1]).norm(), 1e-6);
+  // The body moved 20 to the right, the hand's target with it: all of it goes along.
+  t = {f.rest[0] + Vec2(20, 0), turn(f.rest[1]) + Vec2(20, 0)};
+  f.s.solve(t, 30);
+  now = f.shapes();
+  for (size_t k = 0; k < now.size(); ++k)
+    for (size_t i = 0; i < now[k].size(); ++i) {
+      const Vec2 p = rest[k][i];
+      const Vec2 want = (p.x() >= 120 ? turn(p) : p.x() <= 100 ? p : now[k][i] - Vec2(20, 0)) + Vec2(20, 0);
+      EXPECT_LT((now[k][i] - want).norm(), 1e-5) << k << " " << i;
+    }
+  // A pen on the arm turns it (the pen and the hand's handle, least squares) and not the body;
+  // let go, the arm settles back to its handle.
+  t = {f.rest[0], f.rest[1]};
+  f.s.solve(t, 4);
+  f.s.grab(Vec2(180, 30));
+  EXPECT_TRUE(f.s.grabbing());
+  t.push_back(Vec2(150, 120));
+  f.s.solve(t, 4);
+  now = f.shapes();
+  EXPECT_GT(now[1][0].y(), rest[1][0].y() + 20) << "the pen swings the arm down " << now[1][0].transpose();
+  EXPECT_LT(rigid_fit_rms(rest[1], now[1]), 1e-9) << "its spot whole";
+  for (size_t i = 0; i < rest[2].size(); ++i) EXPECT_LT((now[2][i] - rest[2][i]).norm(), 1e-6) << "the button stays";
+  f.s.release();
+  t.pop_back();
+  f.s.solve(t, 4);
+  now = f.shapes();
+  for (size_t k = 0; k < now.size(); ++k)
+    for (size_t i = 0; i < now[k].size(); ++i) EXPECT_LT((now[k][i] - rest[k][i]).norm(), 1e-6) << "back at rest " << k << " " << i;
+  // Without the bone the grid bends the arm toward the same target like a beam.
+  BoneFigure g(false);
+  ASSERT_TRUE(g.s.prepare(g.c, g.r, g.rest, SolverWeights{}, &err)) << err;
+  g.s.solve(std::vector<Vec2>{g.rest[0], turn(g.rest[1])}, 30);
+  const std::vector<Points> bent = g.shapes();
+  Points arm_rest, arm_bent;
+  for (size_t i = 0; i < rest[0].size(); ++i)
+    if (rest[0][i].x() >= 120) arm_rest.push_back(rest[0][i]), arm_bent.push_back(bent[0][i]);
+  EXPECT_GT(rigid_fit_rms(arm_rest, arm_bent), 1.0) << "(what a bone is for)";
+}
+
+TEST(RigidGrid, ARiderOnABonesLimbTurnsWithIt) {
+  BoneFigure f;
+  // a hand drawn as a part of its own at the arm's end, riding on the grid at its wrist
+  f.c.shapes.push_back(BoneFigure::outline("hand", {{215, 22}, {235, 22}, {235, 38}, {215, 38}}));
+  f.c.width = 235;
+  RigRider hand;
+  hand.part = "hand", hand.at = Vec2(215, 30), hand.line = 20;
+  f.r.riders = {hand};
+  std::string err;
+  ASSERT_TRUE(f.s.prepare(f.c, f.r, f.rest, SolverWeights{}, &err)) << err;
+  const std::vector<Points> rest = f.shapes();
+  const Vec2 joint(100, 30);
+  const double a = M_PI / 4;
+  auto turn = [&](const Vec2& p) {
+    const Vec2 d = p - joint;
+    return Vec2(joint + Vec2(std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y()));
+  };
+  f.s.solve(std::vector<Vec2>{f.rest[0], turn(f.rest[1])}, 4);
+  const std::vector<Points> now = f.shapes();
+  for (size_t i = 0; i < rest[3].size(); ++i) EXPECT_LT((now[3][i] - turn(rest[3][i])).norm(), 1e-6) << "the hand turns with the arm";
+}
+
 TEST(RigidGrid, RidersComeBackAsDrawnWhenTheirTargetsDo) {
   RiderFigure f;
   f.r.handles.push_back({"elbow", Vec2(150, 30)});

@@ -102,5 +102,34 @@ TEST(RigidGrid, RidersAllocateNothing) {
   EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(150, 200)), 0) << "a pen on the body";
 }
 
+// A limb inside one shape turning whole ([[bone]]): no allocation either, a pen on it or on the body.
+TEST(RigidGrid, BonesAllocateNothing) {
+  Character c;
+  SubShape sh;
+  sh.id = "figure";
+  const Points corners{{0, 0}, {100, 0}, {100, 20}, {220, 20}, {220, 40}, {100, 40}, {100, 200}, {0, 200}};
+  for (size_t k = 0; k < corners.size(); ++k)
+    for (int i = 0; i < 10; ++i) sh.points.push_back(corners[k] + (i / 10.0) * (corners[(k + 1) % corners.size()] - corners[k]));
+  sh.contours.push_back({0, int(sh.points.size()), true});
+  sh.fill.enabled = true;
+  c.shapes = {sh};
+  c.width = 220;
+  c.height = 200;
+  const std::vector<Vec2> rest{{50, 100}, {210, 30}};
+  Rig r = default_rig();
+  r.solver = "rigid_grid";
+  r.grid_cell = 10;
+  r.handles = {{"body", rest[0]}, {"hand", rest[1]}};
+  RigBone b;
+  b.handle = "hand", b.at = Vec2(100, 30), b.axis = {{215, 30}, {100, 30}}, b.radius = {10, 10};
+  r.bones = {b};
+  RigidGrid s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, r, rest, SolverWeights{}, &err)) << err;
+  ASSERT_EQ(s.riders(), 1u);
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(180, 30)), 0) << "a pen on the arm";
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(50, 150)), 0) << "a pen on the body";
+}
+
 }  // namespace
 }  // namespace mar

@@ -8,8 +8,9 @@
 // measured piece by piece, and its reach (the farthest any handle is from its target: a limb
 // that lags its knob, or is too stiff to turn as far as it is told).
 // Prints a row per drawing and the shares; --json FILE writes them, --keep DIR keeps each
-// rig, starter show and preview, --list FILE measures another list. A measurement, not a gate: without the package it says so and
-// measures nothing.
+// rig, starter show and preview, --list FILE measures another list, --bones rigs as `rig
+// --bones` does (a long, straight limb inside one shape turning whole at its joint). A
+// measurement, not a gate: without the package it says so and measures nothing.
 #include "app/live.h"
 #include "app/rig_preview.h"
 #include "character/load.h"
@@ -37,19 +38,21 @@ namespace {
 // A silhouette rig's pieces: each limb's medial axis (AutoRigPart::path, from its free end to
 // its joint) cut at its bends (the rig's [[stiffness]] `NAME-bend` centres) into pieces; a
 // point belongs to the piece of the limb whose axis is nearest, when its nearest axis point is
-// short of the joint (else it is beyond the joint: the body). Each shape's points are grouped
-// by piece and each group fitted rigidly.
+// short of the joint and it is within two of the limb's half-widths of it (else it is the body:
+// beyond the joint, or beside the limb, as a torso under an arm is). Each shape's points are
+// grouped by piece and each group fitted rigidly.
 class Regions {
  public:
   Regions(const mar::AutoRig& ar, const std::vector<mar::Points>& rest) {
     struct Axis {
       std::vector<mar::Vec2> pts;
       std::vector<double> cuts;  // arc lengths from the free end where it bends
+      std::vector<double> radius;  // its half-width at each point (empty: unbounded)
     };
     std::vector<Axis> axes;
     for (const mar::AutoRigPart& p : ar.parts) {
       if ((p.kind != mar::AutoRigPart::Limb && p.kind != mar::AutoRigPart::Head) || p.path.size() < 2) continue;
-      Axis a{p.path, {}};
+      Axis a{p.path, {}, p.path_radius.size() == p.path.size() ? p.path_radius : std::vector<double>{}};
       for (const mar::RigStiffness& st : ar.rig.stiffness) {
         if (st.name != p.handle + "-bend") continue;
         double best = 1e300, at = 0, s = 0;
@@ -69,15 +72,19 @@ class Regions {
         double best = 1e300;
         for (size_t a = 0; a < axes.size(); ++a) {
           const auto& P = axes[a].pts;
-          double d_best = 1e300, s_best = 0, s = 0, total = 0;
+          double d_best = 1e300, s_best = 0, s = 0, total = 0, r_best = INFINITY;
           for (size_t j = 1; j < P.size(); ++j) total += (P[j] - P[j - 1]).norm();
           for (size_t j = 1; j < P.size(); ++j) {
             const mar::Vec2 ab = P[j] - P[j - 1];
             const double len = ab.norm(), t = len > 0 ? std::clamp((q - P[j - 1]).dot(ab) / (len * len), 0.0, 1.0) : 0.0;
-            if (const double d = (q - (P[j - 1] + t * ab)).norm(); d < d_best) d_best = d, s_best = s + t * len;
+            if (const double d = (q - (P[j - 1] + t * ab)).norm(); d < d_best) {
+              d_best = d, s_best = s + t * len;
+              if (!axes[a].radius.empty()) r_best = (1 - t) * axes[a].radius[j - 1] + t * axes[a].radius[j];
+            }
             s += len;
           }
           if (s_best >= total - 1e-9 || d_best >= best) continue;  // beyond the joint, or another axis nearer
+          if (d_best > 2 * r_best) continue;  // more than two of its half-widths from its axis: not the limb (the body under an arm)
           best = d_best;
           int piece = 0;
           for (double c : axes[a].cuts) piece += s_best > c;
@@ -129,6 +136,9 @@ int main(int argc, char** argv) {
     else if (std::string(argv[i]) == "--keep") keep = argv[++i];
     else if (std::string(argv[i]) == "--list") list = argv[++i];  // (lines as the benchmark's)
   }
+  mar::AutoRigOptions options;
+  for (int i = 1; i < argc; ++i)
+    if (std::string(argv[i]) == "--bones") options.bones = true;  // (as `rig --bones`)
   const fs::path root = "/usr/share/openclipart/svg";
   if (!fs::is_directory(root)) {
     std::cout << "openclipart-svg is not installed (apt-get install openclipart-svg): nothing measured\n";
@@ -166,7 +176,7 @@ int main(int argc, char** argv) {
       std::printf("%-8s %-52s %6d  (does not load: %s)\n", category.c_str(), rel.c_str(), person, ch.error.c_str());
       continue;
     }
-    const mar::AutoRig ar = mar::auto_rig(*ch.value, file.string());
+    const mar::AutoRig ar = mar::auto_rig(*ch.value, file.string(), "", options);
     int limbs = 0;
     for (const mar::AutoRigPart& p : ar.parts) limbs += p.kind == mar::AutoRigPart::Limb;
     row["found"] = limbs;
