@@ -291,14 +291,12 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   if (riders == 0)
     out.notes.push_back("its parts give " + std::to_string(part_tips.size()) + " limb" + (part_tips.size() == 1 ? "" : "s") +
                         " and its silhouette " + std::to_string(sil.limbs.size()) +
-                        (bones ? ": rigged from the silhouette, posed by the rigid grid (a limb inside one shape turns whole at its joint)"
-                              : ": rigged from the silhouette, posed by the rigid grid (a limb bends inside one shape)"));
+                        ": rigged from the silhouette, posed by the rigid grid (a limb bends inside one shape)");
   else
     out.notes.push_back("its parts give " + std::to_string(part_tips.size()) + " limb" + (part_tips.size() == 1 ? "" : "s") +
                         " and its silhouette " + std::to_string(sil.limbs.size()) + ": region by region, " + std::to_string(riders) +
                         " part" + (riders == 1 ? "" : "s") + " ride" + (riders == 1 ? "s" : "") +
-                        (bones ? " whole on the rigid grid, each turning at its joint, and the silhouette's other limbs turn whole at theirs inside their shape"
-                                 : " whole on the rigid grid, each turning at its joint, and the grid bends the silhouette's other limbs inside their shape"));
+                        " whole on the rigid grid, each turning at its joint, and the grid bends the silhouette's other limbs inside their shape");
   std::set<std::string> used;
   auto unique = [&](const std::string& base) { return unique_name(used, base); };
   auto name_at = [&](int shape, const std::string& fallback) {
@@ -360,6 +358,11 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     if (bones && turns_whole(l, sil, int(k) == head, cell)) rig.bones.push_back(bone_of(l, p.handle, height));
     out.parts.push_back(p);
   }
+  if (!rig.bones.empty())
+    out.notes.push_back(std::to_string(rig.bones.size()) + " of its limbs inside one shape turn" + (rig.bones.size() == 1 ? "s" : "") +
+                        " whole at " + (rig.bones.size() == 1 ? "its joint" : "their joints") + " (--bones: long, straight and free of the rest)");
+  else if (bones)
+    out.notes.push_back("no limb inside one shape is long, straight and free enough to turn whole (--bones): the grid bends them");
   // The riders, parents first (a forearm on its upper arm), each with its own handle.
   std::vector<int> now(old.size(), -1);  // old part -> new part
   for (size_t pass = 0; pass < old.size(); ++pass)
