@@ -131,7 +131,7 @@ bool RigidGrid::set_parameters(std::span<const double> v, std::string* error) {
 
 void RigidGrid::reset_to_rest() {
   rigid_pose({}, {}, rest_, x_, rc_, rs_);
-  for (Rider& d : riders_) d.c = 1, d.s = 0, d.t = d.hinge, d.angle = 0, d.rel = 0;
+  for (Rider& d : riders_) d.c = 1, d.s = 0, d.t = d.hinge, d.angle = 0, d.rel = 0, d.base = 0, d.base_c = 1, d.base_s = 0;
 }
 
 void RigidGrid::initial_guess(std::span<const Vec2> targets) {
@@ -283,11 +283,14 @@ void RigidGrid::shape_points(std::vector<Points>& out) const {
     if (size_t(k.shape) >= out.size() || size_t(k.point) >= out[size_t(k.shape)].size()) continue;
     const Rider& b = riders_[size_t(k.bone)];
     const Vec2 d = k.rest - b.hinge;
-    const double a = b.base + k.w * (b.angle - b.base), c = std::cos(a), s = std::sin(a);
-    const double c0 = std::cos(b.base), s0 = std::sin(b.base);
-    const Vec2 turned = b.t + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
-    const Vec2 grid_rigid = b.t + Vec2(c0 * d.x() - s0 * d.y(), s0 * d.x() + c0 * d.y());
     Vec2& q = out[size_t(k.shape)][size_t(k.point)];
+    if (k.w >= 1) {  // (past the band: the bone's own turn)
+      q = b.t + Vec2(b.c * d.x() - b.s * d.y(), b.s * d.x() + b.c * d.y());
+      continue;
+    }
+    const double a = b.base + k.w * (b.angle - b.base), c = std::cos(a), s = std::sin(a);
+    const Vec2 turned = b.t + Vec2(c * d.x() - s * d.y(), s * d.x() + c * d.y());
+    const Vec2 grid_rigid = b.t + Vec2(b.base_c * d.x() - b.base_s * d.y(), b.base_s * d.x() + b.base_c * d.y());
     q = turned + (1 - k.w) * (q - grid_rigid);
   }
   for (const Rider& d : riders_)

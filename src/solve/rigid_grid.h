@@ -195,6 +195,7 @@ class RigidGrid final : public Solver {
     double band = 0;              ///< the blend's length on the limb's side of the joint, halved
     std::vector<int> refs;        ///< grid nodes beside the joint, off the limb: the grid's turn there
     double base = 0;              ///< this frame: the grid's turn at the joint
+    double base_c = 1, base_s = 0;  ///< its cosine and sine
     void turn(double a) {
       angle = a;
       c = std::cos(a);

@@ -343,6 +343,8 @@ void RigidGrid::place_riders(std::span<const Vec2> targets) {
     }
     if (!d.t.allFinite() || !std::isfinite(base)) d.t = d.hinge, base = 0;
     d.base = base;
+    d.base_c = std::cos(base);
+    d.base_s = std::sin(base);
     d.rel = 0;
     d.turn(base);
   }

@@ -5,7 +5,10 @@
 //   OPT2  the same without it (every region member visited)
 // Same run: CGAL's Surface_mesh_deformation (ARAP, 8 iterations) on the rigid grid's own
 // triangle mesh with the same handles, and our outline ARAP baseline on the bottle, with the
-// ratios to OPT1; and the region sums alone (one gather and one scatter), fast and naive. Prints a table and writes bench_rigid_grid.json (or MARIONETTE_BENCH_JSON).
+// ratios to OPT1; and the region sums alone (one gather and one scatter), fast and naive. And
+// a frame with the bottle's points (solve + shape_points, w = 3) with the neck a [[bone]]
+// turning whole at the shoulders and without, side by side. Prints a table and writes
+// bench_rigid_grid.json (or MARIONETTE_BENCH_JSON).
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
 
@@ -146,6 +149,29 @@ void BM_cgal_arap(benchmark::State& st) {
   for (auto _ : st) arap.frame(targets_at(k++), kIterations);
 }
 
+// One frame with the shape's points, w = 3: the neck bent by the grid (0) or turning whole as a
+// [[bone]] about the shoulders (1).
+void BM_frame(benchmark::State& st) {
+  mar::Character ch = bottle();
+  mar::Rig r = rig(3, false);
+  r.handles = {{"left", kHandles[0]}, {"right", kHandles[1]}, {"neck", kHandles[2]}};
+  if (st.range(0)) {
+    mar::RigBone b;
+    b.handle = "neck", b.at = mar::Vec2(120, 60), b.axis = {{120, 5}, {120, 60}}, b.radius = {40, 40};
+    r.bones = {b};
+  }
+  mar::RigidGrid s;
+  std::string err;
+  if (!s.prepare(ch, r, kHandles, mar::SolverWeights{}, &err)) st.SkipWithError(err.c_str());
+  std::vector<mar::Points> out{ch.shapes[0].points};
+  int k = 0;
+  for (auto _ : st) {
+    s.solve(targets_at(k++), kIterations);
+    s.shape_points(out);
+    benchmark::DoNotOptimize(out[0].data());
+  }
+}
+
 void BM_outline_arap(benchmark::State& st) {
   mar::Character ch = bottle();
   mar::OutlineArap s;
@@ -186,6 +212,8 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("SUMS_naive/w:" + std::to_string(w)).c_str(), BM_sums)->Args({w, 0})->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("OUTLINE_ARAP", BM_outline_arap)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("FRAME_grid", BM_frame)->Arg(0)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("FRAME_bone", BM_frame)->Arg(1)->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
   benchmark::ConsoleReporter console;
   bench::Collector collect;
@@ -225,6 +253,9 @@ int main(int argc, char** argv) {
   }
   json << "\n  ]\n}\n";
   std::printf("outline ARAP baseline on the bottle (its own mesh), %d iterations: %.3f ms\n", kIterations, outline);
+  const double fg = bench::median_us(collect, "FRAME_grid") / 1000, fb = bench::median_us(collect, "FRAME_bone") / 1000;
+  if (fg > 0 && fb > 0)
+    std::printf("a frame with its points (w = 3): the neck bent by the grid %.3f ms, turning whole as a bone %.3f ms (%.2fx)\n", fg, fb, fb / fg);
   benchmark::Shutdown();
   return 0;
 }

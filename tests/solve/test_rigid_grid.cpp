@@ -684,6 +684,12 @@ TEST(RigidGrid, BonesTurnALimbInsideOneShapeWholeAtItsJoint) {
   now = f.shapes();
   for (size_t k = 0; k < now.size(); ++k)
     for (size_t i = 0; i < now[k].size(); ++i) EXPECT_LT((now[k][i] - rest[k][i]).norm(), 1e-6) << "back at rest " << k << " " << i;
+  // Turned again with the body moved, then reset: every point, the band's too, at rest.
+  f.s.solve(std::vector<Vec2>{f.rest[0] + Vec2(15, 5), turn(f.rest[1])}, 30);
+  f.s.reset_to_rest();
+  now = f.shapes();
+  for (size_t k = 0; k < now.size(); ++k)
+    for (size_t i = 0; i < now[k].size(); ++i) EXPECT_LT((now[k][i] - rest[k][i]).norm(), 1e-9) << "reset " << k << " " << i;
   // Without the bone the grid bends the arm toward the same target like a beam.
   BoneFigure g(false);
   ASSERT_TRUE(g.s.prepare(g.c, g.r, g.rest, SolverWeights{}, &err)) << err;
