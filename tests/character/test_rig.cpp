@@ -250,6 +250,22 @@ weight = 0.5
   }
 }
 
+// The rig written and read back writes the same text.
+void round_trips(const Rig& r) {
+  auto back = parse_rig(write_rig(r), "d.toml");
+  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
+  EXPECT_EQ(write_rig(*back.value), write_rig(r));
+}
+
+// Each text is refused with a message holding its expected words (file and line first).
+void refused(std::initializer_list<std::pair<std::string, std::string>> cases) {
+  for (const auto& [text, expect] : cases) {
+    auto e = parse_rig(text, "r.toml");
+    ASSERT_FALSE(e.ok()) << text;
+    EXPECT_NE(e.error.find(expect), std::string::npos) << e.error;
+  }
+}
+
 TEST(parse_rig, RidersRoundTripAndErrorsNameTheLine) {
   const char* text = R"toml(character = "c.svg"
 solver = "rigid_grid"
@@ -280,14 +296,8 @@ at = [30, 5]
   EXPECT_EQ(r.riders[0].with, (std::vector<std::string>{"sleeve", "cuff"}));
   EXPECT_EQ(r.riders[1].line, 14);
   EXPECT_TRUE(r.riders[1].handle.empty());
-  auto back = parse_rig(write_rig(r), "d.toml");
-  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
-  EXPECT_EQ(write_rig(*back.value), write_rig(r));
-  struct Case {
-    const char* text;
-    const char* expect;
-  };
-  const Case cases[] = {
+  round_trips(r);
+  refused({
       {"character = \"a.svg\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n", "r.toml:2: a [[rider]] rides on the rigid grid"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\n", "r.toml:3: a rider needs part"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nhandle = \"hand\"\n",
@@ -296,12 +306,7 @@ at = [30, 5]
        "r.toml:6: part 'arm' rides twice"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nwith = \"cuff\"\n", "r.toml:6: with must be a list"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nspin = 1\n", "r.toml:6: unknown key 'spin'"},
-  };
-  for (const Case& c : cases) {
-    auto e = parse_rig(c.text, "r.toml");
-    ASSERT_FALSE(e.ok()) << c.text;
-    EXPECT_NE(e.error.find(c.expect), std::string::npos) << e.error;
-  }
+  });
   // (a chain of riders costs the square of its length a frame: at most 256)
   std::string many = "character = \"a.svg\"\nsolver = \"rigid_grid\"\n";
   for (int k = 0; k < 257; ++k) many += "[[rider]]\npart = \"p" + std::to_string(k) + "\"\nat = [0, 0]\n";
@@ -339,12 +344,10 @@ axis = [[0, 50, 3], [10, 50, 3]]
   EXPECT_EQ(r.bones[1].line, 13);
   EXPECT_TRUE(r.bones[1].handle.empty());
   EXPECT_EQ(r.bones[1].band, 0);
-  auto back = parse_rig(write_rig(r), "d.toml");
-  ASSERT_TRUE(back.ok()) << back.error << "\n" << write_rig(r);
-  EXPECT_EQ(write_rig(*back.value), write_rig(r));
-  EXPECT_EQ(back.value->bones[0].axis, r.bones[0].axis);
+  round_trips(r);
+  EXPECT_EQ(parse_rig(write_rig(r), "d.toml").value->bones[0].axis, r.bones[0].axis);
   const std::string grid = "character = \"a.svg\"\nsolver = \"rigid_grid\"\n";
-  const std::string cases[][2] = {
+  refused({
       {"character = \"a.svg\"\n[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\n", "r.toml:2: a [[bone]] turns on the rigid grid"},
       {grid + "[[bone]]\nat = [1, 2]\n", "r.toml:3: a bone needs at = [x, y] (its joint) and axis"},
       {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1]]\n", "r.toml:5: axis must be 2 to 1024 points"},
@@ -354,12 +357,7 @@ axis = [[0, 50, 3], [10, 50, 3]]
       {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\nband = -1\n", "r.toml:6: band must be 0"},
       {grid + "[[bone]]\nhandle = \"foot\"\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\n", "r.toml:3: the bone names handle 'foot'"},
       {grid + "[[bone]]\nat = [1, 2]\naxis = [[0, 0, 1], [1, 2, 1]]\nspin = 1\n", "r.toml:6: unknown key 'spin'"},
-  };
-  for (const auto& c : cases) {
-    auto e = parse_rig(c[0], "r.toml");
-    ASSERT_FALSE(e.ok()) << c[0];
-    EXPECT_NE(e.error.find(c[1]), std::string::npos) << e.error;
-  }
+  });
   // (each bone weighs every point of the drawing when the rig is prepared: at most 64)
   std::string many = grid;
   for (int k = 0; k < 65; ++k) many += "[[bone]]\nat = [0, 0]\naxis = [[0, 0, 1], [1, 0, 1]]\n";
