@@ -185,6 +185,8 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
   if (options.silhouette && rig_from_silhouette(ch, members, height, out, options.bones)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
+  if (options.bones && n > 1)
+    out.notes.push_back("--bones has nothing to do: its limbs are parts of their own, which turn whole at their hinges already");
   if (n == 1) out.notes.push_back("one part only: the rig has a body handle; draw limbs as parts of their own (or PNG layers) for hinges");
   return out;
 }

@@ -465,6 +465,9 @@ TEST(AutoRig, ALimbInsideOneShapeTurnsWholeAtItsJoint) {
   auto plain = test::run_cli("rig '" + path + "' -o '" + (dir / "plain.toml").string() + "'");
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_EQ(plain.out.find("(it turns whole there)"), std::string::npos) << "bones only when asked";
+  auto parts = test::run_cli("rig '" + (test::characters_dir() / "boy.svg").string() + "' --bones -o '" + (dir / "boy.toml").string() + "'");
+  ASSERT_EQ(parts.exit_code, 0) << parts.err;
+  EXPECT_NE((parts.out + parts.err).find("--bones has nothing to do"), std::string::npos) << parts.out << parts.err;
   auto run = test::run_cli("run '" + show + "' --headless --stats '" + (dir / "s.json").string() + "'");
   ASSERT_EQ(run.exit_code, 0) << run.err;
   std::ifstream st(dir / "s.json");
