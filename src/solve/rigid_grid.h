@@ -125,7 +125,7 @@ class RigidGrid final : public Solver {
   std::vector<std::array<int, 2>> grid_edges() const;
   /// The junction triangles, for overlays.
   std::vector<std::array<int, 3>> junction_triangles() const;
-  /// Parts riding on the grid ([[rider]]).
+  /// Parts riding on the grid ([[rider]]) and limbs turning whole inside one shape ([[bone]]).
   size_t riders() const { return riders_.size(); }
   /// Where a rest point of the character is now (embedded as a handle would
   /// be).

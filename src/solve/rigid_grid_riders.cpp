@@ -240,9 +240,8 @@ void RigidGrid::skin_bones(const Character& ch) {
       for (size_t k = 0; k < m; ++k) on += w_of(k) > 0;
       const bool rides = 2 * on >= m;
       for (size_t k = 0; k < m; ++k) {
-        if (rides) {
-          const double x = std::clamp(-axis_place(d.axis, d.radius, d.hinge, sh.points[k]).u / (2 * d.band), 0.0, 1.0);
-          pt_bone[k] = int(r), pt_w[k] = x * x * (3 - 2 * x);
+        if (rides) {  // (all of it across the limb: blended at the joint only)
+          pt_bone[k] = int(r), pt_w[k] = weight_at({axis_place(d.axis, d.radius, d.hinge, sh.points[k]).u, 0.0}, d.band);
         } else if (pt_bone[k] == int(r)) {
           pt_bone[k] = -1, pt_w[k] = 0;
         }

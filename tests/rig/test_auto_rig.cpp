@@ -340,17 +340,18 @@ TEST(AutoRig, FilledPathsWithoutAClosingZAreParts) {
 // as a black silhouette under colour pieces: the parts give no limbs, the silhouette gives
 // them, and the rig poses on the rigid grid, a leg lifted at its hip while the body keeps its
 // place and every limb its shape.
+// A creature in one shape (four legs, a tail, a head on a neck) filled with `fill`, then `more`.
+std::string creature(const std::string& fill, const std::string& more) {
+  return "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"" + fill + "\" d=\""
+         "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
+         "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/>" +
+         more + "</svg>";
+}
+
 TEST(AutoRig, LimbsInsideOneShapeComeFromTheSilhouette) {
-  const std::string one_shape =
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#864\" d=\""
-      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
-      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/></svg>";
-  const std::string under_colour =
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#000\" d=\""
-      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
-      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/>"
-      "<rect id=\"rect3\" x=\"80\" y=\"86\" width=\"120\" height=\"36\" fill=\"#c96\"/><circle id=\"circle4\" cx=\"262\" "
-      "cy=\"32\" r=\"8\" fill=\"#fc8\"/></svg>";
+  const std::string one_shape = creature("#864", "");
+  const std::string under_colour = creature("#000", "<rect id=\"rect3\" x=\"80\" y=\"86\" width=\"120\" height=\"36\" fill=\"#c96\"/>"
+                                                    "<circle id=\"circle4\" cx=\"262\" cy=\"32\" r=\"8\" fill=\"#fc8\"/>");
   for (const auto& [name, text] : {std::pair{"one-shape", one_shape}, std::pair{"under-colour", under_colour}}) {
     const std::string path = test::write_temp(std::string("creature-") + name + ".svg", text);
     const Rigged r = rig_of(path);
@@ -386,11 +387,7 @@ TEST(AutoRig, LimbsInsideOneShapeComeFromTheSilhouette) {
 // hip carries its spot rigidly, as far from the hip as drawn, and the body stays; without bones
 // the grid bends the leg like a beam and the spot turns short of the handle's turn.
 TEST(AutoRig, ALimbInsideOneShapeTurnsWholeAtItsJoint) {
-  const std::string svg =
-      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"300\" height=\"220\"><path id=\"path12\" fill=\"#864\" d=\""
-      "M70 80 L215 80 L226 50 L216 14 L286 8 L292 50 L246 58 L232 95 L228 200 L210 200 L206 128 L186 128 L184 200 L166 200 "
-      "L162 128 L120 128 L118 200 L100 200 L96 128 L80 128 L78 200 L60 200 L58 110 L20 70 L28 62 L62 92 Z\"/>"
-      "<circle id=\"circle3\" cx=\"69\" cy=\"175\" r=\"4\" fill=\"#fff\"/></svg>";
+  const std::string svg = creature("#864", "<circle id=\"circle3\" cx=\"69\" cy=\"175\" r=\"4\" fill=\"#fff\"/>");
   const std::string path = test::write_temp("creature-bones.svg", svg);
   for (const bool bones : {true, false}) {  // (`rig --bones`, and without)
     auto ch = load_character(path);
