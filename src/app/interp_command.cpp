@@ -75,7 +75,7 @@ int cmd_interp(const InterpArgs& a) {
     const double t = one ? a.t : double(s) / (n - 1);
     if (a.linear) interp.linear_morph(from, to, t, v);
     else interp.morph(from, to, t, v);
-    reconstruct_shapes(ff->frame(), v, p.shapes);
+    ff->place(v, p.shapes);
     if (!a.dump.empty()) {
       nlohmann::ordered_json fv = nlohmann::ordered_json::array(), subs = nlohmann::ordered_json::array();
       for (const Vec2& q : v) fv.push_back({q.x(), q.y()});

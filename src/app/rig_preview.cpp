@@ -69,8 +69,9 @@ std::vector<std::string> rig_summary(const AutoRig& ar, const Character& ch) {
   for (const AutoRigPart& p : ar.parts) {
     // (a limb of the silhouette inside the part it hangs from: said so)
     // (a part riding whole on the rigid grid, turning at its hinge: said so)
+    // (on the feature frame a rider is a detail carried by its part: counted with the details)
     bool rider = false;
-    for (const RigRider& d : ar.rig.riders) rider = rider || d.part == id(p.shape);
+    for (const RigRider& d : ar.rig.riders) rider = rider || (d.part == id(p.shape) && ar.rig.solver == "rigid_grid");
     const std::string where = id(p.shape) == parent_id(p) ? " inside " + id(p.shape)
                               : rider                     ? " " + id(p.shape) + " rides whole on " + parent_id(p)
                                                           : " " + id(p.shape) + " on " + parent_id(p);

@@ -218,12 +218,15 @@ void read_joint(const std::string& path, const toml::node* js, Rig& r) {
   }
 }
 
-// The rig's `rider` (its [[rider]] tables): parts riding on the rigid grid.
+// The rig's `rider` (its [[rider]] tables): parts riding whole on the rigid grid, or on a part
+// of the feature frame.
 void read_rider(const std::string& path, const toml::node* rs, Rig& r) {
   const toml::array* a = rs->as_array();
   if (!a) throw RigError{at(path, *rs) + ": use [[rider]] tables"};
-  // (each rider's sweep weighs the handles of all that hangs on it: a chain of n costs n² a frame)
-  if (a->size() > 256) throw RigError{at(path, *rs) + ": at most 256 riders"};
+  // (on the rigid grid each rider's sweep weighs the handles of all that hangs on it: a chain of
+  // n costs n² a frame, so 256 there (below); on the feature frame a rider costs its own points
+  // and 64 of its part's: a head of hair in hundreds of pieces)
+  if (a->size() > 4096) throw RigError{at(path, *rs) + ": at most 4096 riders"};
   auto text = [&](const toml::table& t, const char* key) -> std::string {
     const toml::node* n = t.get(key);
     if (!n) return {};
@@ -502,14 +505,20 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     if (const toml::node* pn = root.get("physics")) parse_rig_physics(path, *pn, r);
     if (const toml::node* rn = root.get("rider")) read_rider(path, rn, r);
     if (const toml::node* bn = root.get("bone")) read_bone(path, bn, r);
-    if (r.riders.size() + r.bones.size() > 256) throw RigError{path + ":1: at most 256 riders and bones together"};
+    if (r.solver == "rigid_grid" && r.riders.size() + r.bones.size() > 256)
+      throw RigError{path + ":1: at most 256 riders and bones together on the rigid grid"};
     for (const RigBone& b : r.bones) {
       if (r.solver != "rigid_grid") throw RigError{path + ":" + std::to_string(b.line) + ": a [[bone]] turns on the rigid grid: it needs solver = \"rigid_grid\""};
       if (!b.handle.empty() && r.find_handle(b.handle) < 0)
         throw RigError{path + ":" + std::to_string(b.line) + ": the bone names handle '" + b.handle + "', which the rig does not have"};
     }
     for (const RigRider& d : r.riders) {
-      if (r.solver != "rigid_grid") throw RigError{path + ":" + std::to_string(d.line) + ": a [[rider]] rides on the rigid grid: it needs solver = \"rigid_grid\""};
+      // (on the feature frame a rider is a detail carried whole by the part it is on: it turns
+      // with that part, so it has no handle of its own)
+      if (r.solver == "feature_frame" && (d.on.empty() || !d.handle.empty()))
+        throw RigError{path + ":" + std::to_string(d.line) + ": on the feature frame a [[rider]] rides whole on the part it is on: it needs on = \"sub-shape id\" and no handle (a rider that turns toward a handle needs solver = \"rigid_grid\")"};
+      if (r.solver != "rigid_grid" && r.solver != "feature_frame")
+        throw RigError{path + ":" + std::to_string(d.line) + ": a [[rider]] rides on the rigid grid or the feature frame: it needs solver = \"rigid_grid\" or \"feature_frame\""};
       if (!d.handle.empty() && r.find_handle(d.handle) < 0)
         throw RigError{path + ":" + std::to_string(d.line) + ": rider '" + d.part + "' names handle '" + d.handle + "', which the rig does not have"};
     }

@@ -149,6 +149,40 @@ void hang_strands(const PartGraph& G, AutoRig& out, std::set<std::string>& used)
   }
 }
 
+// Each detail on a part rides on it whole: out of the frame, carried by its part's motion
+// about where it is on it. (Not one a limb or the head hangs from: their hinges are in the
+// frame.)
+void ride_details(const PartGraph& G, AutoRig& out) {
+  const Character& ch = G.ch;
+  std::vector<char> holds(G.n, 0);
+  for (size_t i = 0; i < G.n; ++i)
+    if (out.parts[i].kind != AutoRigPart::Detail)
+      for (int q = G.parent[i], guard = 0; q >= 0 && guard < 64; q = G.parent[size_t(q)], ++guard) holds[size_t(q)] = 1;
+  for (size_t i = 0; i < G.n; ++i)  // (a strand hangs from it: a hair curl on a cap)
+    for (const RigJoint& j : out.rig.joints) holds[i] = holds[i] || j.part_a == G.id(i) || j.part_b == G.id(i);
+  std::vector<char> rides(G.n, 0);
+  for (size_t i = 0; i < G.n; ++i) {
+    const AutoRigPart& p = out.parts[i];
+    if (p.kind != AutoRigPart::Detail || G.parent[i] < 0 || G.scenery[i] || holds[i] || G.geo[i].ring.size() < 3) continue;
+    // (a fill drawn inside its own outline, as big as it, bends with it in the frame, sewn to it
+    // twice (sew_tree): carried rigidly, its bending outline showed wedges past it)
+    if (const int c = G.container[i]; c >= 0 && G.geo[i].area >= 0.5 * G.geo[size_t(c)].area) continue;
+    // (two pieces each mostly inside the other: the second stays in the frame, or each would carry the other)
+    bool loop = false;
+    for (int q = G.parent[i], guard = 0; q >= 0 && guard < 4096; q = G.parent[size_t(q)], ++guard) {
+      if (q == int(i)) loop = true;
+      if (loop || !rides[size_t(q)]) break;
+    }
+    if (loop) continue;
+    rides[i] = 1;
+    RigRider d;
+    d.part = ch.shapes[size_t(p.shape)].id;
+    d.on = ch.shapes[size_t(G.geo[size_t(G.parent[i])].shape)].id;
+    d.at = G.geo[i].centroid;
+    out.rig.riders.push_back(std::move(d));
+  }
+}
+
 }  // namespace
 
 AutoRig auto_rig(const Character& ch, const std::string& character, const std::string& mask, const AutoRigOptions& options) {
@@ -175,13 +209,15 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   relate_parts(G, out);
   // ---- the body, the tree and each part's kind (auto_rig_tree.cpp) -----------------------------
   grow_tree(G, out);
-  // ---- hinges at the drawn joints, sewing that follows the tree (auto_rig_joints.cpp) -----------
+  // ---- hinges at the drawn joints (auto_rig_joints.cpp) ----------------------------------------------
   place_hinges(G, out, options);
-  sew_tree(G, out);
 
   // ---- handles, and strokes hanging by one end as strands ------------------------------------------
   std::set<std::string> used = place_handles(G, out);
   hang_strands(G, out, used);
+  // ---- details riding on their parts; sewing that follows the tree (auto_rig_joints.cpp) ----------
+  if (options.ride_details) ride_details(G, out);
+  sew_tree(G, out);
   // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
   if (options.silhouette && rig_from_silhouette(ch, members, height, out, options.bones)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
@@ -193,7 +229,11 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
 
 int add_drawn_joints(const Character& ch, Rig& rig) {
   // (the parts' limbs only, as a plain rig has always had them: its head hangs as sewn)
-  const AutoRig ar = auto_rig(ch, rig.character, rig.mask, AutoRigOptions{false, false});
+  AutoRigOptions plain;
+  plain.silhouette = false;
+  plain.head_hinge = false;
+  plain.ride_details = false;  // (the hand-written rig's frame holds its details)
+  const AutoRig ar = auto_rig(ch, rig.character, rig.mask, plain);
   const Bounds b = ch.bounds();
   const double near = 0.02 * (b.empty() ? 1.0 : std::max(1e-9, b.hi.y() - b.lo.y()));
   auto shape_of = [&](const std::string& id) {

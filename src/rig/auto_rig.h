@@ -62,6 +62,11 @@ struct AutoRigOptions {
   /// benchmark's drawings it helps figures' straight limbs and does not help as many others
   /// (docs/auto-rig.md).
   bool bones = false;
+  /// A detail on a part (an eye, a strap, a stripe, a fill inside its outline) rides on it
+  /// whole ([[rider]] on the feature frame) rather than in the frame sewn to it, where a turn of
+  /// its part could tear it off. Off for the drawn joints a hand-written rig takes
+  /// (add_drawn_joints): its details are in its frame.
+  bool ride_details = true;
 };
 
 /// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).

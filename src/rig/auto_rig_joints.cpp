@@ -161,7 +161,16 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
   // its parent (no hinge, no line) is sewn to it at their closest points.
   {
     // (the spanning tree alone: no joints, so no welds are made of its crossing lines)
+    // (the frame as the solver builds it: a detail that rides is out of it)
     Character refined = ch;
+    std::vector<char> rides(ch.shapes.size(), 0);
+    for (const RigRider& d : rig.riders)
+      for (size_t s = 0; s < ch.shapes.size(); ++s)
+        if (ch.shapes[s].id == d.part) {
+          rides[s] = 1;
+          refined.shapes[s].points.clear();
+          refined.shapes[s].contours.clear();
+        }
     FrameOptions fo = frame_options_from_rig(rig);
     fo.auto_joints = false;
     fo.joints.clear();
@@ -215,7 +224,7 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
       out.notes_sewing.push_back(ch.shapes[size_t(sa)].id + " and " + ch.shapes[size_t(sb)].id + " touch but neither hangs from the other: not sewn");
     }
     for (size_t i = 0; i < n; ++i) {
-      if ((tied[i] && !by_one_line[i]) || parent[i] < 0 || (rig.sewing.empty() && !by_one_line[i])) continue;
+      if ((tied[i] && !by_one_line[i]) || parent[i] < 0 || (rig.sewing.empty() && !by_one_line[i]) || rides[size_t(geo[i].shape)]) continue;
       // The closest frame vertices of the part and its parent; then a second pair, away from
       // the first, so the part cannot turn about it: with one line, a pen that dragged it round
       // left it there (the hardware show's neck on the shirt). (`away_from`: no point of the

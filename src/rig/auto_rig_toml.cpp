@@ -53,7 +53,8 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
     o << "\n[[stiffness]]\nname = " << q(s.name) << "\ncenter = " << point_toml(s.center) << "\nradius = " << toml_number(s.radius)
       << "\nweight = " << toml_number(s.weight) << "\n";
   if (!r.riders.empty())
-    o << "\n# ---- parts that ride whole on the grid, turning at their drawn joint (toward their handle) ----\n";
+    o << (r.solver == "rigid_grid" ? "\n# ---- parts that ride whole on the grid, turning at their drawn joint (toward their handle) ----\n"
+                                   : "\n# ---- details that ride whole on their part (an eye, a strap, a fill in its outline): they turn with it ----\n");
   for (const RigRider& d : r.riders) {
     o << "\n[[rider]]\npart = " << q(d.part) << "\n";
     if (!d.on.empty()) o << "on = " << q(d.on) << "\n";

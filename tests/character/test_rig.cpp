@@ -298,7 +298,10 @@ at = [30, 5]
   EXPECT_TRUE(r.riders[1].handle.empty());
   round_trips(r);
   refused({
-      {"character = \"a.svg\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n", "r.toml:2: a [[rider]] rides on the rigid grid"},
+      {"character = \"a.svg\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n", "r.toml:2: on the feature frame a [[rider]] rides whole on the part it is on"},
+      {"character = \"a.svg\"\n[[handle]]\nname = \"hand\"\nrest = [0, 0]\n[[rider]]\npart = \"arm\"\non = \"body\"\nat = [1, 2]\nhandle = \"hand\"\n",
+       "r.toml:5: on the feature frame a [[rider]] rides whole on the part it is on: it needs on = \"sub-shape id\" and no handle"},
+      {"character = \"a.svg\"\nsolver = \"arap\"\n[[rider]]\npart = \"arm\"\non = \"body\"\nat = [1, 2]\n", "r.toml:3: a [[rider]] rides on the rigid grid or the feature frame"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\n", "r.toml:3: a rider needs part"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nhandle = \"hand\"\n",
        "r.toml:3: rider 'arm' names handle 'hand'"},
@@ -313,6 +316,14 @@ at = [30, 5]
   auto e = parse_rig(many, "r.toml");
   ASSERT_FALSE(e.ok());
   EXPECT_NE(e.error.find("at most 256 riders"), std::string::npos) << e.error;
+  // (on the feature frame a rider costs only its own points and 64 of its part's: up to 4096)
+  std::string details = "character = \"a.svg\"\n";
+  for (int k = 0; k < 300; ++k) details += "[[rider]]\npart = \"p" + std::to_string(k) + "\"\non = \"body\"\nat = [0, 0]\n";
+  EXPECT_TRUE(parse_rig(details, "r.toml").ok());
+  for (int k = 300; k < 4097; ++k) details += "[[rider]]\npart = \"p" + std::to_string(k) + "\"\non = \"body\"\nat = [0, 0]\n";
+  auto f = parse_rig(details, "r.toml");
+  ASSERT_FALSE(f.ok());
+  EXPECT_NE(f.error.find("at most 4096 riders"), std::string::npos) << f.error;
 }
 
 TEST(parse_rig, BonesRoundTripAndErrorsNameTheLine) {

@@ -756,6 +756,14 @@ TEST(AutoRig, AGroupWhosePiecesMakeOneRegionIsOnePart) {
   EXPECT_GT(most_moved(frames, "rect1"), 10) << "the pen swung the leg";
   EXPECT_LT(most_apart(frames, "rect1", "rect2"), 3.0) << "its halves stay side by side";
   EXPECT_LT(end_from_rest(frames, {"ellipse1", "rect1", "rect2", "rect3", "circle1"}), 0.01 * 240) << "back at rest once the pen has let go";
+  // The eyes ride on the head whole ([[rider]] of the feature frame): never bent, in any frame.
+  const std::string text = write_auto_rig(r.ar, r.ch);
+  EXPECT_NE(text.find("[[rider]]\npart = \"circle2\"\non = \"circle1\""), std::string::npos) << text;
+  const Points eye0 = points_of(frames.front(), "circle2");
+  ASSERT_GE(eye0.size(), 3u);
+  double bent = 0;
+  for (const nlohmann::json& f : frames) bent = std::max(bent, rigid_fit_rms(eye0, points_of(f, "circle2")));
+  EXPECT_LT(bent, 1e-3) << "an eye is carried whole";
 }
 
 // Parts and silhouette region by region: a figure whose arms are parts of their own and whose

@@ -1,5 +1,6 @@
 // The solver seam (solve/solver.h): the factory and the feature frame behind it.
 #include "character/load.h"
+#include "geom/polygon.h"
 #include "solve/make_solver.h"
 #include "test_util.h"
 
@@ -56,6 +57,81 @@ TEST(Solver, FeatureFrameBehindTheSeamPosesAndGrabs) {
   EXPECT_FALSE(s->grabbing());
   s->reset_to_rest();
   for (size_t h = 0; h < 3; ++h) EXPECT_LT((s->handle_point(h) - rest[h]).norm(), 1e-9);
+}
+
+// A [[rider]] of the feature frame: the left sleeve, a detail drawn over the arm, rides on it
+// whole. Out of the frame, it takes the arm's best rigid motion about where it is on it: the
+// arm turned 60 degrees up about its shoulder carries it exactly rigid and in its place on the
+// arm, and back at rest it is as drawn. A rider on a shape the drawing lacks, or riding on
+// itself through another, is refused by name.
+TEST(Solver, FeatureFrameCarriesARiderWholeOnItsPart) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  Rig rig = default_rig();
+  RigRider sleeve;
+  sleeve.part = "sleeve-left", sleeve.on = "arm-left", sleeve.at = Vec2(105, 165);
+  rig.riders = {sleeve};
+  const std::vector<Vec2> rest{{150, 190}, {150, 280}, {55, 250}};
+  std::unique_ptr<Solver> s = make_solver("feature_frame");
+  std::string err;
+  ASSERT_TRUE(s->prepare(c, rig, rest, SolverWeights{}, &err)) << err;
+  auto shape_of = [&](const std::string& id) {
+    for (size_t k = 0; k < c.shapes.size(); ++k)
+      if (c.shapes[k].id == id) return k;
+    return c.shapes.size();
+  };
+  const size_t sl = shape_of("sleeve-left"), arm = shape_of("arm-left");
+  ASSERT_LT(sl, c.shapes.size());
+  ASSERT_LT(arm, c.shapes.size());
+  const Points sleeve_rest = c.shapes[sl].points, arm_rest = c.shapes[arm].points;
+  ASSERT_FALSE(sleeve_rest.empty());
+  // (each sleeve point's distance to the arm's outline, at rest and posed)
+  auto gaps = [&](const Points& sv, const Points& am) {
+    std::vector<double> g;
+    for (const Vec2& q : sv) {
+      double d = INFINITY;
+      for (const Vec2& a : am) d = std::min(d, (a - q).norm());
+      g.push_back(d);
+    }
+    return g;
+  };
+  const std::vector<double> gap0 = gaps(sleeve_rest, arm_rest);
+  const Vec2 shoulder(112, 150);
+  const double a = -60 * M_PI / 180;
+  const Vec2 d = rest[2] - shoulder;
+  std::vector<Vec2> targets = rest;
+  targets[2] = shoulder + Vec2(std::cos(a) * d.x() - std::sin(a) * d.y(), std::sin(a) * d.x() + std::cos(a) * d.y());
+  for (int f = 0; f < 30; ++f) s->solve(targets, 8);
+  std::vector<Points> shapes;
+  for (const SubShape& sh : c.shapes) shapes.push_back(sh.points);
+  s->shape_points(shapes);
+  EXPECT_LT(rigid_fit_rms(sleeve_rest, shapes[sl]), 1e-9) << "the sleeve is carried whole";
+  Vec2 moved = Vec2::Zero();
+  for (size_t k = 0; k < sleeve_rest.size(); ++k) moved += (shapes[sl][k] - sleeve_rest[k]) / double(sleeve_rest.size());
+  EXPECT_GT(moved.norm(), 5.0) << "it moved with the arm";
+  const std::vector<double> gap1 = gaps(shapes[sl], shapes[arm]);
+  double worst = 0;
+  for (size_t k = 0; k < gap0.size(); ++k) worst = std::max(worst, std::abs(gap1[k] - gap0[k]));
+  EXPECT_LT(worst, 3.0) << "and stayed in its place on the arm";
+  s->reset_to_rest();
+  s->shape_points(shapes);
+  for (size_t k = 0; k < sleeve_rest.size(); ++k) EXPECT_LT((shapes[sl][k] - sleeve_rest[k]).norm(), 1e-6);
+  // Refused, by name.
+  RigRider lost = sleeve;
+  lost.on = "no-such-part";
+  rig.riders = {lost};
+  Character c2 = *ch.value;
+  std::unique_ptr<Solver> s2 = make_solver("feature_frame");
+  EXPECT_FALSE(s2->prepare(c2, rig, rest, SolverWeights{}, &err));
+  EXPECT_NE(err.find("rides on 'no-such-part', which is not a sub-shape of the character"), std::string::npos) << err;
+  RigRider arm_on_sleeve;
+  arm_on_sleeve.part = "arm-left", arm_on_sleeve.on = "sleeve-left", arm_on_sleeve.at = Vec2(105, 165);
+  rig.riders = {sleeve, arm_on_sleeve};
+  Character c3 = *ch.value;
+  std::unique_ptr<Solver> s3 = make_solver("feature_frame");
+  EXPECT_FALSE(s3->prepare(c3, rig, rest, SolverWeights{}, &err));
+  EXPECT_NE(err.find("rides, through riders, on itself"), std::string::npos) << err;
 }
 
 // Live parameters go through the seam: named, ranged, and set keeping the pose.

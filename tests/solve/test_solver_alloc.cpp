@@ -2,6 +2,7 @@
 #include "character/load.h"
 #include "solve/arap.h"
 #include "solve/feature_frame.h"
+#include "solve/feature_frame_method.h"
 #include "solve/rigid_grid.h"
 #include "alloc_counter.h"
 #include "test_util.h"
@@ -54,6 +55,24 @@ long seam_frame_allocations(Solver& s, const Character& c, const std::vector<Vec
   const long before = test::allocation_count();
   for (int k = 10; k < 210; ++k) frame(k);
   return test::allocation_count() - before;
+}
+
+// The feature frame carrying a detail whole ([[rider]]): no allocation, a pen on the body or
+// on the arm under the sleeve.
+TEST(FeatureFrameMethod, RidersAllocateNothing) {
+  auto ch = load_character((test::characters_dir() / "figure.svg").string());
+  ASSERT_TRUE(ch.ok());
+  Character c = *ch.value;
+  const std::vector<Vec2> rest{{150, 60}, {110, 395}, {190, 395}, {55, 250}};
+  Rig r = default_rig();
+  RigRider sleeve;
+  sleeve.part = "sleeve-left", sleeve.on = "arm-left", sleeve.at = Vec2(105, 165);
+  r.riders = {sleeve};
+  FeatureFrameMethod s;
+  std::string err;
+  ASSERT_TRUE(s.prepare(c, r, rest, SolverWeights{}, &err)) << err;
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(150, 200)), 0) << "a pen on the body";
+  EXPECT_EQ(seam_frame_allocations(s, c, rest, Vec2(100, 170)), 0) << "a pen on the sleeve";
 }
 
 TEST(OutlineArap, SteadyStateSolveAndGrabAllocateNothing) {

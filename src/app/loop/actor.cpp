@@ -116,7 +116,7 @@ double Actor::reconstruct() {
   if (keys_.detailed()) {  // a sculpted key's detail on the solve (KeyPoseStage::detail_onto)
     const FeatureFrameMethod& ff = *p.feature_frame();
     keys_.detail_onto(ff.core().vertices(), detailed_v_);
-    reconstruct_shapes(ff.frame(), detailed_v_, p.shapes);
+    ff.place(detailed_v_, p.shapes);
   } else {
     p.reconstruct();
   }
