@@ -7,7 +7,6 @@ namespace mar {
 
 bool FeatureFrameMethod::prepare(Character& ch, const Rig& rig, std::span<const Vec2> handle_rest, const SolverWeights& w,
                                  std::string* error) {
-  character_ = &ch;
   if (!prepare_riders(ch, rig, error)) return false;
   // The riding shapes are out of the frame while it is built (their points stay theirs).
   std::vector<std::vector<Contour>> contours(ch.shapes.size());
@@ -30,15 +29,14 @@ bool FeatureFrameMethod::prepare(Character& ch, const Rig& rig, std::span<const 
   for (Carried& c : carried_) {
     const Points& host = c.host >= 0 && carried_rest_[size_t(c.host)].empty() ? framed_.shapes[size_t(c.host)].points
                                                                                : carried_rest_[size_t(c.host)];
-    const RigRider& d = rig.riders[size_t(&c - carried_.data())];
     double reach = 0;
-    for (const Vec2& q : carried_rest_[size_t(c.shape)]) reach = std::max(reach, (q - d.at).norm());
+    for (const Vec2& q : carried_rest_[size_t(c.shape)]) reach = std::max(reach, (q - c.at).norm());
     Bounds hb;
     for (const Vec2& q : host) hb.add(q);
     const double r = std::max(2 * reach, hb.empty() ? 0.0 : 0.1 * (hb.hi - hb.lo).norm());
     std::vector<int> near;
     for (size_t k = 0; k < host.size(); ++k)
-      if ((host[k] - d.at).norm() <= r) near.push_back(int(k));
+      if ((host[k] - c.at).norm() <= r) near.push_back(int(k));
     if (near.size() < 3) {
       near.clear();
       for (size_t k = 0; k < host.size(); ++k) near.push_back(int(k));
@@ -71,6 +69,7 @@ bool FeatureFrameMethod::prepare_riders(const Character& ch, const Rig& rig, std
     Carried c;
     c.shape = shape_of(d.part);
     c.host = shape_of(d.on);
+    c.at = d.at;
     if (c.shape < 0 || c.host < 0) {
       if (error) *error = at(d) + (c.shape < 0 ? " is not a sub-shape of the character" : " rides on '" + d.on + "', which is not a sub-shape of the character");
       return false;
@@ -106,7 +105,7 @@ bool FeatureFrameMethod::prepare_riders(const Character& ch, const Rig& rig, std
   }
   std::vector<int> order;
   std::vector<char> placed(carried_.size(), 0);
-  for (size_t pass = 0; order.size() < carried_.size(); ++pass) {
+  while (order.size() < carried_.size()) {
     const size_t before = order.size();
     for (size_t r = 0; r < carried_.size(); ++r) {
       const int up = rider_of[size_t(carried_[r].host)];
@@ -151,7 +150,7 @@ void FeatureFrameMethod::place(std::span<const Vec2> v, std::vector<Points>& out
       dot += p.dot(q);
       crs += p.x() * q.y() - p.y() * q.x();
     }
-    const double len = std::hypot(dot, crs), cs = len > 1e-300 ? dot / len : 1.0, sn = len > 1e-300 ? crs / len : 0.0;
+    const double len = portable_hypot(dot, crs), cs = len > 1e-300 ? dot / len : 1.0, sn = len > 1e-300 ? crs / len : 0.0;
     auto place = [&](int shape) {
       const Points& rest = carried_rest_[size_t(shape)];
       if (size_t(shape) >= out.size()) return;

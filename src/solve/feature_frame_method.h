@@ -13,7 +13,7 @@ namespace mar {
 
 /// The feature frame (seed 000) behind the seam; frame() and core() give its own views
 /// (overlay, Table 1, frame vertices) to the commands that show them. A rig's [[rider]] (a
-/// detail: an eye, a strap, an outline drawn as a stroke) is left out of the frame and carried
+/// detail: an eye, a strap, a stripe) is left out of the frame and carried
 /// whole by the part it is on: each frame it takes the best rigid motion of that part's points
 /// about its `at`, so it can neither tear off nor bend.
 class FeatureFrameMethod final : public Solver {
@@ -45,19 +45,19 @@ class FeatureFrameMethod final : public Solver {
   const FeatureFrameSolver& core() const { return s_; }
 
  private:
-  // A detail carried whole: its rest points, and the points of its host it follows (indices
-  // into the host's shape, with their rest positions).
+  // A detail carried whole: its shape, its host's, and the points of its host it follows
+  // (indices into the host's shape, with their rest positions).
   struct Carried {
     int shape = -1, host = -1;
+    Vec2 at = Vec2::Zero();      ///< where it is on its host
     std::vector<int> with;       ///< shapes riding with it
     std::vector<int> follow;     ///< the host's points it takes its motion from
     Points follow_rest;          ///< their rest positions
   };
   bool prepare_riders(const Character& ch, const Rig& rig, std::string* error);
 
-  const Character* character_ = nullptr;
   Character framed_;             ///< the character as the frame has it (riders' shapes empty)
-  std::vector<Carried> carried_; ///< hosts first
+  std::vector<Carried> carried_; ///< in the rig's order
   std::vector<Points> carried_rest_;  ///< per shape: a riding shape's rest points (else empty)
   std::vector<int> order_;       ///< riders, each after the rider it is on
   FeatureFrame frame_;
