@@ -327,7 +327,7 @@ void LiveShow::poses() {
 
 void LiveShow::motion() {
   if (!idle_.empty()) {  // breathing and looking move targets; blinks show over the swaps and triggers
-    idle_.apply_targets(targets_, show_.groups);
+    idle_.apply_targets(targets_, show_.groups, mapping_.pivots());
     if (idle_.has_blinks()) {
       idle_.shown(swap_members_, triggers_on_);
       for (auto& a : actors_) {
@@ -574,15 +574,18 @@ std::string LiveShow::begin() {
   return {};
 }
 
+int64_t LiveShow::scripts_end_ns() const {
+  int64_t end_ns = 0;
+  for (const auto& s : sims_)
+    if (s) end_ns = std::max(end_ns, s->end_ns());
+  return end_ns;
+}
+
 int LiveShow::run() {
   const bool learn = !opt_.learn.empty();
-  int64_t end_ns = 0;
+  const int64_t end_ns = scripts_end_ns();
   bool scripted = false;
-  for (const auto& s : sims_)
-    if (s) {
-      end_ns = std::max(end_ns, s->end_ns());
-      scripted = true;
-    }
+  for (const auto& s : sims_) scripted = scripted || s != nullptr;
   long limit = opt_.frames;
   const double period = pacer_.period_s();
   // Headless: until the scripts end (+ half a second for the last events to arrive from

@@ -208,6 +208,8 @@ class LiveShow : private LiveRun {
   /// This frame's handle targets of the whole cast, in the mapping's order (after the crossfade,
   /// the key poses and the motion): what the solvers got.
   std::span<const Vec2> targets() const { return targets_; }
+  /// When the last simulated device's script ends, from the show's start (0: none has one).
+  int64_t scripts_end_ns() const;
   /// Ends run() after the current frame (any thread).
   void stop() { stop_ = true; }
   /// Whether frames follow the wall clock: a window, real hardware devices, or --realtime.

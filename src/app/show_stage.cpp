@@ -2,6 +2,7 @@
 #include "app/show.h"
 #include "app/show_toml.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mar {
@@ -80,7 +81,7 @@ void read_groups_and_poses(const std::string& path, const toml::table& root, Sho
   if (const toml::array* gs = array_of_tables(path, root, "group")) {
     for (const toml::node& gn : *gs) {
       const toml::table& t = *gn.as_table();
-      check_keys(path, t, {"name", "handles", "pivot", "pivot_handle"}, "[[group]]");
+      check_keys(path, t, {"name", "handles", "pivot", "pivot_handle", "follow"}, "[[group]]");
       RotationGroup g;
       if (auto* n = t.get("name")) g.name = text(path, *n, "name");
       else throw ShowError{at(path, gn) + ": [[group]] needs a name"};
@@ -95,9 +96,16 @@ void read_groups_and_poses(const std::string& path, const toml::table& root, Sho
       } else {
         throw ShowError{at(path, gn) + ": [[group]] needs pivot = [x, y] or pivot_handle"};
       }
+      if (auto* f = t.get("follow")) {
+        if (g.pivot_handle >= 0) throw ShowError{at(path, *f) + ": [[group]] " + g.name + ": follow moves a pivot = [x, y]; pivot_handle is where its handle goes already"};
+        g.follow = handle_of(*f);
+        if (std::find(g.handles.begin(), g.handles.end(), g.follow) != g.handles.end())
+          throw ShowError{at(path, *f) + ": [[group]] " + g.name + " follows one of its own handles"};
+      }
       // (in a cast, one character's handles: its pivot is in that character's units)
       for (int h : g.handles)
-        if (rig.member_of(h) != rig.member_of(g.handles.front()) || (g.pivot_handle >= 0 && rig.member_of(g.pivot_handle) != rig.member_of(h)))
+        if (rig.member_of(h) != rig.member_of(g.handles.front()) || (g.pivot_handle >= 0 && rig.member_of(g.pivot_handle) != rig.member_of(h)) ||
+            (g.follow >= 0 && rig.member_of(g.follow) != rig.member_of(h)))
           throw ShowError{at(path, gn) + ": a [[group]] turns one character's handles (" + g.name + " names two characters')"};
       s.groups.push_back(std::move(g));
     }

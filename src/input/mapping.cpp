@@ -95,6 +95,7 @@ int Mapping::handle_index(const std::string& name) const {
 }
 
 int Mapping::add_group(RotationGroup g) {
+  pivots_.push_back(g.pivot);
   groups_.push_back(std::move(g));
   angle_goal_.push_back(0);
   angle_.push_back(0);
@@ -614,10 +615,12 @@ void Mapping::update(double dt) {
   for (size_t h = 0; h < current_.size(); ++h) targets_[h] = current_[h];
   for (size_t g = 0; g < groups_.size(); ++g) {
     const RotationGroup& grp = groups_[g];
-    const Vec2 pivot = grp.pivot_handle >= 0 ? targets_[size_t(grp.pivot_handle)] : grp.pivot;
+    const Vec2 moved = grp.follow >= 0 ? Vec2(targets_[size_t(grp.follow)] - rest_[size_t(grp.follow)]) : Vec2::Zero();
+    const Vec2 pivot = grp.pivot_handle >= 0 ? targets_[size_t(grp.pivot_handle)] : Vec2(grp.pivot + moved);
+    pivots_[g] = pivot;
     const double c = std::cos(angle_[g] * kDeg), s = std::sin(angle_[g] * kDeg);
     for (int h : grp.handles) {
-      const Vec2 r = targets_[size_t(h)] - pivot;
+      const Vec2 r = targets_[size_t(h)] + moved - pivot;
       targets_[size_t(h)] = pivot + Vec2(c * r.x() - s * r.y(), s * r.x() + c * r.y());
     }
   }

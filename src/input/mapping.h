@@ -119,6 +119,11 @@ struct RotationGroup {
   std::vector<int> handles;
   Vec2 pivot = Vec2::Zero();
   int pivot_handle = -1;  ///< rotate about this handle's current target instead
+  /// The group goes where this handle goes (-1: nowhere): its handles and its pivot move by
+  /// that handle's target's offset from its rest (as the groups before this one left it) before
+  /// they turn, so an arm turned by a knob swings about a shoulder the body's fader has moved.
+  /// Not with pivot_handle, and not one of its own handles.
+  int follow = -1;
 };
 
 struct Pose {
@@ -185,6 +190,8 @@ class Mapping {
   void update(double dt_s);
 
   std::span<const Vec2> targets() const { return targets_; }
+  /// Each group's pivot as the last targets turned about it (a follow moves it).
+  std::span<const Vec2> pivots() const { return pivots_; }
   Vec2 goal(int handle) const { return goal_[size_t(handle)]; }
   double angle(int group) const { return angle_[size_t(group)]; }
   double setting(int i) const { return settings_[size_t(i)].value; }
@@ -257,6 +264,7 @@ class Mapping {
   std::vector<Vec2> rest_, goal_, current_, targets_;
   std::vector<double> angle_goal_, angle_;
   std::vector<RotationGroup> groups_;
+  std::vector<Vec2> pivots_;  // per group, where it turned last (sized with the groups)
   std::vector<Pose> poses_;
   std::vector<Binding> bindings_;
   int current_pose_ = -1;

@@ -96,11 +96,27 @@ Result<std::string> starter_show(const AutoRig& a, const Character& ch, const st
     << "# It runs at once with the device's simulator (the script below); for the real device,\n"
     << "# replace the [[device]] table's sim and script as docs/devices.md shows.\n"
     << "[show]\nrig = \"" << rig_path << "\"\nrate = 60\niterations = 8\n\n[display]\nwidth = " << w << "\nheight = " << h << "\n";
-  // A group per chain: its handle turns about the chain's first hinge.
+  // A group per chain: its handle turns about the chain's first hinge, which goes where the
+  // body goes (a knob turns an arm about the shoulder the body's fader has moved). The head and
+  // the limbs no knob turns go with the body too: left where they were, they would pull it back.
+  const std::string follow = body ? "follow = \"" + body->handle + "\"\n" : "";
   auto groups = [&](size_t count) {
     for (size_t k = 0; k < std::min(count, chains.size()); ++k)
       o << "\n# " << chains[k].part << " about its hinge\n[[group]]\nname = \"" << chains[k].handle << "\"\nhandles = [\"" << chains[k].handle
-        << "\"]\npivot = [" << num(chains[k].pivot.x()) << ", " << num(chains[k].pivot.y()) << "]\n";
+        << "\"]\npivot = [" << num(chains[k].pivot.x()) << ", " << num(chains[k].pivot.y()) << "]\n" << follow;
+    if (!body) return;
+    std::string along;
+    for (const AutoRigPart& p : a.parts) {
+      if ((p.kind != AutoRigPart::Head && p.kind != AutoRigPart::Limb) || p.handle.empty()) continue;
+      bool turned = false;
+      for (size_t k = 0; k < std::min(count, chains.size()); ++k) turned = turned || chains[k].handle == p.handle;
+      const bool swings = std::any_of(a.rig.physics.begin(), a.rig.physics.end(), [&](const RigPhysics& ph) { return ph.handle == p.handle; });
+      if (!turned && !swings) along += (along.empty() ? "\"" : ", \"") + p.handle + "\"";
+    }
+    for (const RigHandle& bh : a.rig.handles)
+      if (!along.empty() && bh.name == body->handle)
+        o << "\n# what no knob turns goes with the body\n[[group]]\nname = \"with-" << body->handle << "\"\nhandles = [" << along
+          << "]\npivot = [" << num(bh.rest.x()) << ", " << num(bh.rest.y()) << "]\n" << follow;
   };
   std::ostringstream script;
   if (device == "nanokontrol2") {

@@ -59,6 +59,31 @@ TEST(Show, APointersAreaIsFourNumbersOrTheCanvas) {
   EXPECT_NE(bad.error.find(":10: area must be [x0, y0, x1, y1] (character units) or \"canvas\""), std::string::npos) << bad.error;
 }
 
+// [[group]] follow names the handle whose moves the group takes; it is said with its line when
+// it names no handle, one of the group's own, or comes with pivot_handle.
+TEST(Show, AGroupFollowsAHandleTheRigHas) {
+  auto load = [](const std::string& name, const std::string& group) {
+    return load_show(test::write_temp(name, "[show]\nrig = \"r.toml\"\n[[group]]\nname = \"arm\"\nhandles = [\"hand\"]\n" + group),
+                     [](const ShowConfig&) { return Result<ShowRig>::success(two_handles()); });
+  };
+  auto ok = load("follow_ok.toml", "pivot = [5, 0]\nfollow = \"head\"\n");
+  ASSERT_TRUE(ok.ok()) << ok.error;
+  ASSERT_EQ(ok.value->groups.size(), 1u);
+  EXPECT_EQ(ok.value->groups[0].follow, 0);
+  auto none = load("follow_none.toml", "pivot = [5, 0]\n");
+  ASSERT_TRUE(none.ok()) << none.error;
+  EXPECT_EQ(none.value->groups[0].follow, -1);
+  auto missing = load("follow_missing.toml", "pivot = [5, 0]\nfollow = \"tail\"\n");
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.error.find(":7: the rig has no handle 'tail'"), std::string::npos) << missing.error;
+  auto own = load("follow_own.toml", "pivot = [5, 0]\nfollow = \"hand\"\n");
+  ASSERT_FALSE(own.ok());
+  EXPECT_NE(own.error.find(":7: [[group]] arm follows one of its own handles"), std::string::npos) << own.error;
+  auto both = load("follow_both.toml", "pivot_handle = \"head\"\nfollow = \"head\"\n");
+  ASSERT_FALSE(both.ok());
+  EXPECT_NE(both.error.find(":7: [[group]] arm: follow moves a pivot"), std::string::npos) << both.error;
+}
+
 TEST(Show, SolverTargetsNameTheSettingsTheRigOffers) {
   const std::string path = test::write_temp("settings.toml", R"([show]
 rig = "r.toml"

@@ -376,6 +376,35 @@ TEST(Swaps, NotesCcsAndButtonsSwapMembersAndFireTriggers) {
   EXPECT_FALSE(m.take_shown_changed());
 }
 
+// A group that follows a handle goes where that handle goes, then turns: an arm's knob swings
+// it about the shoulder the body's fader has moved, not about where the shoulder was drawn.
+TEST(Groups, AGroupThatFollowsAHandleTurnsAboutThePivotThatHandleMoved) {
+  for (const bool follows : {false, true}) {
+    Mapping m;
+    m.set_handles({"body", "hand"}, {Vec2(0, 0), Vec2(100, 0)});
+    RotationGroup g;
+    g.name = "arm";
+    g.handles = {1};
+    g.pivot = Vec2(50, 0);
+    g.follow = follows ? 0 : -1;
+    m.add_group(g);
+    Binding fader = bind(ControlSpec::CC, 10, TargetKind::HandleX, 0, 100);
+    fader.index = 0;
+    m.add_binding(fader);
+    m.add_binding(bind(ControlSpec::CC, 16, TargetKind::Rotate, -90, 90));
+    m.apply(cc(10, 127));  // the body 100 to the right
+    m.update(1.0 / 60);
+    EXPECT_NEAR(m.targets()[0].x(), 100, 1e-9);
+    EXPECT_NEAR(m.targets()[1].x(), follows ? 200 : 100, 1e-9) << "the hand goes with the body only when its group follows it";
+    m.apply(cc(16, 127));  // +90 degrees
+    m.update(1.0 / 60);
+    const Vec2 pivot = follows ? Vec2(150, 0) : Vec2(50, 0);
+    EXPECT_NEAR((m.pivots()[0] - pivot).norm(), 0, 1e-9);
+    EXPECT_NEAR((m.targets()[1] - (pivot + Vec2(0, 50))).norm(), 0, 1e-9) << "turned about the pivot where it is now";
+    EXPECT_NEAR(m.targets()[0].x(), 100, 1e-9) << "the body itself does not turn";
+  }
+}
+
 // A pose recalled after a knob turned a group: the group lets go of its turn, its handle
 // starts from where the turn put it (no jump) and eases to the pose's position.
 TEST(Poses, APoseBringsBackAHandleAKnobTurned) {

@@ -60,5 +60,41 @@ TEST(StarterShow, KnobsTurnedBackToTheirMiddleBringTheCharacterBackToRest) {
   }
 }
 
+// The body's fader moves the whole character: the limbs' knobs turn them about shoulders and
+// hips that go where the body goes, and the head and the handles no knob turns go with it (left
+// where they were drawn they held the body back and stretched what lay between).
+TEST(StarterShow, TheBodysFaderTakesTheCharacterAlong) {
+  const std::string file = (test::characters_dir() / "figure.svg").string();
+  auto ch = load_character(file);
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  const AutoRig ar = auto_rig(*ch.value, file);
+  const auto dir = test::temp_dir("starter-follow");
+  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
+  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
+  ASSERT_TRUE(text.ok()) << text.error;
+  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.frames = 1;
+  auto live = LiveShow::load((dir / "show.toml").string(), o);
+  ASSERT_TRUE(live.ok()) << live.error;
+  LiveShow& s = **live.value;
+  (void)s.run();
+  const auto& handles = s.puppet().rig.handles;
+  auto index = [&](const std::string& name) {
+    for (size_t h = 0; h < handles.size(); ++h)
+      if (handles[h].name == name) return h;
+    ADD_FAILURE() << "no handle " << name;
+    return size_t(0);
+  };
+  const size_t body = index("torso"), face = index("face");
+  // 1.5 s in: the fader has lifted the body (0.5 -> 0.6 over 0.5 .. 1.5 s)
+  for (int k = 1; k <= 90; ++k) s.frame(int64_t(double(k) / 60 * 1e9));
+  const Vec2 moved = s.targets()[body] - handles[body].rest;
+  EXPECT_GT(moved.norm(), 5) << "the fader moved the body";
+  EXPECT_LT((s.targets()[face] - handles[face].rest - moved).norm(), 1e-9) << "the face goes with it";
+}
+
 }  // namespace
 }  // namespace mar

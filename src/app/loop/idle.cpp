@@ -136,7 +136,7 @@ double IdleStage::setting_offset(int i) const {
   return v;
 }
 
-void IdleStage::apply_targets(std::span<Vec2> targets, const std::vector<RotationGroup>& groups) const {
+void IdleStage::apply_targets(std::span<Vec2> targets, const std::vector<RotationGroup>& groups, std::span<const Vec2> pivots) const {
   constexpr double kDeg = M_PI / 180;
   for (const Item& it : items_) {
     if (it.b.spec().kind == BehaviorSpec::Blink) continue;
@@ -144,7 +144,10 @@ void IdleStage::apply_targets(std::span<Vec2> targets, const std::vector<Rotatio
       if (size_t(it.index) < targets.size()) targets[size_t(it.index)] += it.b.offset();
     } else if (it.target == TargetKind::Rotate && size_t(it.index) < groups.size()) {
       const RotationGroup& g = groups[size_t(it.index)];
-      const Vec2 pivot = g.pivot_handle >= 0 && size_t(g.pivot_handle) < targets.size() ? targets[size_t(g.pivot_handle)] : g.pivot;
+      // (about where the mapping turned it: a group that follows a handle has moved its pivot)
+      const Vec2 pivot = g.pivot_handle >= 0 && size_t(g.pivot_handle) < targets.size() ? targets[size_t(g.pivot_handle)]
+                         : size_t(it.index) < pivots.size()                             ? pivots[size_t(it.index)]
+                                                                                        : g.pivot;
       const double a = it.b.value() * kDeg, c = std::cos(a), s = std::sin(a);
       for (int h : g.handles) {
         if (size_t(h) >= targets.size()) continue;

@@ -26,7 +26,7 @@ class IdleStage {
   /// What the behaviours add to setting `i` now.
   double setting_offset(int i) const;
   /// Offsets the handles' targets and turns the rotate groups' (the rig's handles).
-  void apply_targets(std::span<Vec2> targets, const std::vector<RotationGroup>& groups) const;
+  void apply_targets(std::span<Vec2> targets, const std::vector<RotationGroup>& groups, std::span<const Vec2> pivots) const;
   /// What shows: the mapping's swap members and triggers with the blinks over them. Returns
   /// whether it differs from the last call's.
   bool shown(std::span<const int> members, std::span<const char> triggers);

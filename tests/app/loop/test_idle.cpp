@@ -116,7 +116,7 @@ fade = 0
   EXPECT_TRUE(blinked) << "a blink turned the trigger on";
   // Breathing moves the chest; a fader on the chest pauses it, and it comes back a second after.
   std::vector<Vec2> t{Vec2(0, 0), Vec2(0, 50)};
-  idle.apply_targets(t, {});
+  idle.apply_targets(t, {}, {});
   EXPECT_NE(t[1].y(), 50.0);
   Event e;
   e.source = 0;
@@ -126,11 +126,11 @@ fade = 0
   ASSERT_TRUE(m.apply(e));
   idle.step(1.0 / 60, m);
   t = {Vec2(0, 0), Vec2(0, 50)};
-  idle.apply_targets(t, {});
+  idle.apply_targets(t, {}, {});
   EXPECT_EQ(t[1], Vec2(0, 50)) << "paused while the fader moves the chest";
   for (int f = 0; f < 61; ++f) idle.step(1.0 / 60, m);
   t = {Vec2(0, 0), Vec2(0, 50)};
-  idle.apply_targets(t, {});
+  idle.apply_targets(t, {}, {});
   EXPECT_NE(t[1], Vec2(0, 50)) << "and back a second after";
 }
 
