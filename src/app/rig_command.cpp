@@ -3,6 +3,7 @@
 #include "app/puppet.h"
 #include "app/show.h"
 #include "app/rig_preview.h"
+#include "app/rig_trial.h"
 #include "app/studio/studio_window.h"
 #include "character/load.h"
 #include "rig/auto_rig.h"
@@ -152,7 +153,8 @@ int cmd_rig(const RigArgs& a) {
   };
   AutoRigOptions options;
   options.bones = a.bones;
-  const AutoRig ar = auto_rig(*ch.value, relative(a.input), relative(a.mask), options);
+  // (tried on its starter show: a rig from the parts that tears there may hold on the grid)
+  const AutoRig ar = auto_rig_tried(*ch.value, a.input, a.mask, relative(a.input), relative(a.mask), options);
   if (ar.rig.handles.empty()) {  // nothing to perform with: say why and what to change
     std::cerr << "error: " << a.input << ": nothing to rig";
     for (const std::string& n : ar.notes) std::cerr << ": " << n;

@@ -202,7 +202,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   find_parts(G, options);
   const size_t n = G.n;
   if (n == 0) {
-    if (!options.silhouette || !rig_from_silhouette(ch, members, height, out, options.bones))
+    if (!options.silhouette || !rig_from_silhouette(ch, members, height, out, options))
       out.notes.push_back("no filled part to rig, and no limb in its silhouette");
     return out;
   }
@@ -219,7 +219,7 @@ AutoRig auto_rig(const Character& ch, const std::string& character, const std::s
   if (options.ride_details) ride_details(G, out);
   sew_tree(G, out);
   // Where the silhouette has limbs the parts do not give: rigged from it (auto_rig_silhouette.cpp).
-  if (options.silhouette && rig_from_silhouette(ch, members, height, out, options.bones)) return out;
+  if (options.silhouette && rig_from_silhouette(ch, members, height, out, options)) return out;
   add_named_chains(ch, out);  // hair, ears, tails, antennae swing in a show (part_names.cpp)
   if (options.bones && n > 1)
     out.notes.push_back("--bones has nothing to do: its limbs are parts of their own, which turn whole at their hinges already");

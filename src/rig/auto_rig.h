@@ -67,6 +67,11 @@ struct AutoRigOptions {
   /// its part could tear it off. Off for the drawn joints a hand-written rig takes
   /// (add_drawn_joints): its details are in its frame.
   bool ride_details = true;
+  /// Pose the drawing on its silhouette's rigid grid, the parts' limbs riding on it, wherever
+  /// the silhouette has a limb at all; else the grid takes over only where the silhouette finds
+  /// two limbs the parts miss. `marionette rig` tries this rig on its starter show when the
+  /// parts' rig tears or drifts there (app/rig_trial.h).
+  bool grid_anywhere = false;
 };
 
 /// Rigs `ch`; `character` is written into the rig as is (relative to where the rig will be).

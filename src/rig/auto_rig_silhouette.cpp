@@ -94,7 +94,9 @@ RigBone bone_of(const SilhouetteLimb& l, const std::string& handle, double heigh
 
 }  // namespace
 
-bool rig_from_silhouette(const Character& ch, const std::set<int>& members, double height, AutoRig& out, bool bones) {
+bool rig_from_silhouette(const Character& ch, const std::set<int>& members, double height, AutoRig& out,
+                         const AutoRigOptions& options) {
+  const bool bones = options.bones;
   std::vector<int> drawn;
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
     const SubShape& sh = ch.shapes[s];
@@ -143,7 +145,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   size_t covered = 0;
   for (const SilhouetteLimb& l : sil.limbs) covered += on_a_limb(l.tip);
   const size_t missed = sil.limbs.size() - covered;
-  if (missed < 2) return false;
+  if (missed < 2 && !options.grid_anywhere) return false;
 
   // Region by region: a limb the parts give with its handle (and a head on its neck) rides on
   // the grid whole, turning about the hinge where it was drawn, with what rides on it; the grid
@@ -230,7 +232,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     if (!on_a_limb(sil.limbs[k].tip)) grid_limbs.push_back(k);
   std::stable_sort(grid_limbs.begin(), grid_limbs.end(), [&](size_t a, size_t b) { return sil.limbs[a].length > sil.limbs[b].length; });
   grid_limbs.resize(std::min(grid_limbs.size(), limb_riders < 16 ? 16 - limb_riders : 0));
-  if (grid_limbs.size() < 2) return false;
+  if (grid_limbs.size() < 2 && !options.grid_anywhere) return false;
   std::vector<std::vector<int>> with(old.size());
   std::vector<char> placed(ch.shapes.size(), 0);
   for (const AutoRigPart& p : old) placed[size_t(p.shape)] = 1;

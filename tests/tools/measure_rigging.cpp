@@ -9,10 +9,12 @@
 // that lags its knob, or is too stiff to turn as far as it is told).
 // Prints a row per drawing and the shares; --json FILE writes them, --keep DIR keeps each
 // rig, starter show and preview, --list FILE measures another list, --bones rigs as `rig
-// --bones` does (a long, straight limb inside one shape turning whole at its joint). A
+// --bones` does (a long, straight limb inside one shape turning whole at its joint),
+// --untried takes the automatic rig without trying it on its starter show first. A
 // measurement, not a gate: without the package it says so and measures nothing.
 #include "app/live.h"
 #include "app/rig_preview.h"
+#include "app/rig_trial.h"
 #include "character/load.h"
 #include "geom/polygon.h"
 #include "rig/auto_rig.h"
@@ -139,6 +141,8 @@ int main(int argc, char** argv) {
   mar::AutoRigOptions options;
   for (int i = 1; i < argc; ++i)
     if (std::string(argv[i]) == "--bones") options.bones = true;  // (as `rig --bones`)
+  bool untried = false;  // --untried: auto_rig alone, as before `rig` tried its rig on its starter show
+  for (int i = 1; i < argc; ++i) untried = untried || std::string(argv[i]) == "--untried";
   const fs::path root = "/usr/share/openclipart/svg";
   if (!fs::is_directory(root)) {
     std::cout << "openclipart-svg is not installed (apt-get install openclipart-svg): nothing measured\n";
@@ -176,7 +180,11 @@ int main(int argc, char** argv) {
       std::printf("%-8s %-52s %6d  (does not load: %s)\n", category.c_str(), rel.c_str(), person, ch.error.c_str());
       continue;
     }
-    const mar::AutoRig ar = mar::auto_rig(*ch.value, file.string(), "", options);
+    // as `marionette rig` writes it: tried on its starter show (app/rig_trial.h)
+    std::string tried;
+    const mar::AutoRig ar = untried ? mar::auto_rig(*ch.value, file.string(), "", options)
+                                    : mar::auto_rig_tried(*ch.value, file.string(), "", file.string(), "", options, &tried);
+    if (!tried.empty()) row["tried"] = tried;
     int limbs = 0;
     for (const mar::AutoRigPart& p : ar.parts) limbs += p.kind == mar::AutoRigPart::Limb;
     row["found"] = limbs;

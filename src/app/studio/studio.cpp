@@ -1,4 +1,5 @@
 #include "app/studio/studio.h"
+#include "app/rig_trial.h"
 
 #include "character/load.h"
 #include "geom/triangulate.h"
@@ -90,7 +91,8 @@ Result<std::unique_ptr<Studio>> Studio::open(const std::string& character, const
       const fs::path r = fs::relative(fs::absolute(p), dir, ec);
       return ec || r.empty() ? fs::absolute(p).string() : r.generic_string();
     };
-    text = write_auto_rig(auto_rig(*ch.value, relative(character), relative(mask)), *ch.value);
+    // (the rig `marionette rig -o` writes: tried on its starter show, app/rig_trial.h)
+    text = write_auto_rig(auto_rig_tried(*ch.value, character, mask, relative(character), relative(mask), {}), *ch.value);
   }
   if (std::string err = s->load(text, {}); !err.empty()) return R::failure(err);
   s->history_ = {s->state()};

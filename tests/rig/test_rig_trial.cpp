@@ -1,0 +1,66 @@
+// `marionette rig` tries the automatic rig on its starter show before it writes it: a rig from
+// the parts that tears or drifts there is posed on the silhouette's grid instead, its parts'
+// limbs riding, when that holds and follows its knobs (app/rig_trial.h).
+#include "app/rig_trial.h"
+#include "character/load.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+namespace mar {
+namespace {
+
+TEST(RigTrial, ARigFromThePartsThatHoldsIsKept) {
+  const std::string file = (test::characters_dir() / "figure.svg").string();
+  auto ch = load_character(file);
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  const AutoRig plain = auto_rig(*ch.value, file);
+  ASSERT_EQ(plain.rig.solver, "feature_frame");
+  const RigTrial t = try_rig(plain, *ch.value, file);
+  ASSERT_TRUE(t.error.empty()) << t.error;
+  EXPECT_TRUE(t.holds()) << "worst " << t.worst_pct << " %, " << t.away_pct << " % off rest";
+  EXPECT_GT(t.moved_pct, 5) << "its knobs turned its limbs";
+  EXPECT_TRUE(std::isfinite(t.reach_pct));
+  EXPECT_GE(t.reach_pct, 0);
+
+  std::string why;
+  const AutoRig tried = auto_rig_tried(*ch.value, file, "", file, "", {}, &why);
+  EXPECT_EQ(write_auto_rig(tried, *ch.value), write_auto_rig(plain, *ch.value)) << "the same rig";
+  EXPECT_EQ(why.rfind("parts: worst part ", 0), 0u) << why;
+
+  EXPECT_EQ(try_rig(AutoRig{}, *ch.value, file).error, "nothing to rig");
+}
+
+// Real clip art: a woman doing exercises, whose outline strokes come away from her parts when
+// they turn, holds on the grid with her limbs riding whole.
+TEST(RigTrial, ARigFromThePartsThatTearsIsPosedOnTheGrid) {
+  const std::filesystem::path file = "/usr/share/openclipart/svg/people/fitness_architetto_franc_01.svg";
+  if (!std::filesystem::exists(file)) GTEST_SKIP() << "openclipart-svg is not installed (apt-get install openclipart-svg)";
+  auto ch = load_character(file.string());
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  const AutoRig plain = auto_rig(*ch.value, file.string());
+  ASSERT_EQ(plain.rig.solver, "feature_frame");
+  const RigTrial parts = try_rig(plain, *ch.value, file.string());
+  ASSERT_TRUE(parts.error.empty()) << parts.error;
+  EXPECT_FALSE(parts.holds()) << "worst " << parts.worst_pct << " %, " << parts.away_pct << " % off rest";
+
+  std::string why;
+  const AutoRig tried = auto_rig_tried(*ch.value, file.string(), "", file.string(), "", {}, &why);
+  ASSERT_EQ(tried.rig.solver, "rigid_grid") << why;
+  EXPECT_EQ(why.rfind("grid: worst part ", 0), 0u) << why;
+  EXPECT_FALSE(tried.rig.riders.empty()) << "its limbs ride on the grid";
+  const RigTrial grid = try_rig(tried, *ch.value, file.string());
+  EXPECT_TRUE(grid.holds()) << "worst " << grid.worst_pct << " %, " << grid.away_pct << " % off rest";
+  EXPECT_GE(grid.moved_pct, 0.5 * parts.moved_pct) << "it moves as the parts' rig did";
+  EXPECT_GT(grid.moved_pct, 5) << "its knobs turn its limbs";
+  EXPECT_LE(grid.reach_pct, parts.reach_pct + 1.0) << "as close to its knobs as the parts' rig";
+  bool said = false;
+  for (const std::string& n : tried.notes) said = said || n.find("on its silhouette's grid") != std::string::npos;
+  EXPECT_TRUE(said) << "the rig says why";
+}
+
+}  // namespace
+}  // namespace mar
