@@ -31,8 +31,8 @@ RigTrial try_rig(const AutoRig& ar, const Character& ch, const std::string& file
 
 /// auto_rig(ch, character, mask, options), tried as above when it is a rig from the parts: when
 /// it does not hold, the grid's rig is tried and taken when it holds and follows its knobs as
-/// closely (its reach no more than 1 % of the height past the parts' rig's, and it moves at
-/// least half as far: a rig too stiff to move would hold). `file` and
+/// closely (its reach no more than 1 % of the height past the parts' rig's, or 5 %, and it moves at
+/// least half as far, or half the character's height: a rig too stiff to move would hold). `file` and
 /// `mask_file` are the drawing as this process opens it. `why` (if given) gets one line saying
 /// what was tried and what it measured, the rig taken first ("parts: ..." or "grid: ..."), or
 /// stays empty when nothing was tried (a rig on the grid already, or no limb in its silhouette).

@@ -181,6 +181,87 @@ void ride_details(const PartGraph& G, AutoRig& out) {
     d.at = G.geo[i].centroid;
     out.rig.riders.push_back(std::move(d));
   }
+  // A part attached to nothing (a pictogram's head drawn apart from its shoulders), with no
+  // handle and nothing hanging from it, rides on the nearest part that hangs in the tree, about
+  // the middle of the gap between them. Held in the frame by one sewing line, it could turn and
+  // grow about that line's end: a woman's head swelled to eight times the drawing's height.
+  auto loose = [&](size_t i) { return G.parent[i] < 0 && i != G.root && !G.scenery[i]; };
+  for (size_t i = 0; i < G.n; ++i) {
+    if (!loose(i) || rides[i] || holds[i] || !out.parts[i].handle.empty() || G.geo[i].ring.size() < 3) continue;
+    const Points& ring = G.geo[i].ring;
+    const size_t step = std::max<size_t>(1, ring.size() / 32);
+    double best = INFINITY;
+    int on = -1;
+    Vec2 at = G.geo[i].centroid;
+    for (size_t j = 0; j < G.n; ++j) {
+      if (j == i || loose(j) || G.scenery[j] || rides[j] || G.geo[j].ring.size() < 3) continue;
+      const Vec2 apart = (G.geo[j].lo - G.geo[i].hi).cwiseMax(G.geo[i].lo - G.geo[j].hi).cwiseMax(Vec2::Zero());
+      if (apart.norm() >= best) continue;  // (its box is further than the nearest found)
+      const Points& r = G.geo[j].ring;
+      for (size_t k = 0; k < ring.size(); k += step)
+        for (size_t a = 0; a < r.size(); ++a) {
+          const Vec2 e = r[(a + 1) % r.size()] - r[a];
+          const double t = e.squaredNorm() > 0 ? std::clamp((ring[k] - r[a]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+          const Vec2 q = r[a] + t * e;
+          if (const double d = (q - ring[k]).norm(); d < best) best = d, on = int(j), at = 0.5 * (q + ring[k]);
+        }
+    }
+    if (on < 0) continue;
+    rides[i] = 1;
+    out.parts[i].why = "attached to nothing: rides whole on " + G.id(size_t(on)) + ", the part nearest it";
+    RigRider d;
+    d.part = G.id(i);
+    d.on = G.id(size_t(on));
+    d.at = at;
+    out.rig.riders.push_back(std::move(d));
+  }
+  // A shape that is no part (an outline drawn as a stroke of its own, the crease of a sleeve,
+  // a small piece past the parts' cap) rides on the smallest part that holds it: 85 % of its
+  // points (32 at most) inside that part's outline or within 1 % of the height of it, as the
+  // grid's riders carry theirs. Left in the frame, it hung on one sewing line and lagged its part.
+  std::vector<char> taken(ch.shapes.size(), 0);
+  for (const AutoRigPart& p : out.parts)
+    if (p.shape >= 0) taken[size_t(p.shape)] = 1;
+  for (const auto& row : G.via)
+    for (int v : row)
+      if (v >= 0) taken[size_t(v)] = 1;
+  for (int m : G.members) taken[size_t(m)] = 1;
+  for (const AutoRigLeftOut& l : out.left_out) taken[size_t(l.shape)] = 1;
+  std::set<std::string> jointed;
+  for (const RigJoint& j : out.rig.joints) jointed.insert(j.part_a), jointed.insert(j.part_b);
+  const double tol = 0.01 * G.height;
+  auto holds_point = [&](size_t i, const Vec2& q) {
+    const Points& r = G.geo[i].ring;
+    if (winding_number(r, q) != 0) return true;
+    for (size_t a = 0; a < r.size(); ++a)
+      if (point_segment_distance(q, r[a], r[(a + 1) % r.size()]) <= tol) return true;
+    return false;
+  };
+  for (size_t s = 0; s < ch.shapes.size() && out.rig.riders.size() < 4096; ++s) {
+    const SubShape& sh = ch.shapes[s];
+    if (taken[s] || G.is_part[s] || sh.id.empty() || sh.hidden || sh.role != ShapeRole::Paint || sh.points.empty() || jointed.count(sh.id)) continue;
+    if (!sh.fill.enabled && !sh.stroke.enabled) continue;
+    const Bounds b = sh.bounds();
+    int best = -1;
+    for (size_t i = 0; i < G.n; ++i) {
+      if (G.scenery[i] || G.geo[i].ring.size() < 3) continue;
+      const PartGeo& g = G.geo[i];
+      if (b.lo.x() < g.lo.x() - tol || b.lo.y() < g.lo.y() - tol || b.hi.x() > g.hi.x() + tol || b.hi.y() > g.hi.y() + tol) continue;
+      if (best >= 0 && g.area >= G.geo[size_t(best)].area) continue;
+      const size_t step = std::max<size_t>(1, sh.points.size() / 32);
+      size_t in = 0, all = 0;
+      for (size_t k = 0; k < sh.points.size(); k += step, ++all) in += holds_point(i, sh.points[k]);
+      if (in >= 0.85 * double(all)) best = int(i);
+    }
+    if (best < 0) continue;
+    RigRider d;
+    d.part = sh.id;
+    d.on = G.id(size_t(best));
+    Vec2 c = Vec2::Zero();
+    for (const Vec2& q : sh.points) c += q;
+    d.at = c / double(sh.points.size());
+    out.rig.riders.push_back(std::move(d));
+  }
 }
 
 }  // namespace

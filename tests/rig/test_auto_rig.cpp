@@ -719,6 +719,92 @@ TEST(AutoRig, AFillInsetInItsOutlineStaysInItUnderAPenDrag) {
       << "back at rest once the pen has let go";
 }
 
+// An outline drawn as an open stroke of its own along an arm (three sides of it, no fill) is no
+// part: it rides on the arm whole. Left in the frame it hung on one sewing line and lagged the
+// arm the pen swung, and stayed where the arm had been drawn.
+TEST(AutoRig, AnOutlineDrawnAsAStrokeOfItsOwnRidesOnItsPart) {
+  const std::string svg = test::write_temp(
+      "stroke-outline.svg",
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"240\"><rect id=\"rect1\" x=\"40\" y=\"60\" width=\"80\" "
+      "height=\"120\" fill=\"#468\"/><rect id=\"rect3\" x=\"110\" y=\"70\" width=\"70\" height=\"16\" fill=\"#c96\"/>"
+      "<path id=\"edge\" d=\"M112 70 L180 70 L180 86 L112 86\" fill=\"none\" stroke=\"#000\" stroke-width=\"1.5\"/>"
+      "<rect id=\"rect4\" x=\"50\" y=\"170\" width=\"16\" height=\"60\" fill=\"#c96\"/><rect id=\"rect6\" x=\"94\" y=\"170\" "
+      "width=\"16\" height=\"60\" fill=\"#c96\"/><circle id=\"circle5\" cx=\"80\" cy=\"40\" r=\"22\" fill=\"#fc9\"/></svg>");
+  const Rigged r = rig_of(svg);
+  ASSERT_EQ(r.ar.rig.solver, "feature_frame");
+  const RigRider* edge = nullptr;
+  for (const RigRider& d : r.ar.rig.riders)
+    if (d.part == "edge") edge = &d;
+  ASSERT_NE(edge, nullptr) << "the stroke rides";
+  EXPECT_EQ(edge->on, "rect3") << "on the arm it outlines";
+  EXPECT_TRUE(edge->handle.empty());
+  const std::string rig = test::write_temp("stroke-outline.toml", write_auto_rig(r.ar, r.ch));
+  const auto frames = pen_drag("stroke-outline", rig, 200, 240, "0.88,0.32", "0.75,0.05");
+  ASSERT_GE(frames.size(), 200u);
+  const Points edge0 = points_of(frames.front(), "edge"), arm0 = points_of(frames.front(), "rect3");
+  ASSERT_FALSE(edge0.empty());
+  ASSERT_FALSE(arm0.empty());
+  EXPECT_GT(most_moved(frames, "rect3"), 20) << "the pen swung the arm";
+  // the arm's far top corner (the frame may add points to its outline: found by where it is)
+  size_t corner = 0;
+  for (size_t i = 0; i < arm0.size(); ++i)
+    if ((arm0[i] - Vec2(180, 70)).norm() < (arm0[corner] - Vec2(180, 70)).norm()) corner = i;
+  ASSERT_LT((arm0[corner] - Vec2(180, 70)).norm(), 1e-6);
+  ASSERT_LT((edge0[1] - Vec2(180, 70)).norm(), 1e-6);
+  double bent = 0, off = 0;
+  for (const nlohmann::json& f : frames) {
+    const Points e = points_of(f, "edge"), a = points_of(f, "rect3");
+    ASSERT_EQ(e.size(), edge0.size());
+    ASSERT_EQ(a.size(), arm0.size());
+    bent = std::max(bent, rigid_fit_rms(edge0, e));
+    off = std::max(off, (e[1] - a[corner]).norm());  // the edge's far corner on the arm's
+  }
+  EXPECT_LT(bent, 0.01) << "it turns whole (to the dump's rounding)";
+  EXPECT_LT(off, 2.0) << "and stays on the arm's end";
+  EXPECT_LT(end_from_rest(frames, {"rect1", "rect3", "edge", "rect4", "rect6", "circle5"}), 0.01 * 240) << "back at rest once the pen has let go";
+}
+
+// A part attached to nothing (a pictogram's head drawn apart from its shoulders) with no handle
+// rides whole on the part nearest it. Held by one sewing line it turned and grew about that
+// line's end: a clip-art woman's head swelled to eight times the drawing's height.
+TEST(AutoRig, APartAttachedToNothingRidesWholeOnItsNearest) {
+  const std::string svg = test::write_temp(
+      "loose-head.svg",
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"200\" height=\"240\"><path id=\"skirt\" d=\"M70 120 L130 120 L150 200 "
+      "L50 200 Z\" fill=\"#222\"/><rect id=\"torso\" x=\"70\" y=\"62\" width=\"60\" height=\"60\" fill=\"#222\"/><circle "
+      "id=\"disc\" cx=\"100\" cy=\"32\" r=\"22\" fill=\"#222\"/></svg>");
+  auto ch = load_character(svg);
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  AutoRigOptions parts_only;
+  parts_only.silhouette = false;
+  const AutoRig ar = auto_rig(*ch.value, svg, "", parts_only);
+  const RigRider* disc = nullptr;
+  for (const RigRider& d : ar.rig.riders)
+    if (d.part == "disc") disc = &d;
+  ASSERT_NE(disc, nullptr) << "the head drawn apart rides";
+  EXPECT_EQ(disc->on, "torso") << "on the part nearest it";
+  EXPECT_TRUE(disc->handle.empty());
+  EXPECT_NEAR(disc->at.y(), 58, 1.0) << "about the middle of the gap";
+  const std::string rig = test::write_temp("loose-head.toml", write_auto_rig(ar, *ch.value));
+  const auto frames = pen_drag("loose-head", rig, 200, 240, "0.5,0.38", "0.85,0.2");
+  ASSERT_GE(frames.size(), 200u);
+  const Points disc0 = points_of(frames.front(), "disc");
+  ASSERT_FALSE(disc0.empty());
+  EXPECT_GT(most_moved(frames, "torso"), 20) << "the pen moved the torso";
+  auto gap = [](const Points& d, const Points& t) { return ring_distance(d, t); };
+  const double gap0 = gap(disc0, points_of(frames.front(), "torso"));
+  double bent = 0, off = 0;
+  for (const nlohmann::json& f : frames) {
+    const Points d = points_of(f, "disc");
+    ASSERT_EQ(d.size(), disc0.size());
+    bent = std::max(bent, rigid_fit_rms(disc0, d));
+    off = std::max(off, std::abs(gap(d, points_of(f, "torso")) - gap0));
+  }
+  EXPECT_LT(bent, 0.01) << "it keeps its shape and size (to the dump's rounding)";
+  EXPECT_LT(off, 2.0) << "and its gap to the torso";
+  EXPECT_LT(end_from_rest(frames, {"skirt", "torso", "disc"}), 0.01 * 240) << "back at rest once the pen has let go";
+}
+
 // A creature whose left leg is a group of two pieces side by side (its light and its shaded
 // half, as artists draw a limb's light and shade), inside a group of the whole creature in a
 // layer, with two eyes in a group of their own. The leg's group makes one region: one part, one
