@@ -242,17 +242,23 @@ void ride_details(const PartGraph& G, AutoRig& out) {
     if (taken[s] || G.is_part[s] || sh.id.empty() || sh.hidden || sh.role != ShapeRole::Paint || sh.points.empty() || jointed.count(sh.id)) continue;
     if (!sh.fill.enabled && !sh.stroke.enabled) continue;
     const Bounds b = sh.bounds();
-    int best = -1;
+    // the smallest part holding 85 % of it; else the part holding most of it, half at least (a
+    // cat's whiskers, half on its muzzle: in the frame they were sewn to whatever was nearest
+    // once the muzzle rode, and a head tilt bent them)
+    int best = -1, most = -1;
+    double most_share = 0;
+    const size_t step = std::max<size_t>(1, sh.points.size() / 32);
     for (size_t i = 0; i < G.n; ++i) {
       if (G.scenery[i] || G.geo[i].ring.size() < 3) continue;
       const PartGeo& g = G.geo[i];
-      if (b.lo.x() < g.lo.x() - tol || b.lo.y() < g.lo.y() - tol || b.hi.x() > g.hi.x() + tol || b.hi.y() > g.hi.y() + tol) continue;
-      if (best >= 0 && g.area >= G.geo[size_t(best)].area) continue;
-      const size_t step = std::max<size_t>(1, sh.points.size() / 32);
+      if (b.hi.x() < g.lo.x() - tol || b.hi.y() < g.lo.y() - tol || b.lo.x() > g.hi.x() + tol || b.lo.y() > g.hi.y() + tol) continue;
       size_t in = 0, all = 0;
       for (size_t k = 0; k < sh.points.size(); k += step, ++all) in += holds_point(i, sh.points[k]);
-      if (in >= 0.85 * double(all)) best = int(i);
+      const double share = double(in) / double(std::max<size_t>(1, all));
+      if (share >= 0.85 && (best < 0 || g.area < G.geo[size_t(best)].area)) best = int(i);
+      if (share >= 0.5 && (most < 0 || share > most_share || (share == most_share && g.area < G.geo[size_t(most)].area))) most_share = share, most = int(i);
     }
+    if (best < 0) best = most;
     if (best < 0) continue;
     RigRider d;
     d.part = sh.id;

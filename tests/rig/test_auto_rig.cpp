@@ -764,6 +764,22 @@ TEST(AutoRig, AnOutlineDrawnAsAStrokeOfItsOwnRidesOnItsPart) {
   EXPECT_LT(end_from_rest(frames, {"rect1", "rect3", "edge", "rect4", "rect6", "circle5"}), 0.01 * 240) << "back at rest once the pen has let go";
 }
 
+// A bundle of strokes half on a part and half off it (the cat's whiskers: one path of four
+// strokes, each from its muzzle outwards) rides on the part holding most of it. Left in the
+// frame once the muzzle rode, they were sewn to whatever was nearest and a head tilt bent them
+// (the pose-quality benchmark's cat: 0.72 % of its height).
+TEST(AutoRig, StrokesHalfOnAPartRideOnIt) {
+  const std::string file = (test::characters_dir() / "cat.svg").string();
+  auto ch = load_character(file);
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  const AutoRig ar = auto_rig(*ch.value, file);
+  const RigRider* whiskers = nullptr;
+  for (const RigRider& d : ar.rig.riders)
+    if (d.part == "path887") whiskers = &d;
+  ASSERT_NE(whiskers, nullptr) << "the whiskers ride";
+  EXPECT_EQ(whiskers->on, "circle877") << "on the head";
+}
+
 // A part attached to nothing (a pictogram's head drawn apart from its shoulders) with no handle
 // rides whole on the part nearest it. Held by one sewing line it turned and grew about that
 // line's end: a clip-art woman's head swelled to eight times the drawing's height.

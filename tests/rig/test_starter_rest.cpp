@@ -15,22 +15,28 @@
 namespace mar {
 namespace {
 
+// An example character's automatic rig and its starter show for a nanoKONTROL2, written to a
+// folder of the test's: the show's path.
+std::string starter_of(const std::string& name, const std::string& folder) {
+  const std::string file = (test::characters_dir() / (name + ".svg")).string();
+  auto ch = load_character(file);
+  EXPECT_TRUE(ch.ok()) << ch.error;
+  if (!ch.ok()) return "";
+  const AutoRig ar = auto_rig(*ch.value, file);
+  const auto dir = test::temp_dir(folder);
+  EXPECT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
+  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
+  EXPECT_TRUE(text.ok()) << text.error;
+  EXPECT_TRUE(text.ok() && bool(std::ofstream(dir / "show.toml") << *text.value));
+  return (dir / "show.toml").string();
+}
+
 TEST(StarterShow, KnobsTurnedBackToTheirMiddleBringTheCharacterBackToRest) {
   for (const char* name : {"boy", "figure"}) {
-    const std::string file = (test::characters_dir() / (std::string(name) + ".svg")).string();
-    auto ch = load_character(file);
-    ASSERT_TRUE(ch.ok()) << ch.error;
-    const AutoRig ar = auto_rig(*ch.value, file);
-    const auto dir = test::temp_dir(std::string("starter-rest-") + name);
-    ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
-    auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
-    ASSERT_TRUE(text.ok()) << text.error;
-    ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
-
     RunOptions o;
     o.headless = true;
     o.quiet = true;
-    auto live = LiveShow::load((dir / "show.toml").string(), o);
+    auto live = LiveShow::load(starter_of(name, std::string("starter-rest-") + name), o);
     ASSERT_TRUE(live.ok()) << live.error;
     LiveShow& s = **live.value;
     const std::vector<Points> rest = s.puppet().shapes;
@@ -64,20 +70,11 @@ TEST(StarterShow, KnobsTurnedBackToTheirMiddleBringTheCharacterBackToRest) {
 // hips that go where the body goes, and the head and the handles no knob turns go with it (left
 // where they were drawn they held the body back and stretched what lay between).
 TEST(StarterShow, TheBodysFaderTakesTheCharacterAlong) {
-  const std::string file = (test::characters_dir() / "figure.svg").string();
-  auto ch = load_character(file);
-  ASSERT_TRUE(ch.ok()) << ch.error;
-  const AutoRig ar = auto_rig(*ch.value, file);
-  const auto dir = test::temp_dir("starter-follow");
-  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
-  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
-  ASSERT_TRUE(text.ok()) << text.error;
-  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
   RunOptions o;
   o.headless = true;
   o.quiet = true;
   o.frames = 1;
-  auto live = LiveShow::load((dir / "show.toml").string(), o);
+  auto live = LiveShow::load(starter_of("figure", "starter-follow"), o);
   ASSERT_TRUE(live.ok()) << live.error;
   LiveShow& s = **live.value;
   (void)s.run();
