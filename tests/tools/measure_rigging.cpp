@@ -6,7 +6,8 @@
 // control is back where it started and two seconds have passed (no point more than 1% of the
 // height from its rest). A rig from the silhouette is also played frame by frame: its shapes
 // measured piece by piece, and its reach (the farthest any handle is from its target: a limb
-// that lags its knob, or is too stiff to turn as far as it is told).
+// that lags its knob, or is too stiff to turn as far as it is told). Each row also keeps what
+// its solve cost a frame (median ms; a timing, so read it from a machine left alone).
 // Prints a row per drawing and the shares; --json FILE writes them, --keep DIR keeps each
 // rig, starter show and preview, --list FILE measures another list, --bones rigs as `rig
 // --bones` does (a long, straight limb inside one shape turning whole at its joint),
@@ -161,6 +162,7 @@ int main(int argc, char** argv) {
   std::ifstream in(list);
   nlohmann::json rows = nlohmann::json::array();
   std::vector<double> reaches;  // per rig from the silhouette
+  std::vector<double> solves;   // per rig played: its solve's median ms a frame
   int n = 0, enough = 0, calm = 0, rested = 0, both = 0, calm_regions = 0, both_regions = 0;
   std::printf("%-8s %-52s %6s %6s %9s %9s %7s\n", "category", "drawing", "person", "found", "worst %", "by region", "rest");
   for (std::string line; std::getline(in, line);) {
@@ -201,7 +203,7 @@ int main(int argc, char** argv) {
       if (const std::string e = mar::write_rig_preview((work / (stem + ".png")).string(), *ch.value, ar); !e.empty())
         std::fprintf(stderr, "warning: %s\n", e.c_str());
     auto text = mar::starter_show(ar, *ch.value, rig.filename().string(), "nanokontrol2");
-    double worst = -1, away = -1, by_region = -1, reach_pct = -1;
+    double worst = -1, away = -1, by_region = -1, reach_pct = -1, solve_ms = -1;
     std::string worst_part, worst_piece;
     if (ar.rig.handles.empty() || !text.ok()) {
       row["error"] = ar.rig.handles.empty() ? "nothing to rig" : text.error;
@@ -229,6 +231,12 @@ int main(int argc, char** argv) {
         for (int k = 1; k <= 120; ++k) s.frame(int64_t(double(base + k) * period * 1e9));
         const auto j = nlohmann::json::parse(s.stats_json());
         worst = j["quality"]["worst_part_distortion"]["max"].get<double>();
+        // (what its solve costs a frame, median: a performer's frame is 16.7 ms at 60 Hz)
+        if (j["stages_us"]["solve"]["p50"].is_number()) {
+          solve_ms = j["stages_us"]["solve"]["p50"].get<double>() / 1000;
+          row["solve_p50_ms"] = solve_ms;
+          solves.push_back(solve_ms);
+        }
         if (j["quality"]["worst_part"].is_object()) worst_part = j["quality"]["worst_part"]["part"].get<std::string>();
         // By region: a rig from the silhouette bends a limb inside one shape, so each shape is
         // measured piece by piece — the piece of each limb between its free end, its bends and
@@ -314,8 +322,18 @@ int main(int argc, char** argv) {
     std::printf("rigs from the silhouette: reach (farthest handle from its target) median %.2f%%, worst %.2f%% of the height\n",
                 reach_median, reaches.back());
   }
+  double solve_median = -1;
+  if (!solves.empty()) {
+    std::sort(solves.begin(), solves.end());
+    const size_t m = solves.size();
+    solve_median = m % 2 ? solves[m / 2] : 0.5 * (solves[m / 2 - 1] + solves[m / 2]);
+    const auto slow = std::count_if(solves.begin(), solves.end(), [](double ms) { return ms > 8.0; });
+    std::printf("solve a frame (median of each show): median %.2f ms, worst %.2f ms; %ld of %zu over 8 ms (half a 60 Hz frame)\n",
+                solve_median, solves.back(), long(slow), m);
+  }
   if (!json_path.empty()) {
     nlohmann::json out{{"drawings", n},
+                       {"solve_median_ms", solve_median},
                        {"silhouette_reach_median_pct", reach_median},
                        {"limbs_at_least_person_pct", pct(enough)},
                        {"distortion_at_most_1_5_pct", pct(calm)},
