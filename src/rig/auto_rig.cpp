@@ -188,8 +188,6 @@ void ride_details(const PartGraph& G, AutoRig& out) {
   auto loose = [&](size_t i) { return G.parent[i] < 0 && i != G.root && !G.scenery[i]; };
   for (size_t i = 0; i < G.n; ++i) {
     if (!loose(i) || rides[i] || holds[i] || !out.parts[i].handle.empty() || G.geo[i].ring.size() < 3) continue;
-    const Points& ring = G.geo[i].ring;
-    const size_t step = std::max<size_t>(1, ring.size() / 32);
     double best = INFINITY;
     int on = -1;
     Vec2 at = G.geo[i].centroid;
@@ -197,14 +195,8 @@ void ride_details(const PartGraph& G, AutoRig& out) {
       if (j == i || loose(j) || G.scenery[j] || rides[j] || G.geo[j].ring.size() < 3) continue;
       const Vec2 apart = (G.geo[j].lo - G.geo[i].hi).cwiseMax(G.geo[i].lo - G.geo[j].hi).cwiseMax(Vec2::Zero());
       if (apart.norm() >= best) continue;  // (its box is further than the nearest found)
-      const Points& r = G.geo[j].ring;
-      for (size_t k = 0; k < ring.size(); k += step)
-        for (size_t a = 0; a < r.size(); ++a) {
-          const Vec2 e = r[(a + 1) % r.size()] - r[a];
-          const double t = e.squaredNorm() > 0 ? std::clamp((ring[k] - r[a]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
-          const Vec2 q = r[a] + t * e;
-          if (const double d = (q - ring[k]).norm(); d < best) best = d, on = int(j), at = 0.5 * (q + ring[k]);
-        }
+      Vec2 mid;
+      if (const double d = ring_gap(G.geo[i].ring, G.geo[j].ring, &mid); d < best) best = d, on = int(j), at = mid;
     }
     if (on < 0) continue;
     rides[i] = 1;
@@ -230,13 +222,6 @@ void ride_details(const PartGraph& G, AutoRig& out) {
   std::set<std::string> jointed;
   for (const RigJoint& j : out.rig.joints) jointed.insert(j.part_a), jointed.insert(j.part_b);
   const double tol = 0.01 * G.height;
-  auto holds_point = [&](size_t i, const Vec2& q) {
-    const Points& r = G.geo[i].ring;
-    if (winding_number(r, q) != 0) return true;
-    for (size_t a = 0; a < r.size(); ++a)
-      if (point_segment_distance(q, r[a], r[(a + 1) % r.size()]) <= tol) return true;
-    return false;
-  };
   for (size_t s = 0; s < ch.shapes.size() && out.rig.riders.size() < 4096; ++s) {
     const SubShape& sh = ch.shapes[s];
     if (taken[s] || G.is_part[s] || sh.id.empty() || sh.hidden || sh.role != ShapeRole::Paint || sh.points.empty() || jointed.count(sh.id)) continue;
@@ -253,7 +238,7 @@ void ride_details(const PartGraph& G, AutoRig& out) {
       const PartGeo& g = G.geo[i];
       if (b.hi.x() < g.lo.x() - tol || b.hi.y() < g.lo.y() - tol || b.lo.x() > g.hi.x() + tol || b.lo.y() > g.hi.y() + tol) continue;
       size_t in = 0, all = 0;
-      for (size_t k = 0; k < sh.points.size(); k += step, ++all) in += holds_point(i, sh.points[k]);
+      for (size_t k = 0; k < sh.points.size(); k += step, ++all) in += ring_holds(g.ring, sh.points[k], tol);
       const double share = double(in) / double(std::max<size_t>(1, all));
       if (share >= 0.85 && (best < 0 || g.area < G.geo[size_t(best)].area)) best = int(i);
       if (share >= 0.5 && (most < 0 || share > most_share || (share == most_share && g.area < G.geo[size_t(most)].area))) most_share = share, most = int(i);

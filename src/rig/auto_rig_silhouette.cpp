@@ -172,22 +172,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   std::vector<Points> outline(old.size());
   for (size_t i = 0; i < old.size(); ++i) outline[i] = ch.shapes[size_t(old[i].shape)].largest_ring();
   // the step across the gap between part i and part j, from i's side (32 of i's points): its length
-  auto gap = [&](size_t i, size_t j, Vec2* mid) {
-    const Points &ring = outline[i], &up = outline[j];
-    double best = INFINITY;
-    const size_t step = std::max<size_t>(1, ring.size() / 32);
-    for (size_t k = 0; k < ring.size(); k += step)
-      for (size_t a = 0; a < up.size(); ++a) {
-        const Vec2 e = up[(a + 1) % up.size()] - up[a];
-        const double t = e.squaredNorm() > 0 ? std::clamp((ring[k] - up[a]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
-        const Vec2 q = up[a] + t * e;
-        if (const double d = (q - ring[k]).norm(); d < best) {
-          best = d;
-          if (mid) *mid = 0.5 * (q + ring[k]);
-        }
-      }
-    return best;
-  };
+  auto gap = [&](size_t i, size_t j, Vec2* mid) { return ring_gap(outline[i], outline[j], mid); };
   std::vector<Bounds> box(old.size());
   for (size_t i = 0; i < old.size(); ++i)
     for (const Vec2& q : outline[i]) box[i].add(q);
@@ -244,14 +229,7 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   // the parts' cap) ride on the rider they lie on: 85 % of their points (32 at most) inside its
   // outline or within 1 % of the height of it.
   const double tol = 0.01 * height;
-  auto on_ring = [&](size_t i, const Vec2& q) {
-    const Points& r = outline[i];
-    if (r.size() < 3) return false;
-    if (winding_number(r, q) != 0) return true;
-    for (size_t a = 0; a < r.size(); ++a)
-      if (point_segment_distance(q, r[a], r[(a + 1) % r.size()]) <= tol) return true;
-    return false;
-  };
+  auto on_ring = [&](size_t i, const Vec2& q) { return ring_holds(outline[i], q, tol); };
   for (size_t s = 0; s < ch.shapes.size(); ++s) {
     const SubShape& sh = ch.shapes[s];
     if (placed[s] || sh.points.empty()) continue;

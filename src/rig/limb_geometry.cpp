@@ -57,6 +57,30 @@ double ring_distance(const Points& a, const Points& b) {
   return best;
 }
 
+bool ring_holds(const Points& r, const Vec2& q, double tol) {
+  if (r.size() < 3) return false;
+  if (winding_number(r, q) != 0) return true;
+  for (size_t a = 0; a < r.size(); ++a)
+    if (point_segment_distance(q, r[a], r[(a + 1) % r.size()]) <= tol) return true;
+  return false;
+}
+
+double ring_gap(const Points& a, const Points& b, Vec2* mid) {
+  double best = std::numeric_limits<double>::infinity();
+  const size_t step = std::max<size_t>(1, a.size() / 32);
+  for (size_t k = 0; k < a.size(); k += step)
+    for (size_t j = 0; j < b.size(); ++j) {
+      const Vec2 e = b[(j + 1) % b.size()] - b[j];
+      const double t = e.squaredNorm() > 0 ? std::clamp((a[k] - b[j]).dot(e) / e.squaredNorm(), 0.0, 1.0) : 0.0;
+      const Vec2 q = b[j] + t * e;
+      if (const double d = (q - a[k]).norm(); d < best) {
+        best = d;
+        if (mid) *mid = 0.5 * (q + a[k]);
+      }
+    }
+  return best;
+}
+
 std::vector<Vec2> medial_path(const Points& ring, const Vec2& attached) {
   Vec2 lo = ring[0], hi = ring[0];
   for (const Vec2& p : ring) {

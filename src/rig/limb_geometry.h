@@ -17,6 +17,15 @@ std::vector<Vec2> crossings(const Points& a, const Points& b);
 /// The smallest distance from a point of `a` to an edge of the closed ring `b`.
 double ring_distance(const Points& a, const Points& b);
 
+/// Whether `q` is inside the closed ring `r` or within `tol` of its edges (false for a ring of
+/// fewer than three points).
+bool ring_holds(const Points& r, const Vec2& q, double tol);
+
+/// How near the closed ring `b` comes to `a`, from 32 of `a`'s points (evenly spaced) to `b`'s
+/// edges; `mid`, if given, gets the middle of that nearest step (where one would hinge on the
+/// other across the gap). Infinity when either is empty.
+double ring_gap(const Points& a, const Points& b, Vec2* mid = nullptr);
+
 /// A limb's medial axis, from its free end to its attached end: on a grid over the limb, the
 /// free end is the middle of what lies farthest (walking inside the limb, 8-neighbour
 /// Dijkstra) from where it is attached — a hand, a fan of a tail's edge — and the axis is the

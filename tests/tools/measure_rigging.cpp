@@ -314,19 +314,18 @@ int main(int argc, char** argv) {
               n, pct(enough), pct(calm), pct(rested), pct(both));
   std::printf("by region (a limb inside one shape measured piece by piece): distortion <= 1.5%% on %.0f%%; both on %.0f%%\n",
               pct(calm_regions), pct(both_regions));
-  double reach_median = -1;
+  auto median = [](std::vector<double>& v) {  // (sorts v; -1 when empty)
+    std::sort(v.begin(), v.end());
+    const size_t m = v.size();
+    return m == 0 ? -1.0 : m % 2 ? v[m / 2] : 0.5 * (v[m / 2 - 1] + v[m / 2]);
+  };
+  const double reach_median = median(reaches), solve_median = median(solves);
   if (!reaches.empty()) {
-    std::sort(reaches.begin(), reaches.end());
-    const size_t m = reaches.size();
-    reach_median = m % 2 ? reaches[m / 2] : 0.5 * (reaches[m / 2 - 1] + reaches[m / 2]);
     std::printf("rigs from the silhouette: reach (farthest handle from its target) median %.2f%%, worst %.2f%% of the height\n",
                 reach_median, reaches.back());
   }
-  double solve_median = -1;
   if (!solves.empty()) {
-    std::sort(solves.begin(), solves.end());
     const size_t m = solves.size();
-    solve_median = m % 2 ? solves[m / 2] : 0.5 * (solves[m / 2 - 1] + solves[m / 2]);
     const auto slow = std::count_if(solves.begin(), solves.end(), [](double ms) { return ms > 8.0; });
     std::printf("solve a frame (median of each show): median %.2f ms, worst %.2f ms; %ld of %zu over 8 ms (half a 60 Hz frame)\n",
                 solve_median, solves.back(), long(slow), m);
