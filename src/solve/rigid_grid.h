@@ -99,6 +99,9 @@ class RigidGrid final : public Solver {
   // --- views for tests, inspect and overlays ---
   size_t grid_nodes() const { return grid_count_; }
   size_t boundary_nodes() const { return curve_count_; }
+  /// Every drawn contour point a node, as before contours were thinned to about a cell (for
+  /// measuring the two side by side); before prepare.
+  void keep_every_contour_point(bool on) { every_contour_point_ = on; }
   size_t free_vertices() const { return rest_.size() - grid_count_ - curve_count_; }
   /// Vertices of the triangular mesh (seed 003 Table 1's VER).
   size_t mesh_vertices() const { return mesh_vertex_count_; }
@@ -242,7 +245,7 @@ class RigidGrid final : public Solver {
     if (h < handle_rider_.size() && handle_rider_[h] >= 0) return 0.0;  // (it turns a rider, not the grid)
     return h < handle_w_.size() ? handle_w_[h] : 1.0;
   }
-  bool fast_ = true, plain_ = false, tri_mode_ = false;
+  bool fast_ = true, plain_ = false, tri_mode_ = false, every_contour_point_ = false;
   struct Stiff {
     std::string name;
     Vec2 center;

@@ -237,7 +237,7 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
     }
   grid_count_ = rest_.size();
 
-  // --- Boundary curves: every contour resampled at about a cell, every contour point a node;
+  // --- Boundary curves: every contour thinned and refined to about a cell between nodes;
   // coincident points of different contours share their node (stick figures). A stroke that
   // ends on another contour between its points (an arm drawn from the middle of a spine, a neck
   // ending on a head's ring) puts its end into that contour as a point, so the two share it too.
@@ -250,29 +250,45 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         stroke_ends.push_back(s.points[size_t(c.begin + c.count - 1)]);
       }
   const double touch = 0.25 * h_;  // an end this near a contour is on it
-  std::map<Key, int> curve_node_at;
-  curves_.clear();
-  cnode_.clear();
-  std::vector<char> on_open;
-  binds_.assign(ch.shapes.size(), {});
-  for (size_t si = 0; si < ch.shapes.size(); ++si) {
-    const SubShape& s = ch.shapes[si];
-    binds_[si].assign(s.points.size(), Embed{});
-    for (auto& b : binds_[si]) b.v[0] = -1;
+  // Which contours pass through each point: two shapes drawn edge to edge (or an outline and its
+  // fill) keep the points where they part, so they keep sharing nodes along the run.
+  std::map<Key, std::vector<int>> contours_at;
+  {
+    int id = 0;
+    for (const SubShape& s : ch.shapes)
+      for (const Contour& c : s.contours) {
+        if (c.count >= 2)
+          for (int k = 0; k < c.count; ++k) {
+            std::vector<int>& v = contours_at[key(s.points[size_t(c.begin + k)], q)];
+            if (v.empty() || v.back() != id) v.push_back(id);
+          }
+        ++id;
+      }
+  }
+  // Each contour's points, with the stroke ends that touch it between its points (T-junctions).
+  struct ContourPoints {
+    Points pts;
+    std::vector<int> orig;   ///< per contour point: its index in pts
+    std::vector<char> must;  ///< per point of pts: a node whatever the spacing
+    std::vector<char> keep;  ///< per point of pts: a node
+  };
+  std::vector<ContourPoints> cps;
+  double outline = 0;
+  for (const SubShape& s : ch.shapes)
     for (const Contour& c : s.contours) {
+      ContourPoints& cp = cps.emplace_back();
       if (c.count < 2) continue;
       const bool cl = c.closed && c.count >= 3;
-      // The contour with the stroke ends that touch it between its points (T-junctions).
-      Points pts;
-      std::vector<int> orig;  ///< per contour point: its index in pts
       for (int k = 0; k < c.count; ++k) {
-        const Vec2 &a = s.points[size_t(c.begin + k)];
-        orig.push_back(int(pts.size()));
-        pts.push_back(a);
+        const Vec2& a = s.points[size_t(c.begin + k)];
+        cp.orig.push_back(int(cp.pts.size()));
+        cp.pts.push_back(a);
+        cp.must.push_back(!cl && (k == 0 || k + 1 == c.count));
         if (k + 1 == c.count && !cl) break;
         const Vec2& b = s.points[size_t(c.begin + (k + 1) % c.count)];
         const Vec2 ab = b - a;
         const double len2 = ab.squaredNorm();
+        outline += std::sqrt(len2);
         if (len2 <= 0) continue;
         std::vector<std::pair<double, Vec2>> on;
         for (const Vec2& e : stroke_ends) {
@@ -283,11 +299,122 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         }
         std::sort(on.begin(), on.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
         for (const auto& [t, e] : on)
-          if ((e - pts.back()).squaredNorm() > q * q) pts.push_back(e);
+          if ((e - cp.pts.back()).squaredNorm() > q * q) {
+            cp.pts.push_back(e);
+            cp.must.push_back(1);
+          }
       }
+    }
+  // Drawn points closer than a cell are not all nodes: an editor's curve flattened in dozens of
+  // points a cell made a frame's solve grow with them (a sheep's curly wool, 14,910 points, 150
+  // ms a frame). Along a contour nodes are about `step` apart, a cell, or wider where the
+  // outlines are long for the drawing's size, so that they are at most about kCurveNodes.
+  constexpr double kCurveNodes = 1500, kChordStray = 0.05;  // (stray: of a cell)
+  const double step = std::max(h_, outline / kCurveNodes);
+  auto lattice_cell = [&](const Vec2& p) {
+    return std::array<int64_t, 2>{int64_t(std::floor((p.x() - origin_.x()) / step)),
+                                  int64_t(std::floor((p.y() - origin_.y()) / step))};
+  };
+  // A contour's nodes: where it steps from one lattice cell into the next, the end of the step
+  // nearer the line it crosses (both ends of a step as long as half a cell: a corner), and the
+  // points where the contours sharing it change; then, where a chord between two kept points
+  // strays from the points it leaves out by more than `stray`, the farthest of them, until none
+  // does (Douglas-Peucker from the kept points: a thin stroke's two sides keep their mesh
+  // between them). Each choice depends on the points alone, not on the way the contour runs, so
+  // an outline and its fill drawn through the same points keep the same ones. Returns how many.
+  auto thin = [&](ContourPoints& cp, bool cl, double stray) -> size_t {
+    const Points& pts = cp.pts;
+    const size_t n = pts.size();
+    std::vector<char>& keep = cp.keep;
+    keep.assign(cp.must.begin(), cp.must.end());
+    if (every_contour_point_) keep.assign(n, 1);
+    auto off_line = [&](const Vec2& p, const std::array<int64_t, 2>& a, const std::array<int64_t, 2>& b) {
+      double d = INFINITY;
+      for (int i = 0; i < 2; ++i)
+        if (a[size_t(i)] != b[size_t(i)])
+          d = std::min(d, std::abs(p[i] - (origin_[i] + step * double(std::max(a[size_t(i)], b[size_t(i)])))));
+      return d;
+    };
+    for (size_t k = 0; k + (cl ? 0 : 1) < n; ++k) {
+      const size_t l = (k + 1) % n;
+      const std::vector<int>&sk = contours_at[key(pts[k], q)], &sl = contours_at[key(pts[l], q)];
+      if (sk != sl) keep[k] = keep[l] = 1;
+      const auto ck = lattice_cell(pts[k]), cl2 = lattice_cell(pts[l]);
+      if (ck == cl2) continue;
+      if ((pts[l] - pts[k]).norm() >= 0.5 * step) {
+        keep[k] = keep[l] = 1;
+        continue;
+      }
+      const double dk = off_line(pts[k], ck, cl2), dl = off_line(pts[l], ck, cl2);
+      keep[(dk != dl ? dk < dl : key(pts[k], q) < key(pts[l], q)) ? k : l] = 1;
+    }
+    if (size_t(std::count(keep.begin(), keep.end(), 1)) < (cl ? 3u : 2u))  // within one cell: spread points of it
+      for (size_t k = 0; k < n; ++k) keep[k] = keep[k] || n <= 8 || k % (n / 4) == 0;
+    std::vector<std::pair<size_t, size_t>> chords;
+    for (size_t k = 0; k < n; ++k) {
+      if (!keep[k]) continue;
+      size_t l = (k + 1) % n;
+      while (!keep[l]) l = (l + 1) % n;
+      if (cl || l > k) chords.push_back({k, l});
+    }
+    while (!chords.empty()) {
+      const auto [a, b] = chords.back();
+      chords.pop_back();
+      const Vec2 pa = pts[a], d = pts[b] - pa;
+      const double len2 = d.squaredNorm();
+      double far = stray;
+      size_t at_far = n;
+      for (size_t k = (a + 1) % n; k != b; k = (k + 1) % n) {
+        const double t = len2 > 0 ? std::clamp((pts[k] - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
+        const double off = (pts[k] - (pa + t * d)).norm();
+        if (off > far || (off == far && at_far < n && key(pts[k], q) < key(pts[at_far], q))) far = off, at_far = k;
+      }
+      if (at_far == n) continue;
+      keep[at_far] = 1;
+      chords.push_back({a, at_far});
+      chords.push_back({at_far, b});
+    }
+    return size_t(std::count(keep.begin(), keep.end(), 1));
+  };
+  // The chords' stray a twentieth of a cell, or wider until the contours' nodes are few enough.
+  for (double stray = kChordStray * h_, pass = 0;; stray *= 2, ++pass) {
+    size_t nodes = 0, ci = 0;
+    for (const SubShape& s : ch.shapes)
+      for (const Contour& c : s.contours) {
+        ContourPoints& cp = cps[ci++];
+        if (c.count >= 2) nodes += thin(cp, c.closed && c.count >= 3, stray);
+      }
+    if (double(nodes) <= kCurveNodes || pass >= 8) break;
+  }
+  struct Dropped {
+    int shape, point, a, b, curve;  ///< a contour point no node holds, beside nodes a and b of the curve
+  };
+  std::vector<Dropped> dropped;
+  std::map<Key, int> curve_node_at;
+  curves_.clear();
+  cnode_.clear();
+  std::vector<char> on_open;
+  binds_.assign(ch.shapes.size(), {});
+  size_t contour_index = 0;
+  for (size_t si = 0; si < ch.shapes.size(); ++si) {
+    const SubShape& s = ch.shapes[si];
+    binds_[si].assign(s.points.size(), Embed{});
+    for (auto& b : binds_[si]) b.v[0] = -1;
+    for (const Contour& c : s.contours) {
+      const ContourPoints& cp = cps[contour_index++];
+      if (c.count < 2) continue;
+      const bool cl = c.closed && c.count >= 3;
+      const size_t n = cp.pts.size();
+      Points kept;
+      std::vector<int> kept_at(n, -1);  ///< per point of cp.pts: its index in kept
+      for (size_t k = 0; k < n; ++k)
+        if (cp.keep[k]) {
+          kept_at[k] = int(kept.size());
+          kept.push_back(cp.pts[k]);
+        }
       std::vector<int> at;
       double spacing = h_;
-      const Points r = refine(pts, cl, h_, at, spacing);
+      const Points r = refine(kept, cl, step, at, spacing);
       const int first = int(cnode_.size());
       for (const Vec2& p : r) {
         auto [it, added] = curve_node_at.try_emplace(key(p, q), int(rest_.size()));
@@ -298,7 +425,26 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         if (!cl) on_open[size_t(it->second) - grid_count_] = 1;
         cnode_.push_back(it->second);
       }
-      for (int k = 0; k < c.count; ++k) binds_[si][size_t(c.begin + k)].v[0] = cnode_[size_t(first + at[size_t(orig[size_t(k)])])];
+      const int m = int(kept.size()), rn = int(r.size());
+      for (int k = 0; k < c.count; ++k) {
+        const size_t o = size_t(cp.orig[size_t(k)]);
+        if (kept_at[o] >= 0) {
+          binds_[si][size_t(c.begin + k)].v[0] = cnode_[size_t(first + at[size_t(kept_at[o])])];
+          continue;
+        }
+        // Left out: between the kept points before and after it (a closed contour wraps; an open
+        // one keeps its ends), beside the two refined nodes its projection on their chord falls
+        // between.
+        size_t a = o, b = o;
+        while (kept_at[a] < 0) a = (a + n - 1) % n;
+        while (kept_at[b] < 0) b = (b + 1) % n;
+        const int ia = at[size_t(kept_at[a])], ib = kept_at[b] == 0 && kept_at[a] == m - 1 ? rn : at[size_t(kept_at[b])];
+        const Vec2 pa = cp.pts[a], d = cp.pts[b] - pa;
+        const double t = d.squaredNorm() > 0 ? std::clamp((cp.pts[o] - pa).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
+        const int lo = ia + std::clamp(int(std::floor(t * (ib - ia))), 0, ib - ia - 1);
+        dropped.push_back({int(si), c.begin + k, cnode_[size_t(first + lo % rn)], cnode_[size_t(first + (lo + 1) % rn)],
+                           int(curves_.size())});
+      }
       curves_.push_back({first, int(r.size()), cl, spacing});
     }
   }
@@ -407,7 +553,7 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
     for (size_t k = 0; k < m; ++k) {
       const Vec2 a = rest_[size_t(ring[k])] - p, b = rest_[size_t(ring[(k + 1) % m])] - p;
       const double s = cross(a, b), den = a.norm() * b.norm() + a.dot(b);
-      ok = ok && s > 0 && den > 1e-300 && a.norm() > 1e-12 * h_;
+      ok = ok && s > 0 && den > 1e-9 * a.norm() * b.norm() && a.norm() > 1e-12 * h_;  // (no straight angle)
       tanh[k] = ok ? s / den : 0;
     }
     if (!ok) continue;
@@ -446,6 +592,57 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
     Embed e;
     e.v[0] = int(k);
     binds_[size_t(si)].push_back(e);
+  }
+  // A contour point no node holds: barycentric in the triangle at the two nodes beside it that
+  // holds it, or that it is least far outside of by its weights (a thin triangle would throw it
+  // far when it bends), so the mesh carries it exactly at rest; two contours through the point
+  // choose the same triangle. A stroke with no mesh about it is carried on its own nodes.
+  for (const Dropped& d : dropped) {
+    const Vec2 p = ch.shapes[size_t(d.shape)].points[size_t(d.point)];
+    std::vector<int> cand(ring_tris[size_t(d.a)]);
+    cand.insert(cand.end(), ring_tris[size_t(d.b)].begin(), ring_tris[size_t(d.b)].end());
+    std::sort(cand.begin(), cand.end());
+    double best = INFINITY;
+    Embed e;
+    for (int t : cand) {
+      const auto& tri = tris_[size_t(t)];
+      const Vec2 &a = rest_[size_t(tri[0])], &b = rest_[size_t(tri[1])], &c = rest_[size_t(tri[2])];
+      const double det = cross(b - a, c - a);
+      if (std::abs(det) < 1e-6 * h_ * h_) continue;
+      const double bv = cross(p - a, c - a) / det, bw = cross(b - a, p - a) / det, bu = 1 - bv - bw;
+      const double out = std::max({std::abs(bu), std::abs(bv), std::abs(bw)});  // 1 inside, more the farther out
+      if (out < best) {
+        best = out;
+        e.n = 3;
+        e.v[0] = tri[0], e.v[1] = tri[1], e.v[2] = tri[2];
+        e.w[0] = bu, e.w[1] = bv, e.w[2] = bw;
+      }
+    }
+    if (!(best <= 4)) {  // no triangle near (a stroke alone, no mesh about it): its own curve's nodes
+      const Curve& cv = curves_[size_t(d.curve)];
+      const Vec2 &a = rest_[size_t(d.a)], &b = rest_[size_t(d.b)];
+      int far = -1;
+      double area = 1e-9 * h_ * (b - a).norm();
+      for (int k = 0; k < cv.count; ++k) {
+        const int nk = cnode_[size_t(cv.first + k)];
+        const double ak = std::abs(cross(b - a, rest_[size_t(nk)] - a));
+        if (ak > area) area = ak, far = nk;
+      }
+      if (far >= 0) {
+        const Vec2& c = rest_[size_t(far)];
+        const double det = cross(b - a, c - a);
+        const double bv = cross(p - a, c - a) / det, bw = cross(b - a, p - a) / det;
+        e.n = 3;
+        e.v[0] = d.a, e.v[1] = d.b, e.v[2] = far;
+        e.w[0] = 1 - bv - bw, e.w[1] = bv, e.w[2] = bw;
+      } else {  // a straight curve: the point is on its line
+        const double len2 = (b - a).squaredNorm(), t = len2 > 0 ? (p - a).dot(b - a) / len2 : 0.0;
+        e.n = 2;
+        e.v[0] = d.a, e.v[1] = d.b;
+        e.w[0] = 1 - t, e.w[1] = t;
+      }
+    }
+    binds_[size_t(d.shape)][size_t(d.point)] = e;
   }
   for (size_t si = 0; si < ch.shapes.size(); ++si)  // points of no curve (earlier interior points)
     for (size_t k = 0; k < binds_[si].size(); ++k)

@@ -7,7 +7,8 @@
 // triangle mesh with the same handles, and our outline ARAP baseline on the bottle, with the
 // ratios to OPT1; and the region sums alone (one gather and one scatter), fast and naive. And
 // a frame with the bottle's points (solve + shape_points, w = 3) with the neck a [[bone]]
-// turning whole at the shoulders and without, side by side. Prints a table and writes
+// turning whole at the shoulders and without, side by side; and a frame of a fleece drawn in
+// 11,600 points, its contours thinned to about a cell and every point a node. Prints a table and writes
 // bench_rigid_grid.json (or MARIONETTE_BENCH_JSON).
 #include "solve/arap.h"
 #include "solve/rigid_grid.h"
@@ -172,6 +173,56 @@ void BM_frame(benchmark::State& st) {
   }
 }
 
+// A fleece: a body whose rim curls 60 times, with 40 curls of wool on it, each flattened the way
+// an editor's curves are (a point every unit or so: 11,600 points), at the default cell.
+mar::Character fleece() {
+  mar::Character ch;
+  auto ring = [&](mar::Vec2 c, double r, double wave, int curls, int n, const std::string& id) {
+    mar::SubShape s;
+    s.id = id;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * M_PI * k / n, rr = r + wave * std::sin(curls * a);
+      s.points.push_back(c + mar::Vec2(rr * std::cos(a), rr * std::sin(a)));
+    }
+    s.contours.push_back({0, n, true});
+    s.fill.enabled = true;
+    ch.shapes.push_back(s);
+  };
+  ring({300, 250}, 220, 10, 60, 1600, "body");
+  for (int k = 0; k < 40; ++k) {
+    const double a = 2 * M_PI * k / 40, r = 60 + 100 * ((k * 7) % 10) / 10.0;
+    ring(mar::Vec2(300, 250) + r * mar::Vec2(std::cos(a), std::sin(a)), 24, 4, 8, 250, "curl-" + std::to_string(k));
+  }
+  ch.width = 600;
+  ch.height = 500;
+  return ch;
+}
+const std::vector<mar::Vec2> kFleeceHandles{{120, 250}, {480, 250}, {300, 60}};
+
+// One frame of the fleece (solve + shape_points, w = 3): its contours thinned to about a cell
+// between nodes (0) or every drawn point a node (1).
+void BM_fleece(benchmark::State& st) {
+  mar::Character ch = fleece();
+  mar::Rig r = mar::default_rig();
+  r.solver = "rigid_grid";
+  r.handles = {{"left", kFleeceHandles[0]}, {"right", kFleeceHandles[1]}, {"top", kFleeceHandles[2]}};
+  mar::RigidGrid s;
+  s.keep_every_contour_point(st.range(0) != 0);
+  std::string err;
+  if (!s.prepare(ch, r, kFleeceHandles, mar::SolverWeights{}, &err)) st.SkipWithError(err.c_str());
+  std::vector<mar::Points> out;
+  for (const mar::SubShape& sh : ch.shapes) out.push_back(sh.points);
+  int k = 0;
+  for (auto _ : st) {
+    const double f = 0.5 - 0.5 * std::cos(k++ * 0.05);
+    const std::vector<mar::Vec2> t{kFleeceHandles[0], kFleeceHandles[1], kFleeceHandles[2] + mar::Vec2(120 * f, 40 * f)};
+    s.solve(t, kIterations);
+    s.shape_points(out);
+    benchmark::DoNotOptimize(out[0].data());
+  }
+  st.counters["nodes"] = double(s.grid_nodes() + s.boundary_nodes() + s.free_vertices());
+}
+
 void BM_outline_arap(benchmark::State& st) {
   mar::Character ch = bottle();
   mar::OutlineArap s;
@@ -214,6 +265,8 @@ int main(int argc, char** argv) {
   benchmark::RegisterBenchmark("OUTLINE_ARAP", BM_outline_arap)->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("FRAME_grid", BM_frame)->Arg(0)->Unit(benchmark::kMillisecond);
   benchmark::RegisterBenchmark("FRAME_bone", BM_frame)->Arg(1)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("FLEECE_thinned", BM_fleece)->Arg(0)->Unit(benchmark::kMillisecond);
+  benchmark::RegisterBenchmark("FLEECE_every_point", BM_fleece)->Arg(1)->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
   benchmark::ConsoleReporter console;
   bench::Collector collect;
@@ -256,6 +309,10 @@ int main(int argc, char** argv) {
   const double fg = bench::median_us(collect, "FRAME_grid") / 1000, fb = bench::median_us(collect, "FRAME_bone") / 1000;
   if (fg > 0 && fb > 0)
     std::printf("a frame with its points (w = 3): the neck bent by the grid %.3f ms, turning whole as a bone %.3f ms (%.2fx)\n", fg, fb, fb / fg);
+  const double ft = bench::median_us(collect, "FLEECE_thinned") / 1000, fe = bench::median_us(collect, "FLEECE_every_point") / 1000;
+  if (ft > 0 && fe > 0)
+    std::printf("a frame of a fleece drawn in 11,600 points (w = 3): contours thinned to about a cell %.3f ms, every point a node %.3f ms (%.1fx)\n",
+                ft, fe, fe / ft);
   benchmark::Shutdown();
   return 0;
 }

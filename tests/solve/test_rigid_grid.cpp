@@ -79,6 +79,62 @@ TEST(RigidGrid, GridCurvesAndJunctionOverTheCharacterWithEveryPointBound) {
   }
 }
 
+// A wavy disc flattened the way an editor's curves are, a point every 0.6 units (a cell is 10),
+// and its outline drawn again as a shape of its own through the same points.
+Character wavy_disc_and_outline() {
+  Points p;
+  for (int k = 0; k < 2000; ++k) {
+    const double a = 2 * M_PI * k / 2000, r = 180 + 6 * std::sin(30 * a);
+    p.push_back(Vec2(200 + r * std::cos(a), 200 + r * std::sin(a)));
+  }
+  Character c = polygon(p);
+  SubShape outline = c.shapes[0];
+  outline.id = "outline";
+  c.shapes.push_back(outline);
+  return c;
+}
+
+TEST(RigidGrid, ContoursDrawnInManyPointsGetAboutACellBetweenNodesAndEveryPointFollows) {
+  Character c = wavy_disc_and_outline(), c_every = c;  // (prepare adds the fill's interior points)
+  const std::vector<Vec2> rest{{60, 200}, {340, 200}, {200, 40}};
+  RigidGrid thinned, every;
+  every.keep_every_contour_point(true);
+  std::string err;
+  ASSERT_TRUE(thinned.prepare(c, grid_rig(10, 3), rest, SolverWeights{}, &err)) << err;
+  ASSERT_TRUE(every.prepare(c_every, grid_rig(10, 3), rest, SolverWeights{}, &err)) << err;
+  // 2,000 points on each shape; the rim is about 1,150 units long: about a node a cell, and the
+  // outline drawn through the fill's points shares the fill's nodes.
+  EXPECT_GE(every.boundary_nodes(), 2000u);
+  EXPECT_LT(thinned.boundary_nodes(), 300u);
+  EXPECT_GT(thinned.boundary_nodes(), 80u);
+  // At rest every drawn point is where it was drawn, the ones no node holds too.
+  const auto at_rest = posed(c, thinned);
+  for (size_t k = 0; k < at_rest.size(); ++k)
+    for (size_t i = 0; i < at_rest[k].size(); ++i) ASSERT_LT((at_rest[k][i] - c.shapes[k].points[i]).norm(), 1e-9) << k << " " << i;
+  // Turned and moved whole, every point is turned and moved with it, and the outline stays on its fill.
+  const double a = 0.6, cs = std::cos(a), sn = std::sin(a);
+  auto move = [&](const Vec2& q) { return Vec2(cs * q.x() - sn * q.y() + 40, sn * q.x() + cs * q.y() - 25); };
+  std::vector<Vec2> t;
+  for (const Vec2& q : rest) t.push_back(move(q));
+  thinned.initial_guess(t);
+  thinned.solve(t, 5);
+  const auto moved = posed(c, thinned);
+  for (size_t k = 0; k < moved.size(); ++k)
+    for (size_t i = 0; i < moved[k].size(); ++i) ASSERT_LT((moved[k][i] - move(c.shapes[k].points[i])).norm(), 1e-6) << k << " " << i;
+  // Bent, the outline drawn through the fill's points stays on it, point for point.
+  t = rest;
+  t[2] += Vec2(90, 30);
+  for (int k = 0; k < 20; ++k) thinned.solve(t, 4);
+  const auto bent = posed(c, thinned);
+  double off = 0, moved_most = 0;
+  for (size_t i = 0; i < 2000; ++i) {  // (the drawn points; the interior points follow them)
+    off = std::max(off, (bent[0][i] - bent[1][i]).norm());
+    moved_most = std::max(moved_most, (bent[0][i] - c.shapes[0].points[i]).norm());
+  }
+  EXPECT_GT(moved_most, 20.0);
+  EXPECT_LT(off, 1e-9);
+}
+
 TEST(RigidGrid, ARigidMotionOfTheHandlesMovesEveryNodeRigidly) {
   for (const char* junction : {"triangles", "mvc"}) {
     Figure f(3, "figure.svg", junction);
