@@ -193,6 +193,15 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
       const int c = G.container[i];
       return c >= 0 && c == parent[i] && geo[i].area >= 0.5 * geo[size_t(c)].area && geo[size_t(c)].area >= 0.5 * geo[i].area;
     };
+    // A detail that limbs hang from (shorts on a shirt, the legs hinged on them), tied to its
+    // parent by that one line too: a kicking leg turned it about the line, pulling the shorts
+    // off the body.
+    auto holds_limbs = [&](size_t i) {
+      if (out.parts[i].kind != AutoRigPart::Detail) return false;
+      for (const RigJoint& j : rig.joints)
+        if (!j.weld && j.part_b == ch.shapes[size_t(geo[i].shape)].id) return true;
+      return false;
+    };
     std::vector<Vec2> one_line(n, Vec2::Zero());
     std::vector<char> by_one_line(n, 0);
     // The spanning tree's lines: the sewing lines right after the feature lines, one per
@@ -209,7 +218,7 @@ void sew_tree(const PartGraph& G, AutoRig& out) {
       if (i < 0 || j < 0) continue;
       if (related(i, j)) {
         const size_t child = size_t(parent[size_t(i)] == j ? i : j);
-        if (!tied[child] && parent[child] >= 0 && twin(child)) {
+        if (!tied[child] && parent[child] >= 0 && (twin(child) || holds_limbs(child))) {
           by_one_line[child] = 1;
           one_line[child] = f.rest[size_t(child == size_t(i) ? l.a : l.b)];
         }

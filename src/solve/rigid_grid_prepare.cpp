@@ -387,7 +387,7 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
     if (double(nodes) <= kCurveNodes || pass >= 8) break;
   }
   struct Dropped {
-    int shape, point, a, b, curve;  ///< a contour point no node holds, beside nodes a and b of the curve
+    int shape, point, a, b, curve, at;  ///< a contour point no node holds, beside nodes a and b (at, at + 1) of the curve
   };
   std::vector<Dropped> dropped;
   std::map<Key, int> curve_node_at;
@@ -443,7 +443,7 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         const double t = d.squaredNorm() > 0 ? std::clamp((cp.pts[o] - pa).dot(d) / d.squaredNorm(), 0.0, 1.0) : 0.0;
         const int lo = ia + std::clamp(int(std::floor(t * (ib - ia))), 0, ib - ia - 1);
         dropped.push_back({int(si), c.begin + k, cnode_[size_t(first + lo % rn)], cnode_[size_t(first + (lo + 1) % rn)],
-                           int(curves_.size())});
+                           int(curves_.size()), lo});
       }
       curves_.push_back({first, int(r.size()), cl, spacing});
     }
@@ -596,7 +596,8 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
   // A contour point no node holds: barycentric in the triangle at the two nodes beside it that
   // holds it, or that it is least far outside of by its weights (a thin triangle would throw it
   // far when it bends), so the mesh carries it exactly at rest; two contours through the point
-  // choose the same triangle. A stroke with no mesh about it is carried on its own nodes.
+  // choose the same triangle. A stroke with no mesh about it is carried by the nodes about it on
+  // its curve (not a far one: as the curve bends, a far node threw the point across the picture).
   for (const Dropped& d : dropped) {
     const Vec2 p = ch.shapes[size_t(d.shape)].points[size_t(d.point)];
     std::vector<int> cand(ring_tris[size_t(d.a)]);
@@ -618,24 +619,25 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         e.w[0] = bu, e.w[1] = bv, e.w[2] = bw;
       }
     }
-    if (!(best <= 4)) {  // no triangle near (a stroke alone, no mesh about it): its own curve's nodes
+    if (!(best <= 2)) {  // no triangle near (a stroke alone, no mesh about it): the curve's nodes about it
       const Curve& cv = curves_[size_t(d.curve)];
       const Vec2 &a = rest_[size_t(d.a)], &b = rest_[size_t(d.b)];
-      int far = -1;
-      double area = 1e-9 * h_ * (b - a).norm();
-      for (int k = 0; k < cv.count; ++k) {
-        const int nk = cnode_[size_t(cv.first + k)];
+      int third = -1;
+      double area = 1e-3 * (b - a).squaredNorm();  // (nearly on the line: on it)
+      for (const int k : {d.at - 1, d.at + 2}) {
+        if (!cv.closed && (k < 0 || k >= cv.count)) continue;
+        const int nk = cnode_[size_t(cv.first + (k % cv.count + cv.count) % cv.count)];
         const double ak = std::abs(cross(b - a, rest_[size_t(nk)] - a));
-        if (ak > area) area = ak, far = nk;
+        if (nk != d.a && nk != d.b && ak > area) area = ak, third = nk;
       }
-      if (far >= 0) {
-        const Vec2& c = rest_[size_t(far)];
+      if (third >= 0) {
+        const Vec2& c = rest_[size_t(third)];
         const double det = cross(b - a, c - a);
         const double bv = cross(p - a, c - a) / det, bw = cross(b - a, p - a) / det;
         e.n = 3;
-        e.v[0] = d.a, e.v[1] = d.b, e.v[2] = far;
+        e.v[0] = d.a, e.v[1] = d.b, e.v[2] = third;
         e.w[0] = 1 - bv - bw, e.w[1] = bv, e.w[2] = bw;
-      } else {  // a straight curve: the point is on its line
+      } else {  // a straight run: the point is on (or within the chords' leeway of) its line
         const double len2 = (b - a).squaredNorm(), t = len2 > 0 ? (p - a).dot(b - a) / len2 : 0.0;
         e.n = 2;
         e.v[0] = d.a, e.v[1] = d.b;
