@@ -1,6 +1,6 @@
 // The rigid grid's per-frame solve (solve/rigid_grid.h): the fast summation of the region
 // sums, the local and global steps, the grab, and the live parameters. Preparation is in
-// rigid_grid_prepare.cpp.
+// rigid_grid_prepare.cpp (the mesh) and rigid_grid_regions.cpp (the regions, the factor).
 #include "solve/rigid_grid.h"
 
 #include "geom/polygon.h"

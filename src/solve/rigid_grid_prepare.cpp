@@ -1,6 +1,6 @@
 // The rigid grid's preparation (solve/rigid_grid.h): the interior grid, the boundary curves,
-// the triangular mesh and junction, shape points and handles through the nodes, the regions
-// and the factorisation. The per-frame solve is in rigid_grid.cpp.
+// the triangular mesh and junction, shape points and handles through the nodes. The regions
+// and the factorisation are in rigid_grid_regions.cpp, the per-frame solve in rigid_grid.cpp.
 #include "solve/rigid_grid.h"
 
 #include <algorithm>
@@ -119,6 +119,97 @@ struct Key {
   bool operator<(const Key& o) const { return x != o.x ? x < o.x : y < o.y; }
 };
 Key key(const Vec2& p, double q) { return {int64_t(std::llround(p.x() / q)), int64_t(std::llround(p.y() / q))}; }
+
+// A contour's points for the grid's boundary curves, and which of them are nodes.
+struct ContourPoints {
+  bool closed = false;
+  Points pts;                                   ///< the drawn points, and stroke ends met between them
+  std::vector<int> orig;                        ///< per drawn point: its index in pts
+  std::vector<char> must;                       ///< per point: a node whatever the spacing (an open end, a stroke end)
+  std::vector<const std::vector<int>*> sharing;  ///< per point: the contours through it (null: this one only)
+  std::vector<char> crossings;                  ///< per point: a node by keep_crossings
+  std::vector<char> keep;                       ///< per point: a node
+};
+
+// The nodes every leeway keeps: where the contour steps from one lattice cell (`step` wide,
+// from `origin`) into the next, the end of the step nearer the line it crosses (both ends of a
+// step half a cell long: a corner), and the points where the contours through it change (two
+// shapes drawn edge to edge part). Each choice depends on the points alone, not on the way the
+// contour runs, so an outline and its fill drawn through the same points keep the same ones.
+void keep_crossings(ContourPoints& cp, const Vec2& origin, double step, double q, bool every_point) {
+  const Points& pts = cp.pts;
+  const size_t n = pts.size();
+  std::vector<char>& keep = cp.crossings;
+  keep.assign(cp.must.begin(), cp.must.end());
+  if (every_point || n < 2) {
+    keep.assign(n, 1);
+    return;
+  }
+  auto cell = [&](const Vec2& p) {
+    return std::array<int64_t, 2>{int64_t(std::floor((p.x() - origin.x()) / step)), int64_t(std::floor((p.y() - origin.y()) / step))};
+  };
+  auto off_line = [&](const Vec2& p, const std::array<int64_t, 2>& a, const std::array<int64_t, 2>& b) {
+    double d = INFINITY;
+    for (int i = 0; i < 2; ++i)
+      if (a[size_t(i)] != b[size_t(i)])
+        d = std::min(d, std::abs(p[i] - (origin[i] + step * double(std::max(a[size_t(i)], b[size_t(i)])))));
+    return d;
+  };
+  auto same_contours = [&](size_t k, size_t l) {
+    return cp.sharing[k] == cp.sharing[l] || (cp.sharing[k] && cp.sharing[l] && *cp.sharing[k] == *cp.sharing[l]);
+  };
+  for (size_t k = 0; k + (cp.closed ? 0 : 1) < n; ++k) {
+    const size_t l = (k + 1) % n;
+    if (!same_contours(k, l)) keep[k] = keep[l] = 1;
+    const auto ck = cell(pts[k]), cl = cell(pts[l]);
+    if (ck == cl) continue;
+    if ((pts[l] - pts[k]).norm() >= 0.5 * step) {
+      keep[k] = keep[l] = 1;
+      continue;
+    }
+    const double dk = off_line(pts[k], ck, cl), dl = off_line(pts[l], ck, cl);
+    keep[(dk != dl ? dk < dl : key(pts[k], q) < key(pts[l], q)) ? k : l] = 1;
+  }
+  if (size_t(std::count(keep.begin(), keep.end(), 1)) < (cp.closed ? 3u : 2u))  // within one cell: spread points of it
+    for (size_t k = 0; k < n; ++k) keep[k] = keep[k] || n <= 8 || k % (n / 4) == 0;
+}
+
+// The crossings, and where a chord between two kept points strays from the points it leaves
+// out by more than `stray`, the farthest of them, until none does (Douglas-Peucker from the
+// kept points: a thin stroke's two sides keep their mesh between them; the farthest point of a
+// chord is the same whichever way the contour runs). Returns how many are kept.
+size_t keep_straying(ContourPoints& cp, double stray, double q) {
+  const Points& pts = cp.pts;
+  const size_t n = pts.size();
+  std::vector<char>& keep = cp.keep;
+  keep = cp.crossings;
+  std::vector<std::pair<size_t, size_t>> chords;
+  for (size_t k = 0; k < n; ++k) {
+    if (!keep[k]) continue;
+    size_t l = (k + 1) % n;
+    while (!keep[l]) l = (l + 1) % n;
+    if (cp.closed || l > k) chords.push_back({k, l});
+  }
+  while (!chords.empty()) {
+    const auto [a, b] = chords.back();
+    chords.pop_back();
+    const Vec2 pa = pts[a], d = pts[b] - pa;
+    const double len2 = d.squaredNorm();
+    double far = stray;
+    size_t at_far = n;
+    for (size_t k = (a + 1) % n; k != b; k = (k + 1) % n) {
+      const double t = len2 > 0 ? std::clamp((pts[k] - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
+      const double off = (pts[k] - (pa + t * d)).norm();
+      if (off > far || (off == far && at_far < n && key(pts[k], q) < key(pts[at_far], q))) far = off, at_far = k;
+    }
+    if (at_far == n) continue;
+    keep[at_far] = 1;
+    chords.push_back({a, at_far});
+    chords.push_back({at_far, b});
+  }
+  return size_t(std::count(keep.begin(), keep.end(), 1));
+}
+
 
 }  // namespace
 
@@ -266,19 +357,13 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
       }
   }
   // Each contour's points, with the stroke ends that touch it between its points (T-junctions).
-  struct ContourPoints {
-    Points pts;
-    std::vector<int> orig;   ///< per contour point: its index in pts
-    std::vector<char> must;  ///< per point of pts: a node whatever the spacing
-    std::vector<char> keep;  ///< per point of pts: a node
-  };
   std::vector<ContourPoints> cps;
   double outline = 0;
   for (const SubShape& s : ch.shapes)
     for (const Contour& c : s.contours) {
       ContourPoints& cp = cps.emplace_back();
       if (c.count < 2) continue;
-      const bool cl = c.closed && c.count >= 3;
+      const bool cl = cp.closed = c.closed && c.count >= 3;
       for (int k = 0; k < c.count; ++k) {
         const Vec2& a = s.points[size_t(c.begin + k)];
         cp.orig.push_back(int(cp.pts.size()));
@@ -304,6 +389,10 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
             cp.must.push_back(1);
           }
       }
+      for (const Vec2& p : cp.pts) {
+        const auto it = contours_at.find(key(p, q));
+        cp.sharing.push_back(it == contours_at.end() ? nullptr : &it->second);
+      }
     }
   // Drawn points closer than a cell are not all nodes: an editor's curve flattened in dozens of
   // points a cell made a frame's solve grow with them (a sheep's curly wool, 14,910 points, 150
@@ -311,79 +400,12 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
   // outlines are long for the drawing's size, so that they are at most about kCurveNodes.
   constexpr double kCurveNodes = 1500, kChordStray = 0.05;  // (stray: of a cell)
   const double step = std::max(h_, outline / kCurveNodes);
-  auto lattice_cell = [&](const Vec2& p) {
-    return std::array<int64_t, 2>{int64_t(std::floor((p.x() - origin_.x()) / step)),
-                                  int64_t(std::floor((p.y() - origin_.y()) / step))};
-  };
-  // A contour's nodes: where it steps from one lattice cell into the next, the end of the step
-  // nearer the line it crosses (both ends of a step as long as half a cell: a corner), and the
-  // points where the contours sharing it change; then, where a chord between two kept points
-  // strays from the points it leaves out by more than `stray`, the farthest of them, until none
-  // does (Douglas-Peucker from the kept points: a thin stroke's two sides keep their mesh
-  // between them). Each choice depends on the points alone, not on the way the contour runs, so
-  // an outline and its fill drawn through the same points keep the same ones. Returns how many.
-  auto thin = [&](ContourPoints& cp, bool cl, double stray) -> size_t {
-    const Points& pts = cp.pts;
-    const size_t n = pts.size();
-    std::vector<char>& keep = cp.keep;
-    keep.assign(cp.must.begin(), cp.must.end());
-    if (every_contour_point_) keep.assign(n, 1);
-    auto off_line = [&](const Vec2& p, const std::array<int64_t, 2>& a, const std::array<int64_t, 2>& b) {
-      double d = INFINITY;
-      for (int i = 0; i < 2; ++i)
-        if (a[size_t(i)] != b[size_t(i)])
-          d = std::min(d, std::abs(p[i] - (origin_[i] + step * double(std::max(a[size_t(i)], b[size_t(i)])))));
-      return d;
-    };
-    for (size_t k = 0; k + (cl ? 0 : 1) < n; ++k) {
-      const size_t l = (k + 1) % n;
-      const std::vector<int>&sk = contours_at[key(pts[k], q)], &sl = contours_at[key(pts[l], q)];
-      if (sk != sl) keep[k] = keep[l] = 1;
-      const auto ck = lattice_cell(pts[k]), cl2 = lattice_cell(pts[l]);
-      if (ck == cl2) continue;
-      if ((pts[l] - pts[k]).norm() >= 0.5 * step) {
-        keep[k] = keep[l] = 1;
-        continue;
-      }
-      const double dk = off_line(pts[k], ck, cl2), dl = off_line(pts[l], ck, cl2);
-      keep[(dk != dl ? dk < dl : key(pts[k], q) < key(pts[l], q)) ? k : l] = 1;
-    }
-    if (size_t(std::count(keep.begin(), keep.end(), 1)) < (cl ? 3u : 2u))  // within one cell: spread points of it
-      for (size_t k = 0; k < n; ++k) keep[k] = keep[k] || n <= 8 || k % (n / 4) == 0;
-    std::vector<std::pair<size_t, size_t>> chords;
-    for (size_t k = 0; k < n; ++k) {
-      if (!keep[k]) continue;
-      size_t l = (k + 1) % n;
-      while (!keep[l]) l = (l + 1) % n;
-      if (cl || l > k) chords.push_back({k, l});
-    }
-    while (!chords.empty()) {
-      const auto [a, b] = chords.back();
-      chords.pop_back();
-      const Vec2 pa = pts[a], d = pts[b] - pa;
-      const double len2 = d.squaredNorm();
-      double far = stray;
-      size_t at_far = n;
-      for (size_t k = (a + 1) % n; k != b; k = (k + 1) % n) {
-        const double t = len2 > 0 ? std::clamp((pts[k] - pa).dot(d) / len2, 0.0, 1.0) : 0.0;
-        const double off = (pts[k] - (pa + t * d)).norm();
-        if (off > far || (off == far && at_far < n && key(pts[k], q) < key(pts[at_far], q))) far = off, at_far = k;
-      }
-      if (at_far == n) continue;
-      keep[at_far] = 1;
-      chords.push_back({a, at_far});
-      chords.push_back({at_far, b});
-    }
-    return size_t(std::count(keep.begin(), keep.end(), 1));
-  };
-  // The chords' stray a twentieth of a cell, or wider until the contours' nodes are few enough.
+  // Which points of each contour are nodes (keep_crossings, keep_straying): the chords' leeway
+  // a twentieth of a cell, or wider until the contours' nodes are few enough.
+  for (ContourPoints& cp : cps) keep_crossings(cp, origin_, step, q, every_contour_point_);
   for (double stray = kChordStray * h_, pass = 0;; stray *= 2, ++pass) {
-    size_t nodes = 0, ci = 0;
-    for (const SubShape& s : ch.shapes)
-      for (const Contour& c : s.contours) {
-        ContourPoints& cp = cps[ci++];
-        if (c.count >= 2) nodes += thin(cp, c.closed && c.count >= 3, stray);
-      }
+    size_t nodes = 0;
+    for (ContourPoints& cp : cps) nodes += keep_straying(cp, stray, q);
     if (double(nodes) <= kCurveNodes || pass >= 8) break;
   }
   struct Dropped {
@@ -598,6 +620,15 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
   // far when it bends), so the mesh carries it exactly at rest; two contours through the point
   // choose the same triangle. A stroke with no mesh about it is carried by the nodes about it on
   // its curve (not a far one: as the curve bends, a far node threw the point across the picture).
+  auto barycentric = [&](const Vec2& p, int ia, int ib, int ic) {  // p's coordinates in the triangle of nodes ia, ib, ic
+    const Vec2 &a = rest_[size_t(ia)], &b = rest_[size_t(ib)], &c = rest_[size_t(ic)];
+    const double det = cross(b - a, c - a), wb = cross(p - a, c - a) / det, wc = cross(b - a, p - a) / det;
+    Embed e;
+    e.n = 3;
+    e.v[0] = ia, e.v[1] = ib, e.v[2] = ic;
+    e.w[0] = 1 - wb - wc, e.w[1] = wb, e.w[2] = wc;
+    return e;
+  };
   for (const Dropped& d : dropped) {
     const Vec2 p = ch.shapes[size_t(d.shape)].points[size_t(d.point)];
     std::vector<int> cand(ring_tris[size_t(d.a)]);
@@ -608,16 +639,10 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
     for (int t : cand) {
       const auto& tri = tris_[size_t(t)];
       const Vec2 &a = rest_[size_t(tri[0])], &b = rest_[size_t(tri[1])], &c = rest_[size_t(tri[2])];
-      const double det = cross(b - a, c - a);
-      if (std::abs(det) < 1e-6 * h_ * h_) continue;
-      const double bv = cross(p - a, c - a) / det, bw = cross(b - a, p - a) / det, bu = 1 - bv - bw;
-      const double out = std::max({std::abs(bu), std::abs(bv), std::abs(bw)});  // 1 inside, more the farther out
-      if (out < best) {
-        best = out;
-        e.n = 3;
-        e.v[0] = tri[0], e.v[1] = tri[1], e.v[2] = tri[2];
-        e.w[0] = bu, e.w[1] = bv, e.w[2] = bw;
-      }
+      if (std::abs(cross(b - a, c - a)) < 1e-6 * h_ * h_) continue;
+      const Embed in = barycentric(p, tri[0], tri[1], tri[2]);
+      const double out = std::max({std::abs(in.w[0]), std::abs(in.w[1]), std::abs(in.w[2])});  // 1 inside, more the farther out
+      if (out < best) best = out, e = in;
     }
     if (!(best <= 2)) {  // no triangle near (a stroke alone, no mesh about it): the curve's nodes about it
       const Curve& cv = curves_[size_t(d.curve)];
@@ -631,12 +656,7 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
         if (nk != d.a && nk != d.b && ak > area) area = ak, third = nk;
       }
       if (third >= 0) {
-        const Vec2& c = rest_[size_t(third)];
-        const double det = cross(b - a, c - a);
-        const double bv = cross(p - a, c - a) / det, bw = cross(b - a, p - a) / det;
-        e.n = 3;
-        e.v[0] = d.a, e.v[1] = d.b, e.v[2] = third;
-        e.w[0] = 1 - bv - bw, e.w[1] = bv, e.w[2] = bw;
+        e = barycentric(p, d.a, d.b, third);
       } else {  // a straight run: the point is on (or within the chords' leeway of) its line
         const double len2 = (b - a).squaredNorm(), t = len2 > 0 ? (p - a).dot(b - a) / len2 : 0.0;
         e.n = 2;
@@ -720,275 +740,6 @@ std::vector<std::array<int, 3>> RigidGrid::junction_triangles() const {
   for (size_t t = 0; t < tris_.size(); ++t)
     if (junction_[t]) out.push_back(tris_[t]);
   return out;
-}
-
-void RigidGrid::build_runs() {
-  // Rows and columns of grid nodes joined by an edge of an interior cell.
-  auto lattice_runs = [&](bool along_x, Runs& r) {
-    r = Runs{};
-    const int outer = along_x ? ny_ : nx_, inner = along_x ? nx_ : ny_;
-    for (int a = 0; a <= outer; ++a) {
-      int prev = -1;
-      for (int b = 0; b <= inner; ++b) {
-        const int node = along_x ? corner_node(b, a) : corner_node(a, b);
-        const bool joined = prev >= 0 && node >= 0 &&
-                            (along_x ? (cell_inside(b - 1, a - 1) || cell_inside(b - 1, a))
-                                     : (cell_inside(a - 1, b - 1) || cell_inside(a, b - 1)));
-        if (!joined && prev >= 0) {  // close the run
-          r.start.push_back(int(r.idx.size()));
-          r.closed.push_back(0);
-          r.half.push_back(half_width_);
-        }
-        if (node >= 0) r.idx.push_back(node);
-        prev = node;
-      }
-      if (prev >= 0) {
-        r.start.push_back(int(r.idx.size()));
-        r.closed.push_back(0);
-        r.half.push_back(half_width_);
-      }
-    }
-  };
-  lattice_runs(true, rows_);
-  lattice_runs(false, cols_);
-  curve_runs_ = Runs{};
-  curve_region_.resize(cnode_.size());
-  for (const Curve& c : curves_) {
-    // w̃ = w l_in / l_b: the same reach along the curve as across the grid.
-    const int wt = std::max(1, int(std::lround(half_width_ * h_ / std::max(c.spacing, 1e-9 * h_))));
-    for (int k = 0; k < c.count; ++k) {
-      curve_runs_.idx.push_back(c.first + k);
-      curve_region_[size_t(c.first + k)] = int(grid_count_) + c.first + k;
-    }
-    curve_runs_.start.push_back(int(curve_runs_.idx.size()));
-    curve_runs_.closed.push_back(c.closed ? 1 : 0);
-    curve_runs_.half.push_back(wt);
-  }
-  // A window pass takes prefix sums over at most twice a run (a closed run, padded by w < len/2).
-  size_t longest = 1;
-  for (const Runs* r : {&rows_, &cols_, &curve_runs_})
-    for (size_t k = 0; k + 1 < r->start.size(); ++k) longest = std::max(longest, size_t(r->start[k + 1] - r->start[k]));
-  prefix_.assign((2 * longest + 1) * 4, 0.0);
-}
-
-void RigidGrid::build_regions() {
-  const size_t G = grid_count_, R = G + cnode_.size();
-  for (Runs* r : {&rows_, &cols_}) std::fill(r->half.begin(), r->half.end(), half_width_);
-  reg_start_.assign(1, 0);
-  reg_.clear();
-  reg_center_.resize(R);
-  std::vector<int> row_run(G), row_pos(G), col_run(G), col_pos(G);
-  for (size_t k = 0; k + 1 < rows_.start.size(); ++k)
-    for (int p = rows_.start[k]; p < rows_.start[k + 1]; ++p)
-      row_run[size_t(rows_.idx[size_t(p)])] = int(k), row_pos[size_t(rows_.idx[size_t(p)])] = p;
-  for (size_t k = 0; k + 1 < cols_.start.size(); ++k)
-    for (int p = cols_.start[k]; p < cols_.start[k + 1]; ++p)
-      col_run[size_t(cols_.idx[size_t(p)])] = int(k), col_pos[size_t(cols_.idx[size_t(p)])] = p;
-  const int w = half_width_;
-  for (size_t i = 0; i < G; ++i) {
-    if (plain_) {  // every grid node of the square, reachable or not
-      for (int dj = -w; dj <= w; ++dj)
-        for (int di = -w; di <= w; ++di) {
-          const int ii = gxy_[i][0] + di, jj = gxy_[i][1] + dj;
-          if (ii >= 0 && jj >= 0 && ii <= nx_ && jj <= ny_ && corner_node(ii, jj) >= 0) reg_.push_back(corner_node(ii, jj));
-        }
-    } else {  // along the column of interior-cell edges, then along the rows
-      const int c = col_run[i];
-      for (int p = std::max(cols_.start[size_t(c)], col_pos[i] - w);
-           p <= std::min(cols_.start[size_t(c) + 1] - 1, col_pos[i] + w); ++p) {
-        const size_t k = size_t(cols_.idx[size_t(p)]);
-        const int r = row_run[k];
-        for (int s = std::max(rows_.start[size_t(r)], row_pos[k] - w);
-             s <= std::min(rows_.start[size_t(r) + 1] - 1, row_pos[k] + w); ++s)
-          reg_.push_back(rows_.idx[size_t(s)]);
-      }
-    }
-    reg_center_[i] = int(i);
-    reg_start_.push_back(int(reg_.size()));
-  }
-  for (size_t k = 0; k + 1 < curve_runs_.start.size(); ++k) {
-    const int b = curve_runs_.start[k], len = curve_runs_.start[k + 1] - b;
-    const int wt = std::max(1, int(std::lround(w * h_ / std::max(curves_[k].spacing, 1e-9 * h_))));
-    curve_runs_.half[k] = wt;
-    const bool all = curve_runs_.closed[k] && 2 * wt + 1 >= len;
-    for (int p = 0; p < len; ++p) {
-      if (all)
-        for (int d = 0; d < len; ++d) reg_.push_back(cnode_[size_t(b + d)]);
-      else
-        for (int d = -wt; d <= wt; ++d) {
-          int m = p + d;
-          if (curve_runs_.closed[k])
-            m = ((m % len) + len) % len;
-          else if (m < 0 || m >= len)
-            continue;
-          reg_.push_back(cnode_[size_t(b + m)]);
-        }
-      reg_center_[G + size_t(b + p)] = cnode_[size_t(b + p)];
-      reg_start_.push_back(int(reg_.size()));
-    }
-  }
-  // Eq. 2: a region holding a handle turns about it (the handle nearest the region's node).
-  std::vector<char> is_handle(rest_.size(), 0);
-  for (int hn : handle_node_)
-    if (hn >= 0) is_handle[size_t(hn)] = 1;
-  for (size_t r = 0; r < R; ++r) {
-    const int own = reg_center_[r];
-    double best = INFINITY;
-    for (int j : region(r))
-      if (is_handle[size_t(j)] && (rest_[size_t(j)] - rest_[size_t(own)]).squaredNorm() < best) {
-        best = (rest_[size_t(j)] - rest_[size_t(own)]).squaredNorm();
-        reg_center_[r] = j;
-      }
-  }
-  // Which grid regions count (the others keep their members for the sums but weigh nothing):
-  // with stride s, the nodes on every s-th row and column, and any node no such region holds.
-  // Each counting region stands for the nodes nearest it among its members (a_r, Σ a_r = G), so
-  // the grid weighs the same against the junction and the handles whatever s is.
-  const int stride_now = stride();
-  reg_a_.assign(R, 1.0);
-  if (stride_now > 1 && !plain_) {
-    std::vector<char> on(G, 0), held(G, 0);
-    for (size_t i = 0; i < G; ++i) on[i] = gxy_[i][0] % stride_now == 0 && gxy_[i][1] % stride_now == 0;
-    auto hold = [&](size_t i) {
-      for (int j : region(i)) held[size_t(j)] = 1;
-    };
-    for (size_t i = 0; i < G; ++i)
-      if (on[i]) hold(i);
-    for (size_t i = 0; i < G; ++i)
-      if (!held[i]) on[i] = 1, hold(i);
-    std::vector<double> near(G, INFINITY);
-    std::vector<int> owner(G, -1);
-    for (size_t i = 0; i < G; ++i)
-      if (on[i])
-        for (int j : region(i)) {
-          const double d = (rest_[size_t(j)] - rest_[i]).squaredNorm();
-          if (d < near[size_t(j)]) near[size_t(j)] = d, owner[size_t(j)] = int(i);
-        }
-    for (size_t i = 0; i < G; ++i) reg_a_[i] = 0;
-    for (size_t j = 0; j < G; ++j) reg_a_[size_t(owner[j])] += 1;
-  }
-  reg_size_.resize(R);
-  reg_psum_.resize(R);
-  for (size_t r = 0; r < R; ++r) {
-    const auto m = region(r);
-    Vec2 s = Vec2::Zero();
-    for (int j : m) s += p_[size_t(j)];
-    reg_size_[r] = int(m.size());
-    reg_psum_[r] = s;
-  }
-  weigh_regions();
-  rc_.assign(R, 1.0);
-  rs_.assign(R, 0.0);
-  const size_t nmax = std::max(rest_.size(), R);
-  ch_in_.assign(nmax * 4, 0.0);
-  ch_mid_.assign(nmax * 4, 0.0);
-  ch_out_.assign(nmax * 4, 0.0);
-  if (plain_) fast_ = false;
-}
-
-void RigidGrid::weigh_regions() {
-  // Local stiffness per node: the largest weight of the [[stiffness]] regions holding it.
-  node_w_.assign(rest_.size(), 1.0);
-  for (size_t k = 0; k < rest_.size(); ++k) {
-    double wk = 0;
-    for (const Stiff& s : stiff_)
-      if ((rest_[k] - s.center).norm() <= s.radius) wk = std::max(wk, s.weight);
-    if (wk > 0) node_w_[k] = wk;
-  }
-  const size_t G = grid_count_;
-  reg_k_.resize(reg_center_.size());
-  for (size_t r = 0; r < reg_center_.size(); ++r) {
-    const int own = r < G ? int(r) : cnode_[r - G];
-    reg_k_[r] = reg_size_[r] > 1 ? reg_a_[r] * w_r_ * node_w_[size_t(own)] / double(reg_size_[r]) : 0.0;
-  }
-}
-
-bool RigidGrid::set_plain_regions(bool plain, std::string* error) {
-  plain_ = plain;
-  fast_ = !plain;
-  build_regions();
-  return factorise(error);
-}
-
-bool RigidGrid::set_stride(int s, std::string* error) {
-  region_stride_ = std::clamp(s, 0, 32);
-  build_regions();
-  return factorise(error);
-}
-
-bool RigidGrid::factorise(std::string* error) {
-  const size_t n = rest_.size();
-  std::vector<Eigen::Triplet<double>> t;
-  std::vector<double> diag(n, 0.0);
-  // Regions: k Σ_j (e_j − e_c)(e_j − e_c)^T.
-  for (size_t r = 0; r < reg_center_.size(); ++r) {
-    const double k = reg_k_[r];
-    if (k == 0) continue;
-    const int c = reg_center_[r];
-    for (int j : region(r)) {
-      if (j == c) continue;
-      diag[size_t(j)] += k;
-      diag[size_t(c)] += k;
-      t.emplace_back(j, c, -k);
-      t.emplace_back(c, j, -k);
-    }
-  }
-  if (tri_mode_)
-    for (size_t tt = 0; tt < tris_.size(); ++tt)
-      if (junction_[tt])
-        for (int q = 0; q < 3; ++q) {
-          const int a = tris_[tt][size_t(q)], b = tris_[tt][size_t((q + 1) % 3)];
-          diag[size_t(a)] += w_s_;
-          diag[size_t(b)] += w_s_;
-          t.emplace_back(a, b, -w_s_);
-          t.emplace_back(b, a, -w_s_);
-        }
-  for (const auto& e : edges_) {
-    if (tri_mode_) break;
-    diag[size_t(e[0])] += w_s_;
-    diag[size_t(e[1])] += w_s_;
-    t.emplace_back(e[0], e[1], -w_s_);
-    t.emplace_back(e[1], e[0], -w_s_);
-  }
-  for (size_t v = 0; v + 1 < mvc_start_.size(); ++v)
-    for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a)
-      for (int b = mvc_start_[v]; b < mvc_start_[v + 1]; ++b)
-        t.emplace_back(mvc_node_[size_t(a)], mvc_node_[size_t(b)], w_s_ * mvc_w_[size_t(a)] * mvc_w_[size_t(b)]);
-  for (size_t k = 0; k < handles_.size(); ++k) {
-    const Embed& h = handles_[k];
-    for (int a = 0; a < h.n; ++a)
-      for (int b = 0; b < h.n; ++b) t.emplace_back(h.v[a], h.v[b], w_p_ * handle_w(k) * h.w[a] * h.w[b]);
-  }
-  // Parts no handle reaches (through regions, junction edges or rings) get a tiny pull to where
-  // they are.
-  std::vector<int> comp(n);
-  std::iota(comp.begin(), comp.end(), 0);
-  auto find = [&](int i) {
-    while (comp[size_t(i)] != i) i = comp[size_t(i)] = comp[size_t(comp[size_t(i)])];
-    return i;
-  };
-  auto join = [&](int a, int b) { comp[size_t(find(a))] = find(b); };
-  for (size_t r = 0; r < reg_center_.size(); ++r)
-    for (int j : region(r)) join(j, reg_center_[r]);
-  for (const auto& e : edges_) join(e[0], e[1]);
-  for (size_t v = 0; v + 1 < mvc_start_.size(); ++v)
-    for (int a = mvc_start_[v]; a < mvc_start_[v + 1]; ++a) join(mvc_node_[size_t(a)], mvc_node_[size_t(mvc_start_[v])]);
-  std::vector<char> held(n, 0);
-  for (size_t k = 0; k < handles_.size(); ++k)
-    for (int a = 0; a < handles_[k].n; ++a)
-      if (handles_[k].w[a] != 0 && handle_rider_[k] < 0) held[size_t(find(handles_[k].v[a]))] = 1;
-  pull_.assign(n, 0.0);
-  for (size_t i = 0; i < n; ++i) {
-    if (!held[size_t(find(int(i)))]) pull_[i] = kFreePull * (1 + diag[i]);
-    t.emplace_back(int(i), int(i), diag[i] + pull_[i]);
-  }
-  Eigen::SparseMatrix<double> K(static_cast<Eigen::Index>(n), static_cast<Eigen::Index>(n));
-  K.setFromTriplets(t.begin(), t.end());
-  if (!factor_.compute(K)) {
-    if (error) *error = "rigid_grid: the system matrix could not be factorised";
-    return false;
-  }
-  return true;
 }
 
 }  // namespace mar
