@@ -2,7 +2,7 @@
 // played headless, then two seconds with every control back where it started. Where the rig
 // from the drawing's parts tears or drifts there and its silhouette has limbs, the same
 // drawing posed on the silhouette's rigid grid with the parts' limbs riding on it
-// (AutoRigOptions::grid_anywhere) is tried too, and kept when it holds and follows its knobs.
+// (AutoRigOptions::grid_anywhere) is tried too, and kept when it holds and moves as much.
 // Rigging, not a show: never on a show's frame thread.
 #pragma once
 
@@ -30,9 +30,9 @@ struct RigTrial {
 RigTrial try_rig(const AutoRig& ar, const Character& ch, const std::string& file, const std::string& mask_file = "");
 
 /// auto_rig(ch, character, mask, options), tried as above when it is a rig from the parts: when
-/// it does not hold, the grid's rig is tried and taken when it holds and follows its knobs as
-/// closely (its reach no more than 1 % of the height past the parts' rig's, or 5 %, and it moves at
-/// least half as far, or half the character's height: a rig too stiff to move would hold). `file` and
+/// it does not hold, the grid's rig is tried and taken when it holds and moves at least half as
+/// far (or half the character's height: a rig too stiff to move would hold), however far its
+/// handles lag their knobs (a torn rig is worse than one that stops short). `file` and
 /// `mask_file` are the drawing as this process opens it. `why` (if given) gets one line saying
 /// what was tried and what it measured, the rig taken first ("parts: ..." or "grid: ..."), or
 /// stays empty when nothing was tried (a rig on the grid already, or no limb in its silhouette).
