@@ -1196,3 +1196,38 @@ TEST(DrawnJoints, ARigThatSaysNoneOrStatesItsOwnKeepsThem) {
 
 }  // namespace
 }  // namespace mar
+
+namespace mar {
+namespace {
+
+// A cap drawn edge to edge with its body, half a unit off its straight cut and not quite
+// parallel to it (a ladybug's head on its back, as clip art draws it): where they meet is the
+// whole edge, not the end of it that comes nearest. Hinged at that end, the head turned about
+// its corner and opened a wedge of background between them.
+TEST(AutoRig, ACapDrawnEdgeToEdgeWithItsBodyMeetsItAlongTheEdgeNotAtACorner) {
+  const std::string svg = R"(<svg xmlns="http://www.w3.org/2000/svg" width="130" height="130" viewBox="0 0 130 130">
+  <path id="back" d="M 60,40 L 100,80 C 100,140 20,160 10,110 C 0,70 40,40 60,40 z" fill="#d22"/>
+  <path id="head" d="M 61.06,40.35 L 99.47,79.12 Q 111,29 61.06,40.35 z" fill="#531"/>
+  <rect id="leg" x="-20" y="100" width="32" height="6" fill="#111"/>
+</svg>)";
+  const std::string path = test::write_temp("cap.svg", svg);
+  const Rigged r = rig_of(path);
+  EXPECT_EQ(ids_of(r, AutoRigPart::Body), std::set<std::string>{"back"});
+  const Vec2 a(60, 40), b(100, 80), mid = (a + b) / 2;
+  const double edge = (b - a).norm();
+  bool head_joint = false;
+  for (const RigJoint& j : r.ar.rig.joints) {
+    if (j.part_a != "head" && j.part_b != "head") continue;
+    head_joint = true;
+    EXPECT_LT((j.at - mid).norm(), 0.25 * edge) << "the head turns about (" << j.at.x() << ", " << j.at.y() << "), near a corner of the edge it meets";
+  }
+  for (const AutoRigPart& p : r.ar.parts)
+    if (r.ch.shapes[size_t(p.shape)].id == "head") {
+      EXPECT_NE(p.kind, AutoRigPart::Limb) << "attached along its side, not at one end: " << p.why;
+      EXPECT_TRUE(head_joint || p.kind != AutoRigPart::Head) << "a head hinges somewhere";
+    }
+  loads(r, "cap");
+}
+
+}  // namespace
+}  // namespace mar
