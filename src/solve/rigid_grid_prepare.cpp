@@ -131,11 +131,12 @@ struct ContourPoints {
   std::vector<char> keep;                       ///< per point: a node
 };
 
-// The nodes kept however straight the contour runs: where the contour steps from one lattice cell (`step` wide,
-// from `origin`) into the next, the end of the step nearer the line it crosses (both ends of a
-// step half a cell long: a corner), and the points where the contours through it change (two
-// shapes drawn edge to edge part). Each choice depends on the points alone, not on the way the
-// contour runs, so an outline and its fill drawn through the same points keep the same ones.
+// The nodes kept however straight the contour runs: where the contour steps from one lattice
+// cell (`step` wide, from `origin`) into the next, the end of the step nearer the line it
+// crosses (both ends of a step half a cell long: a corner), and the points where the contours
+// through it change (two shapes drawn edge to edge part). Each choice depends on the points
+// alone, not on the way the contour runs, so an outline and its fill drawn through the same
+// points keep the same ones.
 void keep_crossings(ContourPoints& cp, const Vec2& origin, double step, double q, bool every_point) {
   const Points& pts = cp.pts;
   const size_t n = pts.size();
@@ -396,8 +397,9 @@ bool RigidGrid::prepare_grid(Character& ch, const Rig& rig, std::span<const Vec2
   // Drawn points closer than a cell are not all nodes: an editor's curve flattened in dozens of
   // points a cell made a frame's solve grow with them (a sheep's curly wool, 14,910 points, 150
   // ms a frame). Along a contour nodes are about `step` apart, a cell, or wider where the
-  // outlines are long for the drawing's size, so that they are at most about kCurveNodes. The
-  // chords' leeway stays a twentieth of a cell however many nodes that keeps: widened to reach
+  // outlines are long for the drawing's size, so that the lattice's crossings are at most about
+  // kCurveNodes. The chords' leeway stays a twentieth of a cell however many nodes that keeps
+  // (a wiggly fleece keeps more: a sheep's 14,858 points give 4,493 nodes): widened to reach
   // the budget (up to 12.8 cells), it dropped the tips of an eagle's feathers, a lindworm's and
   // a pig's outline, and the grid, bent and brought back, settled 2.5-4.5 % of their height off
   // their rest.
