@@ -93,5 +93,65 @@ TEST(StarterShow, TheBodysFaderTakesTheCharacterAlong) {
   EXPECT_LT((s.targets()[face] - handles[face].rest - moved).norm(), 1e-9) << "the face goes with it";
 }
 
+// Each leg's knob first swings it away from the middle of the figure, not from the body's
+// handle: a silhouette's body handle can sit over one leg (a man drawn from behind,
+// `people/silhouette_male_2.svg` of the rigging benchmark, had it 0.3 units left of his left
+// foot), and that leg swung in across the other.
+TEST(StarterShow, AKnobSwingsALegAwayFromTheMiddleWhereverTheBodysHandleIs) {
+  const std::string file = test::write_temp("starter-legs.svg",
+                                            "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"160\" height=\"220\">"
+                                            "<path id=\"figure\" fill=\"#468\" d=\"M70,10 H90 V38 H104 V120 H100 V206 H83 V122 H77 "
+                                            "V206 H60 V120 H56 V38 H70 Z\"/></svg>");
+  auto ch = load_character(file);
+  ASSERT_TRUE(ch.ok()) << ch.error;
+  AutoRig ar = auto_rig(*ch.value, file);
+  const double middle = 80;  // (the figure's bounds: 56 .. 104)
+  std::vector<std::string> legs;
+  std::string body;
+  for (const AutoRigPart& p : ar.parts)
+    if (p.kind == AutoRigPart::Body) body = p.handle;
+  for (RigHandle& h : ar.rig.handles) {
+    if (h.name == body) h.rest.x() = 64;  // over the left leg, left of its foot
+    else if (h.rest.y() > 150) legs.push_back(h.name);
+  }
+  ASSERT_EQ(legs.size(), 2u) << "two legs";
+  const auto dir = test::temp_dir("starter-legs");
+  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
+  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
+  ASSERT_TRUE(text.ok()) << text.error;
+  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.frames = 1;
+  auto live = LiveShow::load((dir / "show.toml").string(), o);
+  ASSERT_TRUE(live.ok()) << live.error;
+  LiveShow& s = **live.value;
+  (void)s.run();
+  const auto& handles = s.puppet().rig.handles;
+  auto index = [&](const std::string& name) {
+    for (size_t h = 0; h < handles.size(); ++h)
+      if (handles[h].name == name) return h;
+    ADD_FAILURE() << "no handle " << name;
+    return size_t(0);
+  };
+  const size_t b = index(body);
+  std::vector<bool> swung(legs.size(), false);
+  for (int k = 1; k <= 180; ++k) {
+    s.frame(int64_t(double(k) / 60 * 1e9));
+    for (size_t l = 0; l < legs.size(); ++l) {
+      const size_t h = index(legs[l]);
+      const double side = handles[h].rest.x() - middle;
+      ASSERT_GT(std::abs(side), 5) << legs[l];
+      // (the foot against the body: the body's fader moves both alike)
+      const Vec2 d = (s.targets()[h] - s.targets()[b]) - (handles[h].rest - handles[b].rest);
+      if (swung[l] || d.norm() < 2) continue;
+      swung[l] = true;
+      EXPECT_GT(d.x() * side, 0) << legs[l] << " first swings toward the middle (" << d.x() << " units) from x = " << handles[h].rest.x();
+    }
+  }
+  for (size_t l = 0; l < legs.size(); ++l) EXPECT_TRUE(swung[l]) << legs[l] << " is turned by a knob";
+}
+
 }  // namespace
 }  // namespace mar
