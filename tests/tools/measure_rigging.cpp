@@ -8,7 +8,9 @@
 // measured piece by piece, and its reach (the farthest any handle is from its target: a limb
 // that lags its knob, or is too stiff to turn as far as it is told). Each row also keeps what
 // its solve cost a frame (median ms; a timing, so read it from a machine left alone).
-// Prints a row per drawing and the shares; --json FILE writes them, --keep DIR keeps each
+// Prints a row per drawing and the shares; --json FILE writes them (a grid rig's row names its
+// worst piece and the frame of the show it is worst on, `worst_piece_name`, `worst_piece_frame`:
+// `marionette run SHOW --dump-frames DIR --every 1` shows that moment), --keep DIR keeps each
 // rig, starter show and preview, --list FILE measures another list, --bones rigs as `rig
 // --bones` does (a long, straight limb inside one shape turning whole at its joint),
 // --untried takes the automatic rig without trying it on its starter show first. A
@@ -66,6 +68,7 @@ class Regions {
         a.cuts.push_back(at);
       }
       axes.push_back(std::move(a));
+      names_.push_back(p.handle);
     }
     region_.resize(rest.size());
     for (size_t k = 0; k < rest.size(); ++k) {
@@ -98,7 +101,8 @@ class Regions {
   }
   // The worst piece's RMS residual of its best rigid fit (character units); `in_limb` says
   // whether that piece is a limb's (else the body's).
-  double worst(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now, bool* in_limb = nullptr) const {
+  double worst(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now, bool* in_limb = nullptr,
+               std::string* which = nullptr) const {
     double w = 0;
     for (size_t k = 0; k < rest.size() && k < now.size(); ++k) {
       if (rest[k].size() != now[k].size() || region_[k].size() != rest[k].size()) continue;
@@ -112,6 +116,7 @@ class Regions {
         if (const double d = a.size() >= 3 ? mar::rigid_fit_rms(a, b) : 0.0; d > w) {
           w = d;
           if (in_limb) *in_limb = id != 0;
+          if (which) *which = id == 0 ? "the body" : names_[size_t(id - 1) / 4] + " piece " + std::to_string((id - 1) % 4);
         }
       }
     }
@@ -127,6 +132,7 @@ class Regions {
 
  private:
   std::vector<std::vector<int>> region_;  // per shape, per point: 0 the body, else 1 + 4 * limb + piece
+  std::vector<std::string> names_;        // per limb: its handle
 };
 
 }  // namespace
@@ -247,7 +253,9 @@ int main(int argc, char** argv) {
           const Regions reg(ar, rest);
           (void)r.run();
           bool limb = false;
-          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb);
+          std::string which;  // (the worst piece, and the frame it is worst on: for --dump-frames)
+          long which_frame = 0;
+          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb, &which);
           // How far a handle is from its target at worst: a limb that lags its knob, or one too
           // stiff to reach where it is turned to.
           double reach = 0;
@@ -263,9 +271,12 @@ int main(int argc, char** argv) {
             lag();
             whole = std::max(whole, reg.whole(rest, r.puppet().shapes));
             bool in_limb = false;
-            if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb); d > pieces) {
+            std::string piece;
+            if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb, &piece); d > pieces) {
               pieces = d;
               limb = in_limb;
+              which = piece;
+              which_frame = k;
             }
           }
           worst_piece = limb ? "a limb's piece" : "the body's";
@@ -279,6 +290,8 @@ int main(int argc, char** argv) {
           reaches.push_back(reach_pct);
           row["worst_reach_pct"] = reach_pct;
           row["worst_piece"] = worst_piece;
+          row["worst_piece_name"] = which;
+          row["worst_piece_frame"] = which_frame;
         } else {
           by_region = worst;
         }
