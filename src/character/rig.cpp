@@ -236,15 +236,25 @@ void read_rider(const std::string& path, const toml::node* rs, Rig& r) {
   for (const toml::node& rn : *a) {
     const toml::table* t = rn.as_table();
     if (!t) throw RigError{at(path, rn) + ": a rider must be a table"};
-    check_keys(path, *t, {"part", "on", "at", "handle", "with"}, "[[rider]]");
+    check_keys(path, *t, {"part", "on", "at", "handle", "with", "still"}, "[[rider]]");
     RigRider d;
     d.line = static_cast<int>(rn.source().begin.line);
     d.part = text(*t, "part");
     d.on = text(*t, "on");
     d.handle = text(*t, "handle");
+    if (const toml::node* st = t->get("still")) {
+      if (!st->is_boolean()) throw RigError{at(path, *st) + ": still must be true or false"};
+      d.still = *st->value<bool>();
+    }
     const toml::node* n = t->get("at");
-    if (d.part.empty() || !n) throw RigError{at(path, rn) + ": a rider needs part = \"sub-shape id\" and at = [x, y] (its hinge)"};
-    d.at = point(path, *n, "at");
+    if (d.still) {
+      if (d.part.empty()) throw RigError{at(path, rn) + ": a rider needs part = \"sub-shape id\""};
+      if (n || !d.on.empty() || !d.handle.empty())
+        throw RigError{at(path, rn) + ": a still rider stays where it is drawn: it takes no on, at or handle"};
+    } else {
+      if (d.part.empty() || !n) throw RigError{at(path, rn) + ": a rider needs part = \"sub-shape id\" and at = [x, y] (its hinge)"};
+      d.at = point(path, *n, "at");
+    }
     if (const toml::node* w = t->get("with")) d.with = id_list(path, *w, "with");
     for (const RigRider& o : r.riders)
       if (o.part == d.part) throw RigError{at(path, rn) + ": part '" + d.part + "' rides twice"};
@@ -515,6 +525,8 @@ Result<Rig> parse_rig(std::string_view text, const std::string& path) {
     for (const RigRider& d : r.riders) {
       // (on the feature frame a rider is a detail carried whole by the part it is on: it turns
       // with that part, so it has no handle of its own)
+      if (d.still && r.solver != "rigid_grid")
+        throw RigError{path + ":" + std::to_string(d.line) + ": a still [[rider]] is left out of the rigid grid's mesh: it needs solver = \"rigid_grid\""};
       if (r.solver == "feature_frame" && (d.on.empty() || !d.handle.empty()))
         throw RigError{path + ":" + std::to_string(d.line) + ": on the feature frame a [[rider]] rides whole on the part it is on: it needs on = \"sub-shape id\" and no handle (a rider that turns toward a handle needs solver = \"rigid_grid\")"};
       if (r.solver != "rigid_grid" && r.solver != "feature_frame")
@@ -643,7 +655,8 @@ std::string write_rig(const Rig& r) {
   for (const RigRider& rd : r.riders) {
     o << "\n[[rider]]\npart = " << toml_string(rd.part) << "\n";
     if (!rd.on.empty()) o << "on = " << toml_string(rd.on) << "\n";
-    o << "at = " << pt(rd.at) << "\n";
+    if (rd.still) o << "still = true\n";
+    else o << "at = " << pt(rd.at) << "\n";
     if (!rd.handle.empty()) o << "handle = " << toml_string(rd.handle) << "\n";
     if (!rd.with.empty()) o << "with = " << ids(rd.with) << "\n";
   }

@@ -75,13 +75,16 @@ struct RigStiffness {
 /// hangs on it turn it toward their targets, and the shapes `with` it (details, outlines, a
 /// hand) ride along. A rig mixes parts and
 /// silhouette this way: a limb drawn as a part of its own stays rigid and hinged, a limb inside
-/// one shape bends in the grid.
+/// one shape bends in the grid. A `still` one (scenery: a backdrop, a ground shadow) is out of
+/// the mesh and stays where it is drawn: in the mesh, a rectangle under the whole drawing joined
+/// every limb to every other through it and turned with them.
 struct RigRider {
   std::string part;               ///< sub-shape id
   std::string on;                 ///< sub-shape id it hangs from ("" : the grid)
   Vec2 at = Vec2::Zero();         ///< the hinge
   std::string handle;             ///< a [[handle]] name ("" : it keeps the turn of what it hangs from)
   std::vector<std::string> with;  ///< sub-shape ids riding on it
+  bool still = false;             ///< it hangs on nothing and never moves (no on, at or handle)
   int line = 0;
 };
 

@@ -180,8 +180,10 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
     const Vec2 d = (box[j].lo - box[i].hi).cwiseMax(box[i].lo - box[j].hi).cwiseMax(Vec2::Zero());
     return d.norm();
   };
+  std::vector<char> scenery(ch.shapes.size(), 0);  // (still where it is drawn: it rides on nothing)
+  for (const AutoRigLeftOut& l : out.left_out) scenery[size_t(l.shape)] = 1;
   for (size_t i = 0, floating = 0; i < old.size() && floating < 64; ++i) {  // (at most 64: each is weighed against every part)
-    if (rides[i] || old[i].kind == AutoRigPart::Body || owner(int(i)) >= 0) continue;
+    if (rides[i] || old[i].kind == AutoRigPart::Body || owner(int(i)) >= 0 || scenery[size_t(old[i].shape)]) continue;
     if (outline[i].size() < 3 || sil.outline.size() < 3) continue;
     const size_t step = std::max<size_t>(1, outline[i].size() / 64);
     size_t out_of = 0, all = 0;
@@ -296,9 +298,14 @@ bool rig_from_silhouette(const Character& ch, const std::set<int>& members, doub
   body.handle = unique("body");
   rig.handles.push_back({body.handle, sil.core});
   out.parts.push_back(body);
-  for (const AutoRigLeftOut& l : out.left_out) {  // scenery: a handle driven by nothing holds it
-    const Points r = ch.shapes[size_t(l.shape)].largest_ring();
-    if (r.size() >= 3) rig.handles.push_back({unique("scenery"), ring_centroid(r)});
+  // Scenery stays where it is drawn, out of the grid's mesh: in it, a rectangle under the whole
+  // drawing (a bunny cut out of a green square) joined every limb to every other through it, and
+  // one handle held it no better than a pin, so it turned and sheared with them.
+  for (const AutoRigLeftOut& l : out.left_out) {
+    RigRider d;
+    d.part = ch.shapes[size_t(l.shape)].id;
+    d.still = true;
+    if (std::none_of(rig.riders.begin(), rig.riders.end(), [&](const RigRider& o) { return o.part == d.part; })) rig.riders.push_back(d);
   }
   // The head: a limb wide at its end (half again as wide as its neck, and a third of the body),
   // the widest such, above the core; or the one whose end a part named head holds.

@@ -58,7 +58,8 @@ std::string write_auto_rig(const AutoRig& a, const Character& ch) {
   for (const RigRider& d : r.riders) {
     o << "\n[[rider]]\npart = " << q(d.part) << "\n";
     if (!d.on.empty()) o << "on = " << q(d.on) << "\n";
-    o << "at = " << point_toml(d.at) << "\n";
+    if (d.still) o << "still = true  # scenery: out of the grid, where it is drawn\n";
+    else o << "at = " << point_toml(d.at) << "\n";
     if (!d.handle.empty()) o << "handle = " << q(d.handle) << "\n";
     if (!d.with.empty()) {
       o << "with = [";

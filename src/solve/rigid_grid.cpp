@@ -262,7 +262,7 @@ void RigidGrid::solve(std::span<const Vec2> targets, int iterations) {
 void RigidGrid::grab(const Vec2& rest_point) {
   grab_rider_ = -1;  // on a rider (the last drawn of those under the pen): the pen turns it
   for (size_t r = 0; r < riders_.size(); ++r)
-    if (riders_[r].ring.size() >= 3 && winding_number(riders_[r].ring, rest_point) != 0 &&
+    if (!riders_[r].still && riders_[r].ring.size() >= 3 && winding_number(riders_[r].ring, rest_point) != 0 &&
         (grab_rider_ < 0 || riders_[r].shapes.front() > riders_[size_t(grab_rider_)].shapes.front()))
       grab_rider_ = int(r);
   if (grab_rider_ < 0) grab_rider_ = bone_at(rest_point);  // on a bone's limb: the pen turns the bone

@@ -47,7 +47,8 @@
 // then eight sweeps, outermost first, turn each (with what hangs on it) to bring the handles on
 // them and a pen nearest their targets, least squares (one with no handle of its own has a weak
 // spring to its drawn turn). From the drawn turns every frame: the pose is the targets' alone.
-// Their points are set after each solve: no term of the energy, nothing factorised.
+// Their points are set after each solve: no term of the energy, nothing factorised. A still
+// rider (scenery) never moves and no pen grabs it.
 // Where a drawing's limbs are parts of their own they ride rigid and hinged (the automatic rig's
 // parts and silhouette, region by region).
 //
@@ -199,6 +200,7 @@ class RigidGrid final : public Solver {
     std::vector<int> refs;        ///< grid nodes beside the joint, off the limb: the grid's turn there
     double base = 0;              ///< this frame: the grid's turn at the joint
     double base_c = 1, base_s = 0;  ///< its cosine and sine
+    bool still = false;           ///< scenery: never moves (and no pen grabs it)
     void turn(double a) {
       angle = a;
       c = std::cos(a);

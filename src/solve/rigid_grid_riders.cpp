@@ -63,6 +63,7 @@ bool RigidGrid::prepare_riders(const Character& ch, const Rig& rig, std::string*
     x.hinge = d.at;
     x.t = d.at;
     x.handle = d.handle.empty() ? -1 : rig.find_handle(d.handle);
+    x.still = d.still;
     x.ring = ch.shapes[size_t(part[size_t(r)])].largest_ring();
     for (const Vec2& q : ch.shapes[size_t(part[size_t(r)])].points) x.reach = std::max(x.reach, (q - x.hinge).norm());
     std::vector<int> shapes{part[size_t(r)]};
@@ -276,7 +277,7 @@ int RigidGrid::bone_at(const Vec2& rest_point) const {
 void RigidGrid::link_riders() {
   for (size_t r = 0; r < riders_.size(); ++r) {
     Rider& d = riders_[r];
-    if (d.parent >= 0) continue;
+    if (d.parent >= 0 || d.still) continue;
     if (!d.bone)  // a rider hinged on a bone's limb hangs on the bone (the bones come first)
       if (const int b = bone_at(d.hinge); b >= 0 && size_t(b) < r) {
         d.parent = b;
@@ -320,6 +321,11 @@ void RigidGrid::place_riders(std::span<const Vec2> targets) {
   // a chain swung far could settle folded, each link pointing at its target).
   for (Rider& d : riders_) {
     double base = 0;
+    if (d.still) {  // (scenery: as drawn, whatever the grid does)
+      d.t = d.hinge;
+      d.turn(0);
+      continue;
+    }
     if (d.parent >= 0) {
       const Rider& p = riders_[size_t(d.parent)];
       base = p.angle;
@@ -354,6 +360,7 @@ void RigidGrid::place_riders(std::span<const Vec2> targets) {
   for (int sweep = 0; sweep < kRiderSweeps; ++sweep)
     for (size_t k = riders_.size(); k-- > 0;) {
       Rider& d = riders_[k];
+      if (d.still) continue;
       double cs = 0, sn = 0;
       auto pull = [&](const Vec2& now, const Vec2& target, double w) {
         const Vec2 a = now - d.t, b = target - d.t;

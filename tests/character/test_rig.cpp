@@ -284,11 +284,15 @@ with = ["sleeve", "cuff"]
 part = "lower"
 on = "upper"
 at = [30, 5]
+
+[[rider]]
+part = "backdrop"
+still = true
 )toml";
   auto a = parse_rig(text, "d.toml");
   ASSERT_TRUE(a.ok()) << a.error;
   const Rig& r = *a.value;
-  ASSERT_EQ(r.riders.size(), 2u);
+  ASSERT_EQ(r.riders.size(), 3u);
   EXPECT_EQ(r.riders[0].part, "upper");
   EXPECT_EQ(r.riders[0].on, "body");
   EXPECT_EQ(r.riders[0].at, Vec2(10, 5));
@@ -296,6 +300,8 @@ at = [30, 5]
   EXPECT_EQ(r.riders[0].with, (std::vector<std::string>{"sleeve", "cuff"}));
   EXPECT_EQ(r.riders[1].line, 14);
   EXPECT_TRUE(r.riders[1].handle.empty());
+  EXPECT_TRUE(r.riders[2].still);
+  EXPECT_FALSE(r.riders[0].still);
   round_trips(r);
   refused({
       {"character = \"a.svg\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\n", "r.toml:2: on the feature frame a [[rider]] rides whole on the part it is on"},
@@ -309,6 +315,10 @@ at = [30, 5]
        "r.toml:6: part 'arm' rides twice"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nwith = \"cuff\"\n", "r.toml:6: with must be a list"},
       {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"arm\"\nat = [1, 2]\nspin = 1\n", "r.toml:6: unknown key 'spin'"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"sun\"\nstill = true\nat = [1, 2]\n",
+       "r.toml:3: a still rider stays where it is drawn: it takes no on, at or handle"},
+      {"character = \"a.svg\"\nsolver = \"rigid_grid\"\n[[rider]]\npart = \"sun\"\nstill = 1\n", "r.toml:5: still must be true or false"},
+      {"character = \"a.svg\"\n[[rider]]\npart = \"sun\"\nstill = true\n", "r.toml:2: a still [[rider]] is left out of the rigid grid's mesh"},
   });
   // (a chain of riders costs the square of its length a frame: at most 256)
   std::string many = "character = \"a.svg\"\nsolver = \"rigid_grid\"\n";

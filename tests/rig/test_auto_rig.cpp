@@ -1,6 +1,7 @@
 // The automatic rig: every example character gets the limbs, hinges, handles, swap sets and
 // triggers a person would give it, the rig loads as a puppet with no edits, hinges sit where
 // the hand rigs put their joints, and a drawing with no names at all still gets its limbs.
+#include "app/live.h"
 #include "app/puppet.h"
 #include "character/load.h"
 #include "render/canvas.h"
@@ -570,6 +571,59 @@ TEST(AutoRig, ABackdropAndAGroundShadowAreLeftOutAndNeverTheBody) {
   ASSERT_EQ(framed.ar.left_out.size(), 1u);
   EXPECT_EQ(framed.ch.shapes[size_t(framed.ar.left_out[0].shape)].id, "rect0");
   EXPECT_EQ(ids_of(framed, AutoRigPart::Body), std::set<std::string>{"circle1"});
+}
+
+// A creature in one shape cut out of a rectangle that fills the drawing (a bunny on a green
+// square, `animals/mammals/bunny_01.svg` of the benchmark): the rectangle is its background,
+// out of the rigid grid's mesh and exactly where it is drawn on every frame of the starter
+// show, while the legs turn. In the mesh, held by one handle at its middle, it joined every limb
+// to every other through it and turned with them.
+TEST(AutoRig, ABackgroundUnderALimbsInsideOneShapeStaysWhereItIsDrawn) {
+  // (an eye and a spot: a drawing of two shapes has no background to tell)
+  const std::string svg = creature("#864", "<circle id=\"circle4\" cx=\"262\" cy=\"28\" r=\"5\"/>"
+                                           "<circle id=\"circle5\" cx=\"150\" cy=\"100\" r=\"8\" fill=\"#a75\"/>");
+  const std::string carded = svg.substr(0, svg.find("<path")) + "<rect id=\"rect0\" width=\"300\" height=\"220\" fill=\"#2a6\"/>" +
+                             svg.substr(svg.find("<path"));
+  const std::string path = test::write_temp("creature-on-card.svg", carded);
+  const Rigged r = rig_of(path);
+  ASSERT_EQ(r.ar.rig.solver, "rigid_grid");
+  ASSERT_EQ(r.ar.left_out.size(), 1u);
+  EXPECT_EQ(r.ch.shapes[size_t(r.ar.left_out[0].shape)].id, "rect0");
+  const Rigged plain = rig_of(test::write_temp("creature-off-card.svg", svg));
+  EXPECT_EQ(ids_of(r, AutoRigPart::Limb).size(), ids_of(plain, AutoRigPart::Limb).size()) << "the same limbs";
+  bool still = false;
+  for (const RigRider& d : r.ar.rig.riders) still = still || (d.part == "rect0" && d.still);
+  EXPECT_TRUE(still) << "a still rider";
+  const auto dir = test::temp_dir("creature-on-card");
+  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(r.ar, r.ch)));
+  auto text = starter_show(r.ar, r.ch, "rig.toml", "nanokontrol2");
+  ASSERT_TRUE(text.ok()) << text.error;
+  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
+  RunOptions o;
+  o.headless = true;
+  o.quiet = true;
+  o.frames = 1;
+  auto live = LiveShow::load((dir / "show.toml").string(), o);
+  ASSERT_TRUE(live.ok()) << live.error;
+  LiveShow& s = **live.value;
+  (void)s.run();
+  const std::vector<Points> rest = s.puppet().shapes;
+  size_t card = rest.size(), body = rest.size();
+  for (size_t k = 0; k < s.puppet().character.shapes.size(); ++k) {
+    if (s.puppet().character.shapes[k].id == "rect0") card = k;
+    if (s.puppet().character.shapes[k].id == "path12") body = k;
+  }
+  ASSERT_LT(card, rest.size());
+  ASSERT_LT(body, rest.size());
+  double card_moved = 0, body_moved = 0;
+  for (int k = 1; k <= 240; ++k) {
+    s.frame(int64_t(double(k) / 60 * 1e9));
+    const auto& now = s.puppet().shapes;
+    for (size_t i = 0; i < rest[card].size(); ++i) card_moved = std::max(card_moved, (now[card][i] - rest[card][i]).norm());
+    for (size_t i = 0; i < rest[body].size(); ++i) body_moved = std::max(body_moved, (now[body][i] - rest[body][i]).norm());
+  }
+  EXPECT_EQ(card_moved, 0.0) << "the background is where it is drawn";
+  EXPECT_GT(body_moved, 20.0) << "the creature's limbs turn";
 }
 
 // The head turns about its neck: a hinge where it meets the body, so a tilt of the head's
