@@ -11,6 +11,7 @@
 #include "rig/limb_geometry.h"
 #include "rig/starter_show.h"
 #include "solve/make_solver.h"
+#include "starter_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -594,19 +595,9 @@ TEST(AutoRig, ABackgroundUnderALimbsInsideOneShapeStaysWhereItIsDrawn) {
   bool still = false;
   for (const RigRider& d : r.ar.rig.riders) still = still || (d.part == "rect0" && d.still);
   EXPECT_TRUE(still) << "a still rider";
-  const auto dir = test::temp_dir("creature-on-card");
-  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(r.ar, r.ch)));
-  auto text = starter_show(r.ar, r.ch, "rig.toml", "nanokontrol2");
-  ASSERT_TRUE(text.ok()) << text.error;
-  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
-  RunOptions o;
-  o.headless = true;
-  o.quiet = true;
-  o.frames = 1;
-  auto live = LiveShow::load((dir / "show.toml").string(), o);
-  ASSERT_TRUE(live.ok()) << live.error;
-  LiveShow& s = **live.value;
-  (void)s.run();
+  const auto live = test::first_frame(test::write_starter(r.ar, r.ch, "creature-on-card"));
+  ASSERT_NE(live, nullptr);
+  LiveShow& s = *live;
   const std::vector<Points> rest = s.puppet().shapes;
   size_t card = rest.size(), body = rest.size();
   for (size_t k = 0; k < s.puppet().character.shapes.size(); ++k) {

@@ -6,6 +6,7 @@
 #include "character/load.h"
 #include "rig/auto_rig.h"
 #include "rig/starter_show.h"
+#include "starter_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -22,13 +23,7 @@ std::string starter_of(const std::string& name, const std::string& folder) {
   auto ch = load_character(file);
   EXPECT_TRUE(ch.ok()) << ch.error;
   if (!ch.ok()) return "";
-  const AutoRig ar = auto_rig(*ch.value, file);
-  const auto dir = test::temp_dir(folder);
-  EXPECT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
-  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
-  EXPECT_TRUE(text.ok()) << text.error;
-  EXPECT_TRUE(text.ok() && bool(std::ofstream(dir / "show.toml") << *text.value));
-  return (dir / "show.toml").string();
+  return test::write_starter(auto_rig(*ch.value, file), *ch.value, folder);
 }
 
 TEST(StarterShow, KnobsTurnedBackToTheirMiddleBringTheCharacterBackToRest) {
@@ -70,22 +65,11 @@ TEST(StarterShow, KnobsTurnedBackToTheirMiddleBringTheCharacterBackToRest) {
 // hips that go where the body goes, and the head and the handles no knob turns go with it (left
 // where they were drawn they held the body back and stretched what lay between).
 TEST(StarterShow, TheBodysFaderTakesTheCharacterAlong) {
-  RunOptions o;
-  o.headless = true;
-  o.quiet = true;
-  o.frames = 1;
-  auto live = LiveShow::load(starter_of("figure", "starter-follow"), o);
-  ASSERT_TRUE(live.ok()) << live.error;
-  LiveShow& s = **live.value;
-  (void)s.run();
+  const auto live = test::first_frame(starter_of("figure", "starter-follow"));
+  ASSERT_NE(live, nullptr);
+  LiveShow& s = *live;
   const auto& handles = s.puppet().rig.handles;
-  auto index = [&](const std::string& name) {
-    for (size_t h = 0; h < handles.size(); ++h)
-      if (handles[h].name == name) return h;
-    ADD_FAILURE() << "no handle " << name;
-    return size_t(0);
-  };
-  const size_t body = index("torso"), face = index("face");
+  const size_t body = test::handle_index(handles, "torso"), face = test::handle_index(handles, "face");
   // 1.5 s in: the fader has lifted the body (0.5 -> 0.6 over 0.5 .. 1.5 s)
   for (int k = 1; k <= 90; ++k) s.frame(int64_t(double(k) / 60 * 1e9));
   const Vec2 moved = s.targets()[body] - handles[body].rest;
@@ -115,32 +99,16 @@ TEST(StarterShow, AKnobSwingsALegAwayFromTheMiddleWhereverTheBodysHandleIs) {
     else if (h.rest.y() > 150) legs.push_back(h.name);
   }
   ASSERT_EQ(legs.size(), 2u) << "two legs";
-  const auto dir = test::temp_dir("starter-legs");
-  ASSERT_TRUE(bool(std::ofstream(dir / "rig.toml") << write_auto_rig(ar, *ch.value)));
-  auto text = starter_show(ar, *ch.value, "rig.toml", "nanokontrol2");
-  ASSERT_TRUE(text.ok()) << text.error;
-  ASSERT_TRUE(bool(std::ofstream(dir / "show.toml") << *text.value));
-  RunOptions o;
-  o.headless = true;
-  o.quiet = true;
-  o.frames = 1;
-  auto live = LiveShow::load((dir / "show.toml").string(), o);
-  ASSERT_TRUE(live.ok()) << live.error;
-  LiveShow& s = **live.value;
-  (void)s.run();
+  const auto live = test::first_frame(test::write_starter(ar, *ch.value, "starter-legs"));
+  ASSERT_NE(live, nullptr);
+  LiveShow& s = *live;
   const auto& handles = s.puppet().rig.handles;
-  auto index = [&](const std::string& name) {
-    for (size_t h = 0; h < handles.size(); ++h)
-      if (handles[h].name == name) return h;
-    ADD_FAILURE() << "no handle " << name;
-    return size_t(0);
-  };
-  const size_t b = index(body);
+  const size_t b = test::handle_index(handles, body);
   std::vector<bool> swung(legs.size(), false);
   for (int k = 1; k <= 180; ++k) {
     s.frame(int64_t(double(k) / 60 * 1e9));
     for (size_t l = 0; l < legs.size(); ++l) {
-      const size_t h = index(legs[l]);
+      const size_t h = test::handle_index(handles, legs[l]);
       const double side = handles[h].rest.x() - middle;
       ASSERT_GT(std::abs(side), 5) << legs[l];
       // (the foot against the body: the body's fader moves both alike)
