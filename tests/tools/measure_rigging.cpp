@@ -10,7 +10,8 @@
 // its solve cost a frame (median ms; a timing, so read it from a machine left alone).
 // Prints a row per drawing and the shares; --json FILE writes them (a grid rig's row names its
 // worst piece and the frame of the show it is worst on, `worst_piece_name`, `worst_piece_frame`:
-// `marionette run SHOW --dump-frames DIR --every 1` shows that moment), --keep DIR keeps each
+// `marionette run SHOW --dump-frames DIR --every 1` shows that moment; with --keep,
+// N-NAME-pieces.svg draws every point by its piece at rest and at that moment), --keep DIR keeps each
 // rig, starter show and preview, --list FILE measures another list, --bones rigs as `rig
 // --bones` does (a long, straight limb inside one shape turning whole at its joint),
 // --untried takes the automatic rig without trying it on its starter show first. A
@@ -102,7 +103,7 @@ class Regions {
   // The worst piece's RMS residual of its best rigid fit (character units); `in_limb` says
   // whether that piece is a limb's (else the body's).
   double worst(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now, bool* in_limb = nullptr,
-               std::string* which = nullptr) const {
+               std::string* which = nullptr, std::pair<size_t, int>* at = nullptr) const {
     double w = 0;
     for (size_t k = 0; k < rest.size() && k < now.size(); ++k) {
       if (rest[k].size() != now[k].size() || region_[k].size() != rest[k].size()) continue;
@@ -117,10 +118,43 @@ class Regions {
           w = d;
           if (in_limb) *in_limb = id != 0;
           if (which) *which = id == 0 ? "the body" : names_[size_t(id - 1) / 4] + " piece " + std::to_string((id - 1) % 4);
+          if (at) *at = {k, id};
         }
       }
     }
     return w;
+  }
+  // A picture of the pieces (SVG): every point at rest (left) and at `now` (right), coloured by
+  // its piece (the body grey, each limb a hue, its pieces lighter outward), the worst piece's
+  // points ringed in red.
+  std::string picture(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now, std::pair<size_t, int> worst) const {
+    mar::Bounds b;
+    for (const auto& s : rest)
+      for (const mar::Vec2& q : s) b.add(q);
+    for (const auto& s : now)
+      for (const mar::Vec2& q : s) b.add(q);
+    if (b.empty()) return "";
+    const mar::Vec2 size = b.hi - b.lo;
+    const double r = 0.004 * std::max(size.x(), size.y()), gap = 0.1 * size.x();
+    std::ostringstream o;
+    o << "<svg xmlns=\"http://www.w3.org/2000/svg\" viewBox=\"" << b.lo.x() - gap << " " << b.lo.y() - gap << " " << 2 * size.x() + 3 * gap << " "
+      << size.y() + 2 * gap << "\"><rect x=\"" << b.lo.x() - gap << "\" y=\"" << b.lo.y() - gap << "\" width=\"100%\" height=\"100%\" fill=\"#fff\"/>\n";
+    for (int side = 0; side < 2; ++side) {
+      const auto& pts = side == 0 ? rest : now;
+      const double dx = side == 0 ? 0.0 : size.x() + gap;
+      for (size_t k = 0; k < pts.size() && k < region_.size(); ++k)
+        for (size_t i = 0; i < pts[k].size() && i < region_[k].size(); ++i) {
+          const int id = region_[k][i];
+          char colour[32];
+          if (id == 0) std::snprintf(colour, sizeof colour, "#888");
+          else std::snprintf(colour, sizeof colour, "hsl(%d,80%%,%d%%)", (id - 1) / 4 * 67 % 360, 35 + 12 * ((id - 1) % 4));
+          const bool bad = k == worst.first && id == worst.second;
+          o << "<circle cx=\"" << pts[k][i].x() + dx << "\" cy=\"" << pts[k][i].y() << "\" r=\"" << r << "\" fill=\"" << colour << "\""
+            << (bad ? " stroke=\"red\" stroke-width=\"" + std::to_string(0.5 * r) + "\"" : std::string()) << "/>\n";
+        }
+    }
+    o << "</svg>\n";
+    return o.str();
   }
   // The worst whole shape's, as the show's own figure.
   static double whole(const std::vector<mar::Points>& rest, const std::vector<mar::Points>& now) {
@@ -255,7 +289,9 @@ int main(int argc, char** argv) {
           bool limb = false;
           std::string which;  // (the worst piece, and the frame it is worst on: for --dump-frames)
           long which_frame = 0;
-          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb, &which);
+          std::pair<size_t, int> which_at{0, -1};
+          std::vector<mar::Points> which_now = r.puppet().shapes;  // (for --keep's picture of the pieces)
+          double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb, &which, &which_at);
           // How far a handle is from its target at worst: a limb that lags its knob, or one too
           // stiff to reach where it is turned to.
           double reach = 0;
@@ -272,14 +308,19 @@ int main(int argc, char** argv) {
             whole = std::max(whole, reg.whole(rest, r.puppet().shapes));
             bool in_limb = false;
             std::string piece;
-            if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb, &piece); d > pieces) {
+            std::pair<size_t, int> at{0, -1};
+            if (const double d = reg.worst(rest, r.puppet().shapes, &in_limb, &piece, &at); d > pieces) {
               pieces = d;
               limb = in_limb;
               which = piece;
               which_frame = k;
+              which_at = at;
+              if (!keep.empty()) which_now = r.puppet().shapes;
             }
           }
           worst_piece = limb ? "a limb's piece" : "the body's";
+          if (!keep.empty() && !write(work / (stem + "-pieces.svg"), reg.picture(rest, which_now, which_at)))
+            std::fprintf(stderr, "warning: %s: cannot be written\n", (work / (stem + "-pieces.svg")).c_str());
           const double height = std::max(1e-9, r.puppet().character.height);
           by_region = 100.0 * pieces / height;
           // (played again frame by frame it is the same show: the same worst whole shape)
