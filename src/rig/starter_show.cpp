@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
 
 namespace mar {
@@ -25,6 +26,15 @@ struct Chain {
 };
 
 std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
+  // What "away from the body" is measured from: the middle of the body's shape, not its handle
+  // (a silhouette's body handle can sit off to one side of the chest, over one leg, and that leg
+  // swung in across the other); without a body, each limb's own hinge.
+  const AutoRigPart* body = nullptr;
+  for (const AutoRigPart& q : a.parts)
+    if (q.kind == AutoRigPart::Body) body = &q;
+  std::optional<Vec2> middle;
+  if (body && body->shape >= 0 && size_t(body->shape) < ch.shapes.size())
+    if (const Bounds b = ch.shapes[size_t(body->shape)].bounds(); !b.empty()) middle = 0.5 * (b.lo + b.hi);
   std::vector<Chain> out;
   for (const AutoRigPart& p : a.parts) {
     if (p.kind != AutoRigPart::Limb || p.handle.empty()) continue;
@@ -34,19 +44,8 @@ std::vector<Chain> chains_of(const AutoRig& a, const Character& ch) {
     while (root->parent >= 0 && a.parts[size_t(root->parent)].kind == AutoRigPart::Limb) root = &a.parts[size_t(root->parent)];
     Chain c{p.handle, ch.shapes[size_t(root->shape)].id, root->joint, 1, !ch.shapes[size_t(p.shape)].fill.enabled};
     // The turn that swings it away from the body: a small clockwise turn (positive, y down)
-    // moves the handle by angle * (-dy, dx). Away from the middle of the body's shape, not from
-    // its handle: a silhouette's body handle can sit off to one side of the chest, over one
-    // leg, and that leg swung in across the other.
-    const AutoRigPart* body = nullptr;
-    for (const AutoRigPart& q : a.parts)
-      if (q.kind == AutoRigPart::Body) body = &q;
-    Vec2 centre = c.pivot;
-    if (body && body->shape >= 0 && size_t(body->shape) < ch.shapes.size()) {
-      if (const Bounds b = ch.shapes[size_t(body->shape)].bounds(); !b.empty()) centre = 0.5 * (b.lo + b.hi);
-    } else {
-      for (const RigHandle& bh : a.rig.handles)
-        if (body && bh.name == body->handle) centre = bh.rest;
-    }
+    // moves the handle by angle * (-dy, dx).
+    const Vec2 centre = middle.value_or(c.pivot);
     for (const RigHandle& h : a.rig.handles)
       if (h.name == p.handle) {
         const Vec2 d = h.rest - c.pivot;

@@ -290,7 +290,8 @@ int main(int argc, char** argv) {
           std::string which;  // (the worst piece, and the frame it is worst on: for --dump-frames)
           long which_frame = 0;
           std::pair<size_t, int> which_at{0, -1};
-          std::vector<mar::Points> which_now = r.puppet().shapes;  // (for --keep's picture of the pieces)
+          std::vector<mar::Points> which_now;  // (for --keep's picture of the pieces)
+          if (!keep.empty()) which_now = r.puppet().shapes;
           double whole = reg.whole(rest, r.puppet().shapes), pieces = reg.worst(rest, r.puppet().shapes, &limb, &which, &which_at);
           // How far a handle is from its target at worst: a limb that lags its knob, or one too
           // stiff to reach where it is turned to.
